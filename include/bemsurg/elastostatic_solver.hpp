@@ -1,0 +1,43 @@
+// bemsurg/elastostatic_solver.hpp: the whole boundary value problem in one call: mesh, material,
+// gravity and boundary conditions in; surface displacements and tractions out, with timings.
+#pragma once
+
+#include <Eigen/Core>
+
+#include "bemsurg/assembly/boundary_conditions.hpp"
+#include "bemsurg/assembly/linear_system.hpp"
+#include "bemsurg/material.hpp"
+#include "bemsurg/mesh/triangle_mesh.hpp"
+#include "bemsurg/quadrature/element_quadrature.hpp"
+#include "bemsurg/solvers/linear_solve.hpp"
+
+namespace bemsurg {
+
+struct ElastostaticProblem {
+  TriangleMesh mesh;
+  Material material;
+  Eigen::Vector3d gravity = Eigen::Vector3d::Zero();  // acceleration; body force = density * gravity
+  BoundaryConditions boundary_conditions;
+  QuadratureOptions quadrature;
+};
+
+struct ElastostaticReport {
+  Index elements = 0;
+  Index equations = 0;
+  double assembly_seconds = 0.0;  // H, G and gravity
+  double system_seconds = 0.0;    // column swap into A* and the right-hand side
+  LinearSolveSummary solver;
+};
+
+struct ElastostaticSolution {
+  BoundarySolution boundary;
+  ElastostaticReport report;
+};
+
+/// Validates the material and the support (BoundaryConditions::require_supported), assembles,
+/// solves. Throws InvalidMaterialError, BoundaryConditionError or SolverError with a message.
+/// The mesh is not validated here (callers that read files run require_valid_mesh first).
+ElastostaticSolution solve_elastostatic(const ElastostaticProblem& problem,
+                                        const LinearSolverSettings& solver = LinearSolverSettings());
+
+}  // namespace bemsurg

@@ -1,0 +1,38 @@
+// bemsurg/material.hpp: isotropic linear elastic material (small strain), SI units throughout:
+// Young's modulus E in Pa, Poisson's ratio nu (dimensionless), density rho in kg/m^3.
+#pragma once
+
+#include <cmath>
+#include <string>
+
+#include "bemsurg/error.hpp"
+
+namespace bemsurg {
+
+struct Material {
+  double young_modulus = 1.0;
+  double poisson_ratio = 0.3;
+  double density = 0.0;
+
+  /// Throws InvalidMaterialError unless E > 0, -1 < nu < 0.5 (strictly: nu = 0.5 makes the
+  /// Kelvin kernels' (1 - 2 nu) terms vanish and the traction kernel singular in 1/(1 - 2 nu)
+  /// quantities downstream) and rho >= 0, all finite.
+  void validate() const {
+    if (!std::isfinite(young_modulus) || young_modulus <= 0.0)
+      throw InvalidMaterialError("material: young_modulus must be a finite positive number, got " +
+                                 std::to_string(young_modulus));
+    if (!std::isfinite(poisson_ratio) || poisson_ratio <= -1.0 || poisson_ratio >= 0.5)
+      throw InvalidMaterialError("material: poisson_ratio must lie in the open interval (-1, 0.5), got " +
+                                 std::to_string(poisson_ratio));
+    if (!std::isfinite(density) || density < 0.0)
+      throw InvalidMaterialError("material: density must be finite and non-negative, got " +
+                                 std::to_string(density));
+  }
+
+  double shear_modulus() const { return young_modulus / (2.0 * (1.0 + poisson_ratio)); }
+  double lame_lambda() const {
+    return young_modulus * poisson_ratio / ((1.0 + poisson_ratio) * (1.0 - 2.0 * poisson_ratio));
+  }
+};
+
+}  // namespace bemsurg

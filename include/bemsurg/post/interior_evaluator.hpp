@@ -1,0 +1,35 @@
+// bemsurg/post/interior_evaluator.hpp: displacement and stress at points inside the body from
+// the boundary solution (Wang et al. 2007 eqs. 7-9; Somigliana's identity with c = I):
+//   u_i(p)      = sum_e [ int_e U_ij t_j - int_e T_ij u_j ] + int_Gamma P_i
+//   sigma_ij(p) = sum_e [ int_e D_kij t_k - int_e S_kij u_k ] + gravity term
+// The same adaptive quadrature as assembly is used, so points close to the surface stay accurate.
+#pragma once
+
+#include <Eigen/Core>
+
+#include "bemsurg/assembly/linear_system.hpp"
+#include "bemsurg/material.hpp"
+#include "bemsurg/mesh/triangle_mesh.hpp"
+#include "bemsurg/quadrature/element_quadrature.hpp"
+
+namespace bemsurg {
+
+/// Stress in Voigt-like order sxx, syy, szz, sxy, syz, sxz, one row per point.
+using StressRows = Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::RowMajor>;
+
+class InteriorEvaluator {
+ public:
+  InteriorEvaluator(const TriangleMesh& mesh, const Material& material,
+                    const Eigen::Vector3d& gravity = Eigen::Vector3d::Zero(), const QuadratureOptions& options = {});
+
+  RowMatrixX3d displacement(const RowMatrixX3d& points, const BoundarySolution& solution) const;
+  StressRows stress(const RowMatrixX3d& points, const BoundarySolution& solution) const;
+
+ private:
+  const TriangleMesh& mesh_;
+  Material material_;
+  Eigen::Vector3d body_force_;
+  ElementQuadrature quadrature_;
+};
+
+}  // namespace bemsurg

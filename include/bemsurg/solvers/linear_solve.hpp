@@ -1,0 +1,46 @@
+// bemsurg/solvers/linear_solve.hpp: one entry point that solves A* x = b by the method a scene
+// asks for (direct LU or a Krylov method with a preconditioner) and reports what happened.
+// The report is part of the answer: a solve that did not converge throws SolverError with it.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "bemsurg/mesh/triangle_mesh.hpp"
+
+namespace bemsurg {
+
+struct LinearSolverSettings {
+  std::string method = "lu";            // "lu" | "gmres" | "bicgstab" | "bicg"
+  double tolerance = 1e-10;             // relative residual ||b - A x|| / ||b|| for Krylov methods
+  int max_iterations = 1000;
+  int restart = 0;                      // GMRES(m) restart length; 0 = full GMRES
+  std::string preconditioner = "none";  // "none" | "block_jacobi" | "near_field"
+  double near_field_radius = 2.0;       // near-field preconditioner: element diameters
+};
+
+struct LinearSolveSummary {
+  std::string method;
+  std::string preconditioner;
+  std::string status = "converged";  // converged | iteration_limit | breakdown | stagnation | non_finite
+  int iterations = 0;                // 0 for LU
+  double relative_residual = 0.0;    // true residual ||b - A x|| / ||b||, recomputed
+  double setup_seconds = 0.0;        // factorisation or preconditioner build
+  double solve_seconds = 0.0;
+  // Added for the Krylov methods (solvers/krylov_report.hpp); zero or empty for LU.
+  std::string breakdown;                // status breakdown/non_finite: which quantity vanished or went non-finite
+  double initial_residual = 0.0;        // ||b - A x0|| / ||b|| (1 for a cold start)
+  int restarts = 0;                     // GMRES(m) cycles after the first; residual replacements in BiCG(Stab)
+  std::vector<double> residual_history; // the recurrence's relative residual per iteration, from x0
+  Eigen::Index preconditioner_nonzeros = 0;  // near_field: entries kept; block_jacobi: 9 per element
+  double preconditioner_fill = 0.0;          // near_field: nonzeros of L + U / nonzeros kept
+};
+
+/// Solves A x = b. `mesh` gives the geometry the near-field preconditioner needs (may be null
+/// otherwise). `x0` (optional, may be empty) is a warm start for Krylov methods.
+Eigen::VectorXd solve_linear_system(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const LinearSolverSettings& settings,
+                                    LinearSolveSummary& summary, const TriangleMesh* mesh = nullptr,
+                                    const Eigen::VectorXd& x0 = Eigen::VectorXd());
+
+}  // namespace bemsurg
