@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <array>
 #include <string>
+#include <utility>
 
 #include "bemsurg/error.hpp"
 
@@ -65,10 +66,14 @@ class TriangleMesh {
   /// Total surface area and the volume enclosed (divergence theorem; positive for outward normals).
   double total_area() const { return areas_.sum(); }
   double enclosed_volume() const {
+    // Tetrahedra from a point near the mesh rather than the origin: the sum of large, nearly
+    // cancelling terms loses precision for a mesh far from the origin.
+    if (num_elements() == 0) return 0.0;
+    const Vec3 o = centroid(0);
     double v = 0.0;
     for (Index e = 0; e < num_elements(); ++e) {
       const auto c = corners(e);
-      v += c[0].dot(c[1].cross(c[2])) / 6.0;
+      v += (c[0] - o).dot((c[1] - o).cross(c[2] - o)) / 6.0;
     }
     return v;
   }

@@ -1,0 +1,76 @@
+// bemsurg/mesh/mesh_validation.hpp: is this surface a usable BEM boundary (DESIGN.md §2)?
+//
+// The BEM needs closed, 2-manifold, consistently oriented shells with normals out of the
+// material and no degenerate elements; anything else gives a singular or silently wrong
+// system. validate_mesh collects every problem it finds (so a user can fix a file in one go);
+// require_valid_mesh throws InvalidMeshError naming the first offending face, edge or vertex.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "bemsurg/mesh/triangle_mesh.hpp"
+
+namespace bemsurg {
+
+enum class MeshIssueKind {
+  EmptyMesh,                // no faces (or no vertices)
+  NonFiniteVertex,          // NaN or infinite coordinate
+  DegenerateFace,           // area below the tolerance, or a face repeating a vertex
+  DuplicateVertex,          // two used vertices at the same place: usually an unwelded mesh
+  BoundaryEdge,             // an edge with one face: the surface is not closed
+  NonManifoldEdge,          // an edge with more than two faces
+  InconsistentOrientation,  // two faces traverse their shared edge in the same direction
+  InwardShell,              // a closed shell whose normals point into the material
+  UnreferencedVertex,       // a vertex no face uses (harmless: a warning)
+};
+inline constexpr std::size_t kNumMeshIssueKinds = 9;
+
+enum class MeshIssueSeverity { Warning, Error };
+
+struct MeshIssue {
+  MeshIssueKind kind;
+  MeshIssueSeverity severity;
+  /// The offending face, vertex, edge (as in MeshTopology) or shell, by kind; -1 for EmptyMesh.
+  Index index;
+  std::string message;
+};
+
+struct MeshValidationOptions {
+  /// A face is degenerate if its area is below this fraction of the mean face area.
+  double degenerate_area_tolerance = 1e-10;
+  /// Two vertices coincide if closer than this fraction of the bounding-box diagonal.
+  double duplicate_vertex_tolerance = 1e-10;
+  /// Whether each closed shell must face out of the material (outer shells outward, cavities
+  /// inward, by nesting depth). Switch off for surfaces that are not solid boundaries.
+  bool check_shell_orientation = true;
+  /// Whether unreferenced vertices are reported (always as warnings).
+  bool warn_unreferenced_vertices = true;
+  /// At most this many issues of one kind are stored in full; the rest are only counted, so a
+  /// triangle soup of a million faces does not produce a million strings.
+  std::size_t max_issues_per_kind = 20;
+};
+
+struct MeshValidationReport {
+  std::vector<MeshIssue> issues;  // stored issues, errors and warnings, in check order
+  /// Number of issues found per kind, including those beyond max_issues_per_kind.
+  std::vector<std::size_t> counts = std::vector<std::size_t>(kNumMeshIssueKinds, 0);
+
+  std::size_t count(MeshIssueKind kind) const { return counts[static_cast<std::size_t>(kind)]; }
+  std::size_t num_errors() const;
+  std::size_t num_warnings() const;
+  /// No errors (warnings allowed).
+  bool valid() const { return num_errors() == 0; }
+  /// One line per stored issue, errors first, and a line for the issues counted but not stored.
+  std::string summary() const;
+};
+
+MeshValidationReport validate_mesh(const TriangleMesh& mesh, const MeshValidationOptions& options = {});
+
+/// Throws InvalidMeshError if validate_mesh finds an error. The message starts with the first
+/// error (e.g. "face 1042: edge (17, 88) is shared by 3 faces: the mesh is not 2-manifold") and
+/// says how many more problems there are.
+void require_valid_mesh(const TriangleMesh& mesh, const MeshValidationOptions& options = {});
+
+}  // namespace bemsurg

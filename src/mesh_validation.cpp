@@ -1,0 +1,264 @@
+// The checks behind validate_mesh, in order from the cheapest and most basic (is there a mesh,
+// are the numbers finite) to the ones that need the others to pass (shell orientation needs
+// closed, oriented shells to have a meaningful volume).
+#include "bemsurg/mesh/mesh_validation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "bemsurg/mesh/mesh_topology.hpp"
+#include "bemsurg/mesh/vertex_welding.hpp"
+
+namespace bemsurg {
+
+namespace {
+
+const char* kind_name(MeshIssueKind kind) {
+  switch (kind) {
+    case MeshIssueKind::EmptyMesh: return "empty mesh";
+    case MeshIssueKind::NonFiniteVertex: return "non-finite vertices";
+    case MeshIssueKind::DegenerateFace: return "degenerate faces";
+    case MeshIssueKind::DuplicateVertex: return "duplicate vertices";
+    case MeshIssueKind::BoundaryEdge: return "boundary edges";
+    case MeshIssueKind::NonManifoldEdge: return "non-manifold edges";
+    case MeshIssueKind::InconsistentOrientation: return "inconsistently oriented edges";
+    case MeshIssueKind::InwardShell: return "wrongly oriented shells";
+    case MeshIssueKind::UnreferencedVertex: return "unreferenced vertices";
+  }
+  return "issues";
+}
+
+std::string num(double x) {
+  std::ostringstream s;
+  s.precision(6);
+  s << x;
+  return s.str();
+}
+
+std::string edge_name(const MeshEdge& e) {
+  return "edge (" + std::to_string(e.vertices[0]) + ", " + std::to_string(e.vertices[1]) + ")";
+}
+
+std::string shell_name(const MeshTopology& topo, Index s) {
+  return "shell " + std::to_string(s) + " (" + std::to_string(topo.shell(s).size()) + " faces, first face " +
+         std::to_string(topo.shell(s).front()) + ")";
+}
+
+class Collector {
+ public:
+  Collector(MeshValidationReport& report, std::size_t max_per_kind) : report_(report), max_(max_per_kind) {}
+  void add(MeshIssueKind kind, MeshIssueSeverity severity, Index index, std::string message) {
+    std::size_t& n = report_.counts[static_cast<std::size_t>(kind)];
+    if (n < max_) report_.issues.push_back({kind, severity, index, std::move(message)});
+    ++n;
+  }
+  void error(MeshIssueKind kind, Index index, std::string message) {
+    add(kind, MeshIssueSeverity::Error, index, std::move(message));
+  }
+
+ private:
+  MeshValidationReport& report_;
+  std::size_t max_;
+};
+
+struct Box {
+  Vec3 lo, hi;
+  bool contains(const Box& other, double slack) const {
+    return (other.lo.array() >= lo.array() - slack).all() && (other.hi.array() <= hi.array() + slack).all();
+  }
+};
+
+void check_shell_orientation(const TriangleMesh& mesh, const MeshTopology& topo, double diag, Collector& out) {
+  std::vector<Index> closed;
+  for (Index s = 0; s < topo.num_shells(); ++s)
+    if (topo.shell_is_closed_and_oriented(s)) closed.push_back(s);
+  if (closed.empty()) return;
+
+  const auto& F = mesh.faces();
+  std::vector<Box> boxes;
+  std::vector<Vec3> probe;  // a point on each shell: the centroid of its largest face
+  for (Index s : closed) {
+    Box b{Vec3::Constant(std::numeric_limits<double>::infinity()), Vec3::Constant(-std::numeric_limits<double>::infinity())};
+    Index largest = topo.shell(s).front();
+    for (Index f : topo.shell(s)) {
+      for (int k = 0; k < 3; ++k) {
+        b.lo = b.lo.cwiseMin(mesh.vertex(F(f, k)));
+        b.hi = b.hi.cwiseMax(mesh.vertex(F(f, k)));
+      }
+      if (mesh.area(f) > mesh.area(largest)) largest = f;
+    }
+    boxes.push_back(b);
+    probe.push_back(mesh.centroid(largest));
+  }
+
+  // Nesting depth: how many other closed shells contain this one. Material lies between depth 0
+  // and 1, 2 and 3, ...: shells at even depth bound material from outside (positive volume),
+  // shells at odd depth are cavities (negative volume). Using parity rather than the immediate
+  // parent's sign keeps one flipped shell from making its nested shells look wrong too.
+  const double slack = 1e-12 * diag;
+  for (std::size_t i = 0; i < closed.size(); ++i) {
+    const Index s = closed[i];
+    const double volume = topo.shell_volume(s);
+    if (std::abs(volume) <= 1e-14 * diag * diag * diag) continue;  // flat, zero-volume shell: no side to judge
+    int depth = 0;
+    Index parent = -1;
+    for (std::size_t j = 0; j < closed.size(); ++j) {
+      if (i == j || !boxes[j].contains(boxes[i], slack)) continue;
+      const Index t = closed[j];
+      if (std::abs(winding_number(mesh, topo.shell(t), probe[i])) > 0.5) {
+        ++depth;
+        if (parent < 0 || std::abs(topo.shell_volume(t)) < std::abs(topo.shell_volume(parent))) parent = t;
+      }
+    }
+    const bool cavity = depth % 2 == 1;
+    if (!cavity && volume < 0.0) {
+      out.error(MeshIssueKind::InwardShell, s,
+                shell_name(topo, s) + " is inward-facing: it encloses a negative volume (" + num(volume) +
+                    "), so its normals point into the material; flip its faces");
+    } else if (cavity && volume > 0.0) {
+      out.error(MeshIssueKind::InwardShell, s,
+                shell_name(topo, s) + " is a cavity inside shell " + std::to_string(parent) +
+                    " but encloses a positive volume (" + num(volume) +
+                    "), so its normals point into the material; a cavity's normals must point into the cavity");
+    }
+  }
+}
+
+}  // namespace
+
+std::size_t MeshValidationReport::num_errors() const {
+  std::size_t n = 0;
+  for (std::size_t k = 0; k < counts.size(); ++k)
+    if (static_cast<MeshIssueKind>(k) != MeshIssueKind::UnreferencedVertex) n += counts[k];
+  return n;
+}
+
+std::size_t MeshValidationReport::num_warnings() const {
+  return count(MeshIssueKind::UnreferencedVertex);
+}
+
+std::string MeshValidationReport::summary() const {
+  std::ostringstream s;
+  for (auto severity : {MeshIssueSeverity::Error, MeshIssueSeverity::Warning})
+    for (const MeshIssue& issue : issues)
+      if (issue.severity == severity)
+        s << (severity == MeshIssueSeverity::Error ? "error: " : "warning: ") << issue.message << '\n';
+  std::vector<std::size_t> stored(kNumMeshIssueKinds, 0);
+  for (const MeshIssue& issue : issues) ++stored[static_cast<std::size_t>(issue.kind)];
+  for (std::size_t k = 0; k < kNumMeshIssueKinds; ++k)
+    if (counts[k] > stored[k])
+      s << "... and " << counts[k] - stored[k] << " more " << kind_name(static_cast<MeshIssueKind>(k)) << '\n';
+  return s.str();
+}
+
+MeshValidationReport validate_mesh(const TriangleMesh& mesh, const MeshValidationOptions& options) {
+  MeshValidationReport report;
+  report.counts.assign(kNumMeshIssueKinds, 0);
+  Collector out(report, options.max_issues_per_kind);
+  const Index nv = mesh.num_vertices(), nf = mesh.num_elements();
+  const auto& V = mesh.vertices();
+  const auto& F = mesh.faces();
+
+  if (nf == 0 || nv == 0) {
+    out.error(MeshIssueKind::EmptyMesh, -1,
+              "the mesh is empty (" + std::to_string(nv) + " vertices, " + std::to_string(nf) + " faces)");
+    return report;
+  }
+
+  bool all_finite = true;
+  for (Index v = 0; v < nv; ++v)
+    if (!V.row(v).allFinite()) {
+      all_finite = false;
+      out.error(MeshIssueKind::NonFiniteVertex, v,
+                "vertex " + std::to_string(v) + " has a non-finite coordinate (" + num(V(v, 0)) + ", " + num(V(v, 1)) +
+                    ", " + num(V(v, 2)) + ")");
+    }
+
+  // Degenerate faces: relative to the mean area, so the test does not depend on units.
+  double area_sum = 0.0;
+  Index area_count = 0;
+  for (Index f = 0; f < nf; ++f)
+    if (std::isfinite(mesh.area(f))) {
+      area_sum += mesh.area(f);
+      ++area_count;
+    }
+  const double mean_area = area_count > 0 ? area_sum / static_cast<double>(area_count) : 0.0;
+  for (Index f = 0; f < nf; ++f) {
+    const bool repeats = F(f, 0) == F(f, 1) || F(f, 1) == F(f, 2) || F(f, 2) == F(f, 0);
+    const std::string corners =
+        "(" + std::to_string(F(f, 0)) + ", " + std::to_string(F(f, 1)) + ", " + std::to_string(F(f, 2)) + ")";
+    if (repeats) {
+      out.error(MeshIssueKind::DegenerateFace, f,
+                "face " + std::to_string(f) + " " + corners + " repeats a vertex: the triangle is degenerate");
+    } else if (std::isfinite(mesh.area(f)) && !(mesh.area(f) > options.degenerate_area_tolerance * mean_area)) {
+      out.error(MeshIssueKind::DegenerateFace, f,
+                "face " + std::to_string(f) + " " + corners + " has near-zero area " + num(mesh.area(f)) +
+                    " (mean face area " + num(mean_area) + "): the triangle is degenerate");
+    }
+  }
+
+  // Referenced vertices: unused ones are only warned about; coincident used ones are errors.
+  std::vector<bool> used(static_cast<std::size_t>(nv), false);
+  for (Index f = 0; f < nf; ++f)
+    for (int k = 0; k < 3; ++k) used[static_cast<std::size_t>(F(f, k))] = true;
+  std::vector<Index> used_list;
+  for (Index v = 0; v < nv; ++v) {
+    if (used[static_cast<std::size_t>(v)]) {
+      used_list.push_back(v);
+    } else if (options.warn_unreferenced_vertices) {
+      out.add(MeshIssueKind::UnreferencedVertex, MeshIssueSeverity::Warning, v,
+              "vertex " + std::to_string(v) + " is not used by any face");
+    }
+  }
+  RowMatrixX3d used_coords(static_cast<Index>(used_list.size()), 3);
+  for (std::size_t i = 0; i < used_list.size(); ++i) used_coords.row(static_cast<Index>(i)) = V.row(used_list[i]);
+  const double diag = bounding_box_diagonal(used_coords);
+  const std::vector<Index> rep =
+      coincident_vertex_representatives(used_coords, options.duplicate_vertex_tolerance * diag);
+  for (std::size_t i = 0; i < rep.size(); ++i)
+    if (rep[i] != static_cast<Index>(i)) {
+      const Index a = used_list[static_cast<std::size_t>(rep[i])], b = used_list[i];
+      out.error(MeshIssueKind::DuplicateVertex, b,
+                "vertices " + std::to_string(a) + " and " + std::to_string(b) + " coincide at (" + num(V(b, 0)) + ", " +
+                    num(V(b, 1)) + ", " + num(V(b, 2)) + "): the mesh is probably not welded");
+    }
+
+  const MeshTopology topo(mesh);
+  for (Index e = 0; e < topo.num_edges(); ++e) {
+    const MeshEdge& edge = topo.edge(e);
+    if (edge.vertices[0] == edge.vertices[1]) continue;  // reported as a degenerate face already
+    const std::string first = "face " + std::to_string(edge.faces.front().face);
+    if (edge.is_boundary()) {
+      out.error(MeshIssueKind::BoundaryEdge, e,
+                first + ": " + edge_name(edge) + " belongs to this face only: the mesh is not closed");
+    } else if (edge.is_non_manifold()) {
+      out.error(MeshIssueKind::NonManifoldEdge, e,
+                first + ": " + edge_name(edge) + " is shared by " + std::to_string(edge.faces.size()) +
+                    " faces: the mesh is not 2-manifold");
+    } else if (edge.faces[0].forward == edge.faces[1].forward) {
+      out.error(MeshIssueKind::InconsistentOrientation, e,
+                "faces " + std::to_string(edge.faces[0].face) + " and " + std::to_string(edge.faces[1].face) +
+                    " traverse " + edge_name(edge) +
+                    " in the same direction: the orientation is inconsistent (one of them is flipped)");
+    }
+  }
+
+  if (options.check_shell_orientation && all_finite) check_shell_orientation(mesh, topo, diag, out);
+  return report;
+}
+
+void require_valid_mesh(const TriangleMesh& mesh, const MeshValidationOptions& options) {
+  const MeshValidationReport report = validate_mesh(mesh, options);
+  if (report.valid()) return;
+  const auto first = std::find_if(report.issues.begin(), report.issues.end(),
+                                  [](const MeshIssue& i) { return i.severity == MeshIssueSeverity::Error; });
+  // With max_issues_per_kind = 0 nothing is stored; the counts still say what went wrong.
+  std::string message = "invalid mesh: " + (first != report.issues.end() ? first->message : std::string("see validate_mesh"));
+  const std::size_t more = report.num_errors() - 1;
+  if (more > 0) message += " (and " + std::to_string(more) + " more error" + (more > 1 ? "s" : "") + ")";
+  throw InvalidMeshError(message);
+}
+
+}  // namespace bemsurg
