@@ -1,0 +1,269 @@
+// bench_accuracy: accuracy of the BEM core against closed-form solutions (DESIGN.md §8), at several
+// mesh levels, with the observed order and the time per phase. Writes the table that
+// docs/accuracy.md quotes (--markdown PATH), a CSV (--csv PATH) and JSON (--json PATH).
+//   bench_accuracy [--quick] [--json PATH] [--csv PATH] [--markdown PATH]
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "bemsurg/assembly/influence_assembler.hpp"
+#include "bemsurg/elastostatic_solver.hpp"
+#include "bemsurg/mesh/mesh_generators.hpp"
+#include "bemsurg/mesh/mesh_topology.hpp"
+#include "bemsurg/post/interior_evaluator.hpp"
+#include "bemsurg/verification/reference_solutions.hpp"
+
+using namespace bemsurg;
+using namespace bemsurg::verification;
+
+namespace {
+
+struct Row {
+  std::string problem;
+  std::string variant;
+  Index elements = 0;
+  double h = 0.0;  // mean element diameter
+  double error_u = 0.0;
+  double error_t = 0.0;
+  double order_u = NAN;
+  double order_t = NAN;
+  double assembly_s = 0.0;
+  double solve_s = 0.0;
+  std::string note;
+};
+
+Row solve_case(const std::string& problem, const std::string& variant, const TriangleMesh& mesh, const Material& m,
+               const ElasticField& field, const std::function<bool(Index)>& u_prescribed,
+               const Eigen::Vector3d& gravity = Eigen::Vector3d::Zero(), BoundarySolution* solution = nullptr) {
+  ElastostaticProblem p{mesh, m, gravity, exact_trace_conditions(mesh, field, u_prescribed), QuadratureOptions()};
+  const ElastostaticSolution s = solve_elastostatic(p);
+  if (solution) *solution = s.boundary;
+  const RelativeErrors err = relative_l2_errors(p.mesh, p.boundary_conditions, s.boundary, exact_traces(p.mesh, field));
+  Row r;
+  r.problem = problem;
+  r.variant = variant;
+  r.elements = mesh.num_elements();
+  r.h = mesh.diameters().mean();
+  r.error_u = err.displacement;
+  r.error_t = err.traction;
+  r.assembly_s = s.report.assembly_seconds;
+  r.solve_s = s.report.system_seconds + s.report.solver.setup_seconds + s.report.solver.solve_seconds;
+  std::cerr << problem << " / " << variant << ": " << r.elements << " elements, u " << r.error_u << ", t " << r.error_t
+            << ", assembly " << r.assembly_s << " s, solve " << r.solve_s << " s\n";
+  return r;
+}
+
+// Traction error of a Dirichlet solve split into the first row of elements along the box's
+// edges (where the exact traction is discontinuous across the edge) and all other elements.
+std::pair<double, double> edge_split_traction_error(const TriangleMesh& mesh, const BoundarySolution& computed,
+                                                    const BoundarySolution& exact, const Eigen::Vector3d& spacing) {
+  const Eigen::Matrix<double, 3, 2> box = mesh.bounding_box();
+  double d[2] = {0, 0}, n[2] = {0, 0};
+  for (Index e = 0; e < mesh.num_elements(); ++e) {
+    const Eigen::Vector3d c = mesh.centroid(e);
+    int near = 0;
+    for (int k = 0; k < 3; ++k) {
+      const double gap = std::min(c(k) - box(k, 0), box(k, 1) - c(k));
+      if (gap > 1e-12 && gap < spacing(k)) ++near;
+    }
+    const int bin = near > 0 ? 0 : 1;
+    d[bin] += mesh.area(e) * (computed.traction.row(e) - exact.traction.row(e)).squaredNorm();
+    n[bin] += mesh.area(e) * exact.traction.row(e).squaredNorm();
+  }
+  return {std::sqrt(d[0] / n[0]), std::sqrt(d[1] / n[1])};
+}
+
+// Relative errors of interior displacement and stress at a few points.
+std::pair<double, double> interior_errors(const TriangleMesh& mesh, const Material& m, const ElasticField& field,
+                                          const BoundarySolution& s, const RowMatrixX3d& points) {
+  const InteriorEvaluator ev(mesh, m);
+  const RowMatrixX3d u = ev.displacement(points, s);
+  const StressRows sigma = ev.stress(points, s);
+  double du = 0, nu = 0, ds = 0, ns = 0;
+  for (Index k = 0; k < points.rows(); ++k) {
+    const Eigen::Vector3d x = points.row(k).transpose();
+    du += (u.row(k).transpose() - field.displacement(x)).squaredNorm();
+    nu += field.displacement(x).squaredNorm();
+    const Eigen::Matrix3d S = field.stress(x);
+    Eigen::Matrix<double, 6, 1> exact;
+    exact << S(0, 0), S(1, 1), S(2, 2), S(0, 1), S(1, 2), S(0, 2);
+    ds += (sigma.row(k).transpose() - exact).squaredNorm();
+    ns += exact.squaredNorm();
+  }
+  return {std::sqrt(du / nu), std::sqrt(ds / ns)};
+}
+
+void add_orders(std::vector<Row>& rows) {
+  for (std::size_t i = 1; i < rows.size(); ++i) {
+    Row& r = rows[i];
+    const Row& q = rows[i - 1];
+    if (r.problem != q.problem || r.variant != q.variant) continue;
+    const double ratio = std::log(q.h / r.h);
+    if (r.error_u > 0 && q.error_u > 0) r.order_u = std::log(q.error_u / r.error_u) / ratio;
+    if (r.error_t > 0 && q.error_t > 0) r.order_t = std::log(q.error_t / r.error_t) / ratio;
+  }
+}
+
+double rigid_body_row_sum_ratio(const TriangleMesh& mesh, const Material& m) {
+  const InfluenceMatrices hg = InfluenceAssembler(mesh, m).assemble();
+  double worst = 0.0;
+  for (Index i = 0; i < mesh.num_elements(); ++i) {
+    Eigen::Matrix3d sum = Eigen::Matrix3d::Zero();
+    for (Index e = 0; e < mesh.num_elements(); ++e) sum += hg.H.block<3, 3>(3 * i, 3 * e);
+    worst = std::max(worst, sum.norm() / hg.H.block<3, 3>(3 * i, 3 * i).norm());
+  }
+  return worst;
+}
+
+std::string fmt(double v, int prec = 3, bool percent = false) {
+  if (std::isnan(v)) return "–";
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(prec) << (percent ? 100.0 * v : v);
+  return os.str();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  bool quick = false;
+  std::string json_path, csv_path, md_path;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--quick") quick = true;
+    else if (a == "--json" && i + 1 < argc) json_path = argv[++i];
+    else if (a == "--csv" && i + 1 < argc) csv_path = argv[++i];
+    else if (a == "--markdown" && i + 1 < argc) md_path = argv[++i];
+    else {
+      std::cerr << "usage: bench_accuracy [--quick] [--json PATH] [--csv PATH] [--markdown PATH]\n";
+      return 2;
+    }
+  }
+  const Material m{1.0, 0.3, 1.0};
+  std::vector<Row> rows;
+  std::vector<std::pair<Index, double>> rigid;
+
+  // Rigid body: rows of H sum to zero (blocks), so the residual measures quadrature alone.
+  for (int s : quick ? std::vector<int>{2} : std::vector<int>{2, 3}) {
+    const TriangleMesh sphere = icosphere_mesh(Eigen::Vector3d::Zero(), 1.0, s);
+    rigid.emplace_back(sphere.num_elements(), rigid_body_row_sum_ratio(sphere, m));
+  }
+  for (int n : quick ? std::vector<int>{4} : std::vector<int>{4, 8}) {
+    const TriangleMesh box = box_mesh(Eigen::Vector3d(-1, -0.6, -0.6), Eigen::Vector3d(1, 0.6, 0.6), n * 3 / 2, n, n);
+    rigid.emplace_back(box.num_elements(), rigid_body_row_sum_ratio(box, m));
+  }
+
+  // Kelvin point force outside a 2 x 1.2 x 1.2 box.
+  const Eigen::Vector3d x0(0.3, 0.2, 1.4), f(0.4, -0.3, 1.0);
+  const ElasticField kelvin = kelvin_field(m, x0, f);
+  struct EdgeRow { Index elements; double edge, rest; };
+  struct InteriorRow { std::string problem; Index elements; double u, stress; };
+  std::vector<EdgeRow> edge_rows;
+  std::vector<InteriorRow> interior_rows;
+  RowMatrixX3d kelvin_points(4, 3), lame_points(3, 3);
+  kelvin_points << 0.0, 0.0, 0.0, 0.5, -0.2, 0.1, -0.4, 0.3, -0.2, 0.2, 0.1, 0.3;
+  lame_points << 1.5, 0.0, 0.0, 0.0, -1.2, 0.9, 0.8, 0.8, 0.8;
+  for (int n : quick ? std::vector<int>{1} : std::vector<int>{1, 2, 3, 4, 6}) {
+    const TriangleMesh box = box_mesh(Eigen::Vector3d(-1, -0.6, -0.6), Eigen::Vector3d(1, 0.6, 0.6), 3 * n, 2 * n, 2 * n);
+    BoundarySolution dirichlet, mixed;
+    rows.push_back(solve_case("kelvin", "dirichlet", box, m, kelvin, [](Index) { return true; }, Eigen::Vector3d::Zero(), &dirichlet));
+    rows.push_back(solve_case("kelvin", "neumann", box, m, kelvin, a_few_elements(box)));
+    rows.back().error_t = NAN;  // only four pinned elements carry an unknown traction: no field to compare
+    rows.push_back(solve_case("kelvin", "mixed", box, m, kelvin, [&](Index e) { return box.centroid(e).z() < 0.0; },
+                              Eigen::Vector3d::Zero(), &mixed));
+    const auto [edge, rest] = edge_split_traction_error(box, dirichlet, exact_traces(box, kelvin),
+                                                        Eigen::Vector3d(2.0 / (3 * n), 1.2 / (2 * n), 1.2 / (2 * n)));
+    edge_rows.push_back({box.num_elements(), edge, rest});
+    const auto [iu, is] = interior_errors(box, m, kelvin, mixed, kelvin_points);
+    interior_rows.push_back({"kelvin (mixed)", box.num_elements(), iu, is});
+  }
+
+  // Lamé hollow sphere a = 1, b = 2, pressures inside and outside.
+  const double a = 1.0, b = 2.0, pa = 1.0, pb = 0.0;
+  const ElasticField lame = lame_field(m, Eigen::Vector3d::Zero(), a, b, pa, pb);
+  for (int s : quick ? std::vector<int>{1} : std::vector<int>{1, 2, 3}) {
+    const TriangleMesh shell = hollow_sphere_mesh(Eigen::Vector3d::Zero(), a, b, s, s);
+    const double mid = 0.5 * (a + b);
+    BoundarySolution sol;
+    rows.push_back(solve_case("lame", "inner u, outer t", shell, m, lame,
+                              [&](Index e) { return shell.centroid(e).norm() < mid; }, Eigen::Vector3d::Zero(), &sol));
+    const auto [iu, is] = interior_errors(shell, m, lame, sol, lame_points);
+    interior_rows.push_back({"lame (inner u, outer t)", shell.num_elements(), iu, is});
+    rows.push_back(solve_case("lame", "pressures", shell, m, lame, a_few_elements(shell)));
+    rows.back().error_t = NAN;  // only four pinned elements carry an unknown traction: no field to compare
+  }
+
+  // Uniform pressure on a cube.
+  const ElasticField pressure = uniform_pressure_field(m, 1.0);
+  for (int n : quick ? std::vector<int>{2} : std::vector<int>{2, 4, 6, 9}) {
+    const TriangleMesh cube = box_mesh(Eigen::Vector3d(-0.5, -0.5, -0.5), Eigen::Vector3d(0.5, 0.5, 0.5), n, n, n);
+    rows.push_back(solve_case("pressure", "cube", cube, m, pressure, a_few_elements(cube)));
+    rows.back().error_t = NAN;  // only four pinned elements carry an unknown traction: no field to compare
+  }
+
+  // Bar hanging under its own weight: 1 x 1 x 3, held at z = 3.
+  const double g = 1.0, L = 3.0;
+  const ElasticField bar = hanging_bar_field(m, g, L);
+  for (int n : quick ? std::vector<int>{2} : std::vector<int>{2, 4, 6}) {
+    const TriangleMesh mesh = box_mesh(Eigen::Vector3d(-0.5, -0.5, 0.0), Eigen::Vector3d(0.5, 0.5, L), n, n, 3 * n);
+    auto top = [&](Index e) { return mesh.centroid(e).z() > L - 1e-9; };
+    rows.push_back(solve_case("hanging bar", "with gravity", mesh, m, bar, top, Eigen::Vector3d(0, 0, -g)));
+    rows.push_back(solve_case("hanging bar", "gravity dropped", mesh, m, bar, top));
+  }
+  add_orders(rows);
+
+  // ---- report --------------------------------------------------------------------------------
+  std::ostringstream md;
+  md << "| problem | case | elements | mean h | error u (%) | order u | error t (%) | order t | assembly (s) | solve (s) |\n";
+  md << "|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const Row& r : rows)
+    md << "| " << r.problem << " | " << r.variant << " | " << r.elements << " | " << fmt(r.h, 4) << " | "
+       << fmt(r.error_u, 2, true) << " | " << fmt(r.order_u, 2) << " | " << fmt(r.error_t, 2, true) << " | "
+       << fmt(r.order_t, 2) << " | " << fmt(r.assembly_s, 3) << " | " << fmt(r.solve_s, 3) << " |\n";
+  md << "\nRigid-body identity, max over block rows of |sum_e H_ie| / |H_ii|:\n\n| elements | ratio |\n|---|---|\n";
+  for (const auto& [E, ratio] : rigid) {
+    std::ostringstream v;
+    v << std::scientific << std::setprecision(2) << ratio;
+    md << "| " << E << " | " << v.str() << " |\n";
+  }
+  md << "\nTraction error of the Kelvin Dirichlet solve, split into the first row of elements along the box's "
+        "edges and the rest:\n\n| elements | first row at edges (%) | elsewhere (%) |\n|---|---|---|\n";
+  for (const EdgeRow& r : edge_rows)
+    md << "| " << r.elements << " | " << fmt(r.edge, 2, true) << " | " << fmt(r.rest, 2, true) << " |\n";
+  md << "\nInterior points (relative L2 over the points of displacement and of the six stress components):\n\n"
+        "| problem | elements | error u (%) | error stress (%) |\n|---|---|---|---|\n";
+  for (const InteriorRow& r : interior_rows)
+    md << "| " << r.problem << " | " << r.elements << " | " << fmt(r.u, 2, true) << " | " << fmt(r.stress, 2, true) << " |\n";
+  std::cout << md.str();
+  if (!md_path.empty()) std::ofstream(md_path) << md.str();
+  if (!csv_path.empty()) {
+    std::ofstream csv(csv_path);
+    csv << "problem,case,elements,mean_h,error_u,order_u,error_t,order_t,assembly_s,solve_s\n";
+    for (const Row& r : rows)
+      csv << r.problem << "," << r.variant << "," << r.elements << "," << r.h << "," << r.error_u << "," << r.order_u
+          << "," << r.error_t << "," << r.order_t << "," << r.assembly_s << "," << r.solve_s << "\n";
+  }
+  if (!json_path.empty()) {
+    nlohmann::json j;
+    j["benchmark"] = "bench_accuracy";
+    j["quick"] = quick;
+    for (const Row& r : rows)
+      j["rows"].push_back({{"problem", r.problem}, {"case", r.variant}, {"elements", r.elements}, {"mean_h", r.h},
+                           {"error_u", r.error_u}, {"error_t", r.error_t},
+                           {"order_u", std::isnan(r.order_u) ? nlohmann::json() : nlohmann::json(r.order_u)},
+                           {"order_t", std::isnan(r.order_t) ? nlohmann::json() : nlohmann::json(r.order_t)},
+                           {"assembly_s", r.assembly_s}, {"solve_s", r.solve_s}});
+    for (const EdgeRow& r : edge_rows)
+      j["kelvin_edge_split"].push_back({{"elements", r.elements}, {"error_t_edge_row", r.edge}, {"error_t_elsewhere", r.rest}});
+    for (const InteriorRow& r : interior_rows)
+      j["interior"].push_back({{"problem", r.problem}, {"elements", r.elements}, {"error_u", r.u}, {"error_stress", r.stress}});
+    for (const auto& [E, ratio] : rigid) j["rigid_body"].push_back({{"elements", E}, {"row_sum_ratio", ratio}});
+    std::ofstream(json_path) << j.dump(2) << "\n";
+  }
+  return 0;
+}

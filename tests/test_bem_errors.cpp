@@ -1,0 +1,42 @@
+// Bad input to the solver gets a clear error that names the problem, never garbage.
+#include <catch2/catch.hpp>
+
+#include "bemsurg/elastostatic_solver.hpp"
+#include "bemsurg/mesh/mesh_generators.hpp"
+
+using namespace bemsurg;
+using Catch::Matchers::Contains;
+
+TEST_CASE("a body with no displacement condition is reported as unsupported") {
+  const TriangleMesh m = box_mesh(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones(), 1, 1, 1);
+  ElastostaticProblem p{m, Material{1.0, 0.3, 1.0}, Eigen::Vector3d(0, 0, -9.81), BoundaryConditions(m.num_elements()), {}};
+  CHECK_THROWS_AS(solve_elastostatic(p), BoundaryConditionError);
+  CHECK_THROWS_WITH(solve_elastostatic(p), Contains("no support"));
+}
+
+TEST_CASE("support that leaves a rotation free is named") {
+  const TriangleMesh m = box_mesh(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones(), 1, 1, 1);
+  BoundaryConditions bc(m.num_elements());
+  bc.prescribe_displacement(0, Eigen::Vector3d::Zero());  // one element pinned: rotations about it stay free
+  ElastostaticProblem p{m, Material{1.0, 0.3, 0.0}, Eigen::Vector3d::Zero(), bc, {}};
+  CHECK_THROWS_WITH(solve_elastostatic(p), Contains("rotation"));
+}
+
+TEST_CASE("Poisson's ratio outside (-1, 0.5) and non-positive stiffness are rejected") {
+  const TriangleMesh m = box_mesh(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones(), 1, 1, 1);
+  BoundaryConditions bc(m.num_elements());
+  for (Index e = 0; e < m.num_elements(); ++e) bc.prescribe_displacement(e, Eigen::Vector3d::Zero());
+  for (const Material bad : {Material{1.0, 0.5, 0.0}, Material{1.0, -1.0, 0.0}, Material{0.0, 0.3, 0.0},
+                             Material{1.0, std::nan(""), 0.0}, Material{1.0, 0.3, -1.0}}) {
+    ElastostaticProblem p{m, bad, Eigen::Vector3d::Zero(), bc, {}};
+    CHECK_THROWS_AS(solve_elastostatic(p), InvalidMaterialError);
+  }
+}
+
+TEST_CASE("boundary conditions of the wrong size or element are rejected") {
+  const TriangleMesh m = box_mesh(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones(), 1, 1, 1);
+  BoundaryConditions bc(m.num_elements());
+  CHECK_THROWS_WITH(bc.prescribe_displacement(m.num_elements(), Eigen::Vector3d::Zero()), Contains("out of range"));
+  ElastostaticProblem p{m, Material{1.0, 0.3, 0.0}, Eigen::Vector3d::Zero(), BoundaryConditions(3), {}};
+  CHECK_THROWS_AS(solve_elastostatic(p), BoundaryConditionError);
+}

@@ -1,0 +1,86 @@
+// Interior displacement and stress (Somigliana's identity and its gradient) for the Kelvin and
+// Lamé problems, with the boundary values the BEM computed; errors fall under refinement.
+#include <catch2/catch.hpp>
+
+#include "bemsurg/mesh/mesh_generators.hpp"
+#include "bemsurg/post/interior_evaluator.hpp"
+#include "bemsurg/verification/reference_solutions.hpp"
+
+using namespace bemsurg;
+using namespace bemsurg::verification;
+
+namespace {
+struct InteriorErrors {
+  double u;
+  double stress;
+};
+
+InteriorErrors interior_errors(const TriangleMesh& mesh, const Material& m, const ElasticField& field,
+                               const std::function<bool(Index)>& held, const RowMatrixX3d& points,
+                               const Eigen::Vector3d& gravity = Eigen::Vector3d::Zero()) {
+  BoundarySolution s;
+  solve_exact_trace_problem(mesh, m, field, held, gravity, &s);
+  const InteriorEvaluator ev(mesh, m, gravity);
+  const RowMatrixX3d u = ev.displacement(points, s);
+  const StressRows sigma = ev.stress(points, s);
+  double du = 0, nu = 0, ds = 0, ns = 0;
+  for (Index k = 0; k < points.rows(); ++k) {
+    const Eigen::Vector3d x = points.row(k).transpose();
+    du += (u.row(k).transpose() - field.displacement(x)).squaredNorm();
+    nu += field.displacement(x).squaredNorm();
+    const Eigen::Matrix3d S = field.stress(x);
+    Eigen::Matrix<double, 6, 1> exact;
+    exact << S(0, 0), S(1, 1), S(2, 2), S(0, 1), S(1, 2), S(0, 2);
+    ds += (sigma.row(k).transpose() - exact).squaredNorm();
+    ns += exact.squaredNorm();
+  }
+  return {std::sqrt(du / nu), std::sqrt(ds / ns)};
+}
+}  // namespace
+
+TEST_CASE("interior displacement and stress of the Kelvin field in a box") {
+  const Material m{1.0, 0.3, 0.0};
+  const ElasticField field = kelvin_field(m, Eigen::Vector3d(0.3, 0.2, 1.4), Eigen::Vector3d(0.4, -0.3, 1.0));
+  RowMatrixX3d points(4, 3);
+  points << 0.0, 0.0, 0.0, 0.5, -0.2, 0.1, -0.4, 0.3, -0.2, 0.2, 0.1, 0.3;
+  std::vector<InteriorErrors> e;
+  for (int n : {1, 2}) {
+    const TriangleMesh box = box_mesh(Eigen::Vector3d(-1, -0.6, -0.6), Eigen::Vector3d(1, 0.6, 0.6), 3 * n, 2 * n, 2 * n);
+    e.push_back(interior_errors(box, m, field, [&](Index k) { return box.centroid(k).z() < 0.0; }, points));
+  }
+  INFO("u: " << e[0].u << " -> " << e[1].u << ", stress: " << e[0].stress << " -> " << e[1].stress);
+  CHECK(e[1].u < 0.8 * e[0].u);
+  CHECK(e[1].stress < 0.8 * e[0].stress);
+  CHECK(e[1].u < 0.02);
+  CHECK(e[1].stress < 0.04);
+}
+
+TEST_CASE("interior displacement and stress of the Lamé sphere") {
+  const Material m{1.0, 0.3, 0.0};
+  const ElasticField field = lame_field(m, Eigen::Vector3d::Zero(), 1.0, 2.0, 1.0, 0.0);
+  RowMatrixX3d points(3, 3);
+  points << 1.5, 0.0, 0.0, 0.0, -1.2, 0.9, 0.8, 0.8, 0.8;
+  std::vector<InteriorErrors> e;
+  for (int s : {1, 2}) {
+    const TriangleMesh shell = hollow_sphere_mesh(Eigen::Vector3d::Zero(), 1.0, 2.0, s, s);
+    e.push_back(interior_errors(shell, m, field, [&](Index k) { return shell.centroid(k).norm() < 1.5; }, points));
+  }
+  INFO("u: " << e[0].u << " -> " << e[1].u << ", stress: " << e[0].stress << " -> " << e[1].stress);
+  CHECK(e[1].u < 0.7 * e[0].u);
+  CHECK(e[1].stress < 0.7 * e[0].stress);
+  CHECK(e[1].u < 0.01);
+  CHECK(e[1].stress < 0.05);
+}
+
+TEST_CASE("interior points of the hanging bar include the gravity term") {
+  const Material m{1.0, 0.3, 1.0};
+  const ElasticField field = hanging_bar_field(m, 1.0, 3.0);
+  RowMatrixX3d points(3, 3);
+  points << 0.0, 0.0, 1.5, 0.2, -0.1, 0.8, -0.2, 0.2, 2.2;
+  const TriangleMesh bar = box_mesh(Eigen::Vector3d(-0.5, -0.5, 0.0), Eigen::Vector3d(0.5, 0.5, 3.0), 2, 2, 6);
+  const InteriorErrors e = interior_errors(bar, m, field, [&](Index k) { return bar.centroid(k).z() > 3.0 - 1e-9; }, points,
+                                           Eigen::Vector3d(0, 0, -1.0));
+  INFO("u: " << e.u << ", stress: " << e.stress);
+  CHECK(e.u < 0.018);
+  CHECK(e.stress < 0.07);
+}

@@ -1,0 +1,43 @@
+// Rigid-body identity: a rigid translation gives zero traction, so the blocks of every row of H
+// sum to zero (DESIGN.md §4). H's diagonal is computed directly (1/2 I + principal value), so the
+// residual is an honest measure of the whole quadrature (far, near and self rules together).
+#include <catch2/catch.hpp>
+
+#include "bemsurg/assembly/influence_assembler.hpp"
+#include "bemsurg/mesh/mesh_generators.hpp"
+
+using namespace bemsurg;
+
+namespace {
+double worst_row_sum_ratio(const TriangleMesh& mesh, const QuadratureOptions& options = {}) {
+  const InfluenceMatrices hg = InfluenceAssembler(mesh, Material{1.0, 0.3, 0.0}, options).assemble();
+  double worst = 0.0;
+  for (Index i = 0; i < mesh.num_elements(); ++i) {
+    Eigen::Matrix3d sum = Eigen::Matrix3d::Zero();
+    for (Index e = 0; e < mesh.num_elements(); ++e) sum += hg.H.block<3, 3>(3 * i, 3 * e);
+    worst = std::max(worst, sum.norm() / hg.H.block<3, 3>(3 * i, 3 * i).norm());
+  }
+  return worst;
+}
+}  // namespace
+
+TEST_CASE("rows of H sum to zero on a sphere and on a box (below 1e-6 of the diagonal)") {
+  CHECK(worst_row_sum_ratio(icosphere_mesh(Eigen::Vector3d::Zero(), 1.0, 2)) < 1e-6);
+  CHECK(worst_row_sum_ratio(box_mesh(Eigen::Vector3d(-1, -0.6, -0.6), Eigen::Vector3d(1, 0.6, 0.6), 6, 4, 4)) < 1e-6);
+}
+
+TEST_CASE("rows of H sum to zero on a hollow body (the cavity's shell counts with its own normals)") {
+  CHECK(worst_row_sum_ratio(hollow_sphere_mesh(Eigen::Vector3d::Zero(), 1.0, 2.0, 1, 2)) < 1e-6);
+}
+
+TEST_CASE("the row-sum residual falls when the near-field quadrature is tightened") {
+  const TriangleMesh mesh = box_mesh(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 1, 1), 3, 3, 3);
+  QuadratureOptions coarse;
+  coarse.far_ratio = 1.5;
+  coarse.mid_ratio = 0.5;
+  coarse.mid_order = 2;
+  const double loose = worst_row_sum_ratio(mesh, coarse);
+  const double tight = worst_row_sum_ratio(mesh);
+  CHECK(loose > 10.0 * tight);
+  CHECK(tight < 1e-6);
+}
