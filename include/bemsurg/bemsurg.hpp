@@ -1,0 +1,27 @@
+// bemsurg/bemsurg.hpp: everything in one include. Module headers (bemsurg/mesh/..., kernels/...,
+// assembly/..., solvers/..., post/...) can be included on their own for faster builds.
+#pragma once
+
+#include "bemsurg/version.hpp"
+#include "bemsurg/error.hpp"
+#include "bemsurg/material.hpp"
+#include "bemsurg/mesh/triangle_mesh.hpp"
+#include "bemsurg/mesh/mesh_generators.hpp"
+#include "bemsurg/mesh/mesh_io.hpp"
+#include "bemsurg/mesh/mesh_topology.hpp"
+#include "bemsurg/mesh/mesh_validation.hpp"
+#include "bemsurg/kernels/kelvin_kernel.hpp"
+#include "bemsurg/kernels/kernel_gradients.hpp"
+#include "bemsurg/quadrature/triangle_rules.hpp"
+#include "bemsurg/quadrature/element_quadrature.hpp"
+#include "bemsurg/assembly/boundary_conditions.hpp"
+#include "bemsurg/assembly/influence_assembler.hpp"
+#include "bemsurg/assembly/linear_system.hpp"
+#include "bemsurg/solvers/dense_lu.hpp"
+#include "bemsurg/solvers/linear_solve.hpp"
+#include "bemsurg/elastostatic_solver.hpp"
+#include "bemsurg/post/interior_evaluator.hpp"
+#include "bemsurg/verification/reference_solutions.hpp"
+#include "bemsurg/io/element_selector.hpp"
+#include "bemsurg/io/results_io.hpp"
+#include "bemsurg/io/scene.hpp"

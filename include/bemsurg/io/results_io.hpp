@@ -1,0 +1,67 @@
+// bemsurg/io/results_io.hpp: what `bemsurg solve` writes (docs/scene-format.md, "Outputs"):
+// elements.csv (per element geometry with prescribed and solved boundary values, DESIGN.md §2 and
+// §5), interior.csv (Somigliana displacement and stress at interior points, Wang et al. 2007 eqs.
+// 7-9), surface.vtk (the same fields for a viewer) and report.json (size, timings, memory, solver).
+//
+// The CSV headers are a contract other tools parse; numbers are written with 17 significant
+// digits so that a value read back is the double that was computed. Every writer throws Error
+// naming the path when the file cannot be written.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+
+#include "bemsurg/assembly/linear_system.hpp"
+#include "bemsurg/mesh/triangle_mesh.hpp"
+#include "bemsurg/post/interior_evaluator.hpp"
+#include "bemsurg/solvers/linear_solve.hpp"
+
+namespace bemsurg {
+
+/// Header of elements.csv, exactly.
+inline constexpr const char* kElementsCsvHeader = "element,cx,cy,cz,nx,ny,nz,area,ux,uy,uz,tx,ty,tz";
+/// Header of interior.csv, exactly.
+inline constexpr const char* kInteriorCsvHeader = "x,y,z,ux,uy,uz,sxx,syy,szz,sxy,syz,sxz";
+
+/// One row per element in mesh order: index, centroid, unit outward normal, area, displacement,
+/// traction.
+void write_elements_csv(const std::string& path, const TriangleMesh& mesh, const BoundarySolution& solution);
+
+/// One row per point: position, displacement, stress (sxx, syy, szz, sxy, syz, sxz).
+void write_interior_csv(const std::string& path, const RowMatrixX3d& points, const RowMatrixX3d& displacement,
+                        const StressRows& stress);
+
+/// Legacy VTK surface with cell fields "displacement" and "traction" and the point field
+/// "displacement" (area-weighted vertex average, TriangleMesh::element_to_vertex).
+void write_solution_vtk(const std::string& path, const TriangleMesh& mesh, const BoundarySolution& solution);
+
+/// Seconds per phase of a run. `total` is wall time from start to the last file written.
+struct PhaseTimings {
+  double load = 0.0;      // scene, mesh, validation, boundary conditions
+  double assembly = 0.0;  // H, G and gravity
+  double system = 0.0;    // column swap into A* and the right-hand side
+  double solve = 0.0;     // factorisation or preconditioner set-up plus the solve
+  double post = 0.0;      // interior points and writing the outputs
+  double total = 0.0;
+};
+
+struct RunReport {
+  std::string scene;
+  std::string mesh_source;
+  Index elements = 0;
+  Index equations = 0;
+  Index interior_points = 0;
+  PhaseTimings timings;
+  double peak_memory_mb = 0.0;
+  LinearSolveSummary solver;
+};
+
+/// Peak resident memory of this process so far, in MiB (getrusage ru_maxrss).
+double peak_memory_mb();
+
+/// report.json: {"elements", "equations", "interior_points", "timings": {load, assembly, system,
+/// solve, post, total}, "peak_memory_mb", "solver": {method, preconditioner, iterations, status,
+/// relative_residual, setup_seconds, solve_seconds}, "scene", "mesh", "bemsurg_version"}.
+void write_report_json(const std::string& path, const RunReport& report);
+
+}  // namespace bemsurg

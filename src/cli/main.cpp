@@ -1,0 +1,57 @@
+// The `bemsurg` command-line program: entry point and sub-command dispatch (docs/cli.md).
+// Errors are caught here, at the program's edge, and printed as "bemsurg: error: ..." with exit
+// status 1; a command line that cannot be understood exits with 2.
+#include <exception>
+#include <iostream>
+#include <new>
+#include <string>
+
+#include "bemsurg/error.hpp"
+#include "bemsurg/version.hpp"
+#include "commands.hpp"
+
+namespace {
+
+constexpr const char* kUsage =
+    "usage: bemsurg <command> [arguments]\n"
+    "       bemsurg --help | --version\n"
+    "\n"
+    "commands:\n"
+    "  solve SCENE.json -o OUTDIR   solve a scene; write elements.csv, interior.csv, surface.vtk, report.json\n"
+    "  press ...                    press a tool into a scene and report the force (bemsurg press --help)\n"
+    "\n"
+    "Run 'bemsurg <command> --help' for a command's options. Scene format: docs/scene-format.md.\n";
+
+int usage_error(const std::string& message) {
+  std::cerr << "bemsurg: error: " << message << "\n" << "Run 'bemsurg --help' for usage.\n";
+  return 2;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) return usage_error("missing command");
+  const std::string command = argv[1];
+  if (command == "--version" || command == "-V") {
+    std::cout << "bemsurg " << bemsurg::version_string() << "\n";
+    return 0;
+  }
+  if (command == "--help" || command == "-h" || command == "help") {
+    std::cout << kUsage;
+    return 0;
+  }
+  try {
+    // The sub-command sees itself as argv[0], like a program's main.
+    if (command == "solve") return run_solve(argc - 1, argv + 1);
+    if (command == "press") return run_press(argc - 1, argv + 1);
+    return usage_error("unknown command '" + command + "'");
+  } catch (const bemsurg::cli::UsageError& e) {
+    return usage_error(e.what());
+  } catch (const std::bad_alloc&) {
+    std::cerr << "bemsurg: error: out of memory (the dense BEM system grows as the square of the number of elements: use a coarser mesh)\n";
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "bemsurg: error: " << e.what() << "\n";
+    return 1;
+  }
+}

@@ -1,0 +1,143 @@
+// `bemsurg solve SCENE.json -o OUTDIR`: load a scene, solve the elastostatic boundary value
+// problem (Wang et al. 2007 eq. 6; DESIGN.md §5), evaluate interior points (eqs. 7-9) and write
+// elements.csv, interior.csv, surface.vtk and report.json (docs/cli.md, docs/scene-format.md).
+#include <chrono>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <string>
+
+#include "bemsurg/elastostatic_solver.hpp"
+#include "bemsurg/io/results_io.hpp"
+#include "bemsurg/io/scene.hpp"
+#include "bemsurg/post/interior_evaluator.hpp"
+#include "commands.hpp"
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_between(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); }
+
+constexpr const char* kSolveUsage =
+    "usage: bemsurg solve SCENE.json -o OUTDIR [--quiet]\n"
+    "\n"
+    "Solves the scene and writes into OUTDIR (created if needed):\n"
+    "  elements.csv   element,cx,cy,cz,nx,ny,nz,area,ux,uy,uz,tx,ty,tz (every element)\n"
+    "  interior.csv   x,y,z,ux,uy,uz,sxx,syy,szz,sxy,syz,sxz (when the scene has interior_points)\n"
+    "  surface.vtk    the surface with displacement and traction fields\n"
+    "  report.json    sizes, time per phase, peak memory, solver method, iterations and residual\n"
+    "\n"
+    "options:\n"
+    "  -o, --output DIR   output directory (required)\n"
+    "  -q, --quiet        print nothing but warnings and errors\n"
+    "  -h, --help         show this help\n"
+    "\n"
+    "The scene format is described in docs/scene-format.md.\n";
+
+struct SolveOptions {
+  std::string scene;
+  std::string output;
+  bool quiet = false;
+  bool help = false;
+};
+
+SolveOptions parse_solve_options(int argc, char** argv) {
+  using bemsurg::cli::UsageError;
+  SolveOptions o;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "-h" || arg == "--help") {
+      o.help = true;
+      return o;
+    } else if (arg == "-q" || arg == "--quiet") {
+      o.quiet = true;
+    } else if (arg == "-o" || arg == "--output") {
+      if (i + 1 >= argc) throw UsageError("solve: " + arg + " needs a directory");
+      o.output = argv[++i];
+    } else if (arg.rfind("--output=", 0) == 0) {
+      o.output = arg.substr(9);
+    } else if (!arg.empty() && arg[0] == '-' && arg != "-") {
+      throw UsageError("solve: unknown option '" + arg + "'");
+    } else if (o.scene.empty()) {
+      o.scene = arg;
+    } else {
+      throw UsageError("solve: unexpected argument '" + arg + "' (one scene file per run)");
+    }
+  }
+  if (o.scene.empty()) throw UsageError("solve: missing the scene file (bemsurg solve SCENE.json -o OUTDIR)");
+  if (o.output.empty()) throw UsageError("solve: missing the output directory (-o OUTDIR)");
+  return o;
+}
+
+}  // namespace
+
+int run_solve(int argc, char** argv) {
+  using namespace bemsurg;
+  const SolveOptions options = parse_solve_options(argc, argv);
+  if (options.help) {
+    std::cout << kSolveUsage;
+    return 0;
+  }
+  const Clock::time_point start = Clock::now();
+
+  const Scene scene = load_scene(options.scene);
+  for (const std::string& w : scene.warnings) std::cerr << "bemsurg: warning: " << options.scene << ": " << w << "\n";
+  const Clock::time_point loaded = Clock::now();
+
+  // Create the output directory before the (possibly long) solve, so a bad path fails at once.
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::create_directories(options.output, ec);
+  if (ec || !fs::is_directory(options.output))
+    throw Error("cannot create the output directory '" + options.output + "': " +
+                (ec ? ec.message() : std::string("a file of that name exists")));
+
+  if (!options.quiet)
+    std::cout << "bemsurg solve: " << scene.problem.mesh.num_elements() << " elements, "
+              << scene.problem.mesh.num_dofs() << " equations, mesh " << scene.mesh_source << ", solver "
+              << scene.solver.method << std::endl;
+
+  const ElastostaticSolution solution = solve_elastostatic(scene.problem, scene.solver);
+  const Clock::time_point solved = Clock::now();
+
+  const fs::path out(options.output);
+  if (scene.has_interior_points) {
+    const InteriorEvaluator evaluator(scene.problem.mesh, scene.problem.material, scene.problem.gravity,
+                                      scene.problem.quadrature);
+    const RowMatrixX3d u = evaluator.displacement(scene.interior_points, solution.boundary);
+    const StressRows s = evaluator.stress(scene.interior_points, solution.boundary);
+    write_interior_csv((out / "interior.csv").string(), scene.interior_points, u, s);
+  }
+  write_elements_csv((out / "elements.csv").string(), scene.problem.mesh, solution.boundary);
+  write_solution_vtk((out / "surface.vtk").string(), scene.problem.mesh, solution.boundary);
+  const Clock::time_point finished = Clock::now();
+
+  RunReport report;
+  report.scene = options.scene;
+  report.mesh_source = scene.mesh_source;
+  report.elements = solution.report.elements;
+  report.equations = solution.report.equations;
+  report.interior_points = scene.interior_points.rows();
+  report.timings.load = seconds_between(start, loaded);
+  report.timings.assembly = solution.report.assembly_seconds;
+  report.timings.system = solution.report.system_seconds;
+  report.timings.solve = solution.report.solver.setup_seconds + solution.report.solver.solve_seconds;
+  report.timings.post = seconds_between(solved, finished);
+  report.timings.total = seconds_between(start, finished);
+  report.peak_memory_mb = peak_memory_mb();
+  report.solver = solution.report.solver;
+  write_report_json((out / "report.json").string(), report);
+
+  if (!options.quiet) {
+    const LinearSolveSummary& s = solution.report.solver;
+    std::cout << std::setprecision(3) << "  solver " << s.method << " (" << s.preconditioner << "): " << s.status << ", "
+              << s.iterations << " iterations, relative residual " << s.relative_residual << "\n"
+              << "  time: load " << report.timings.load << " s, assembly " << report.timings.assembly << " s, system "
+              << report.timings.system << " s, solve " << report.timings.solve << " s, post " << report.timings.post
+              << " s, total " << report.timings.total << " s; peak memory " << report.peak_memory_mb << " MiB\n"
+              << "  wrote " << (out / "elements.csv").string()
+              << (scene.has_interior_points ? ", " + (out / "interior.csv").string() : std::string()) << ", "
+              << (out / "surface.vtk").string() << ", " << (out / "report.json").string() << "\n";
+  }
+  return 0;
+}

@@ -1,0 +1,134 @@
+// Result files of a solve (bemsurg/io/results_io.hpp; docs/scene-format.md, "Outputs"): the
+// per-element boundary solution of Wang et al. 2007 eq. 6 after recovery, the interior field of
+// eqs. 7-9, a VTK surface for viewers and a JSON run report.
+#include "bemsurg/io/results_io.hpp"
+
+#include <sys/resource.h>
+
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <system_error>
+#include <vector>
+
+#include "bemsurg/error.hpp"
+#include "bemsurg/mesh/mesh_io.hpp"
+#include "bemsurg/version.hpp"
+
+namespace bemsurg {
+namespace {
+
+/// Shortest decimal text that reads back as exactly x (std::to_chars without a precision).
+void append_number(std::string& out, double x) {
+  char buffer[32];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, x);
+  out.append(buffer, result.ptr);
+}
+
+void append_row(std::string& out, const double* values, int count) {
+  for (int i = 0; i < count; ++i) {
+    out += ',';
+    append_number(out, values[i]);
+  }
+}
+
+void write_text(const std::string& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (!out) throw Error("cannot write '" + path + "': " + std::generic_category().message(errno));
+  out << text;
+  out.close();
+  if (!out) throw Error("cannot write '" + path + "': write failed (disk full?)");
+}
+
+}  // namespace
+
+void write_elements_csv(const std::string& path, const TriangleMesh& mesh, const BoundarySolution& solution) {
+  const Index n = mesh.num_elements();
+  if (solution.displacement.rows() != n || solution.traction.rows() != n)
+    throw Error("write_elements_csv: the solution has " + std::to_string(solution.displacement.rows()) +
+                " rows, the mesh " + std::to_string(n) + " elements");
+  std::string text = kElementsCsvHeader;
+  text += '\n';
+  text.reserve(text.size() + static_cast<std::size_t>(n) * 300);
+  for (Index e = 0; e < n; ++e) {
+    double row[13];
+    for (int c = 0; c < 3; ++c) {
+      row[c] = mesh.centroids()(e, c);
+      row[3 + c] = mesh.normals()(e, c);
+      row[7 + c] = solution.displacement(e, c);
+      row[10 + c] = solution.traction(e, c);
+    }
+    row[6] = mesh.area(e);
+    text += std::to_string(e);
+    append_row(text, row, 13);
+    text += '\n';
+  }
+  write_text(path, text);
+}
+
+void write_interior_csv(const std::string& path, const RowMatrixX3d& points, const RowMatrixX3d& displacement,
+                        const StressRows& stress) {
+  const Index n = points.rows();
+  if (displacement.rows() != n || stress.rows() != n)
+    throw Error("write_interior_csv: " + std::to_string(n) + " points but " + std::to_string(displacement.rows()) +
+                " displacements and " + std::to_string(stress.rows()) + " stresses");
+  std::string text = kInteriorCsvHeader;
+  text += '\n';
+  for (Index i = 0; i < n; ++i) {
+    double row[12];
+    for (int c = 0; c < 3; ++c) {
+      row[c] = points(i, c);
+      row[3 + c] = displacement(i, c);
+    }
+    for (int c = 0; c < 6; ++c) row[6 + c] = stress(i, c);
+    append_number(text, row[0]);
+    append_row(text, row + 1, 11);
+    text += '\n';
+  }
+  write_text(path, text);
+}
+
+void write_solution_vtk(const std::string& path, const TriangleMesh& mesh, const BoundarySolution& solution) {
+  Eigen::VectorXd normal_traction(mesh.num_elements());
+  for (Index e = 0; e < mesh.num_elements(); ++e) normal_traction(e) = solution.traction.row(e).dot(mesh.normals().row(e));
+  write_vtk(path, mesh,
+            {MeshField("displacement", solution.displacement), MeshField("traction", solution.traction),
+             MeshField("normal_traction", normal_traction)},
+            {MeshField("displacement", mesh.element_to_vertex(solution.displacement))}, "bemsurg solve");
+}
+
+double peak_memory_mb() {
+  rusage usage{};
+  if (getrusage(RUSAGE_SELF, &usage) != 0) return 0.0;
+  return static_cast<double>(usage.ru_maxrss) / 1024.0;  // Linux reports KiB
+}
+
+void write_report_json(const std::string& path, const RunReport& report) {
+  // Non-finite values are not JSON; a residual that is NaN is reported as null.
+  const auto number = [](double x) { return std::isfinite(x) ? nlohmann::ordered_json(x) : nlohmann::ordered_json(); };
+  nlohmann::ordered_json j;
+  j["elements"] = report.elements;
+  j["equations"] = report.equations;
+  j["interior_points"] = report.interior_points;
+  j["timings"] = {{"load", number(report.timings.load)},       {"assembly", number(report.timings.assembly)},
+                  {"system", number(report.timings.system)},   {"solve", number(report.timings.solve)},
+                  {"post", number(report.timings.post)},       {"total", number(report.timings.total)}};
+  j["peak_memory_mb"] = number(report.peak_memory_mb);
+  j["solver"] = {{"method", report.solver.method},
+                 {"preconditioner", report.solver.preconditioner},
+                 {"iterations", report.solver.iterations},
+                 {"status", report.solver.status},
+                 {"relative_residual", number(report.solver.relative_residual)},
+                 {"setup_seconds", number(report.solver.setup_seconds)},
+                 {"solve_seconds", number(report.solver.solve_seconds)}};
+  j["scene"] = report.scene;
+  j["mesh"] = report.mesh_source;
+  j["bemsurg_version"] = version_string();
+  write_text(path, j.dump(2) + "\n");
+}
+
+}  // namespace bemsurg
