@@ -100,14 +100,17 @@ std::pair<double, double> interior_errors(const TriangleMesh& mesh, const Materi
 }
 
 void add_orders(std::vector<Row>& rows) {
-  for (std::size_t i = 1; i < rows.size(); ++i) {
-    Row& r = rows[i];
-    const Row& q = rows[i - 1];
-    if (r.problem != q.problem || r.variant != q.variant) continue;
-    const double ratio = std::log(q.h / r.h);
-    if (r.error_u > 0 && q.error_u > 0) r.order_u = std::log(q.error_u / r.error_u) / ratio;
-    if (r.error_t > 0 && q.error_t > 0) r.order_t = std::log(q.error_t / r.error_t) / ratio;
-  }
+  // Compare each row with the previous mesh level of the same problem and case.
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    for (std::size_t j = i; j-- > 0;) {
+      const Row& q = rows[j];
+      Row& r = rows[i];
+      if (r.problem != q.problem || r.variant != q.variant) continue;
+      const double ratio = std::log(q.h / r.h);
+      if (r.error_u > 0 && q.error_u > 0) r.order_u = std::log(q.error_u / r.error_u) / ratio;
+      if (r.error_t > 0 && q.error_t > 0) r.order_t = std::log(q.error_t / r.error_t) / ratio;
+      break;
+    }
 }
 
 double rigid_body_row_sum_ratio(const TriangleMesh& mesh, const Material& m) {
