@@ -111,7 +111,7 @@ TEST_CASE("a well-formed scene loads with the values it states", "[scene]") {
 TEST_CASE("defaults: traction-free elements, LU solver, no gravity, no interior points", "[scene]") {
   const Scene s = load_scene_from_string(scene(kCube, kMaterial, kFixBottom), ".");
   CHECK(s.solver.method == "lu");
-  CHECK(s.solver.preconditioner == "none");
+  CHECK(s.solver.preconditioner == "block_jacobi");
   CHECK(s.problem.gravity.isZero(0.0));
   CHECK_FALSE(s.has_interior_points);
   CHECK(s.interior_points.rows() == 0);

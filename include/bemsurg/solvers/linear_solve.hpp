@@ -16,7 +16,9 @@ struct LinearSolverSettings {
   double tolerance = 1e-10;             // relative residual ||b - A x|| / ||b|| for Krylov methods
   int max_iterations = 1000;
   int restart = 0;                      // GMRES(m) restart length; 0 = full GMRES
-  std::string preconditioner = "none";  // "none" | "block_jacobi" | "near_field"
+  // block_jacobi by default: A* mixes O(1) H columns with O(1/mu) G columns, and unpreconditioned
+  // Krylov methods stall on that scaling (bench_krylov: GMRES(30) does not converge without it).
+  std::string preconditioner = "block_jacobi";  // "none" | "block_jacobi" | "near_field"
   double near_field_radius = 2.0;       // near-field preconditioner: element diameters
 };
 
