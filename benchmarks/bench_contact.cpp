@@ -1,0 +1,250 @@
+// bench_contact: the haptic path of DESIGN.md §6 (Wang et al. 2007 §5.1-5.2) measured.
+//  1. Precompute (GreensTable::compute) split into assembly, factorisation and table, against size,
+//     beside the bare baseline measured in the same process at the same size: one dense LU plus
+//     the same multi-right-hand-side solve through the same BLAS/LAPACK back end.
+//  2. Force update (tool pose in, force out at a fixed contact set) for 1, 7 and 50 bonded contact
+//     elements: median, p99, p99.9 over >= 1e5 updates (1e4 with --quick), two ways: with the
+//     tractions (targets, the k x k capacitance product, the force: what the active set needs) and
+//     force only (targets and the 3 x k force operator); also one contact-set change (remove + add
+//     one element, Schur updates of P).
+//  3. Full-field update u = u_g + G_{:,C} t_C (graphics rate), median.
+// Targets (issue 5): precompute <= 1.5x the baseline; force update p99.9 <= 20 us with 7 and
+// <= 50 us with 50 contact elements at 15,000 equations; full field <= 2 ms at 15,000 equations.
+//
+// usage: bench_contact [--quick] [--json PATH] [--csv PATH] [--sizes N1,N2,...]  (N: box cells per edge)
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "bemsurg/mesh/mesh_generators.hpp"
+#include "bemsurg/presolution/capacitance_contact.hpp"
+#include "bemsurg/presolution/greens_table.hpp"
+
+using namespace bemsurg;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+double seconds(Clock::time_point a) { return std::chrono::duration<double>(Clock::now() - a).count(); }
+
+struct Percentiles {
+  double median = 0, p99 = 0, p999 = 0, max = 0;
+};
+Percentiles percentiles(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  auto at = [&](double q) { return v[std::min(v.size() - 1, static_cast<std::size_t>(q * double(v.size())))]; };
+  return {at(0.5), at(0.99), at(0.999), v.back()};
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  bool quick = false;
+  std::string json_path, csv_path;
+  std::vector<int> sizes;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--quick") {
+      quick = true;
+    } else if (a == "--json" && i + 1 < argc) {
+      json_path = argv[++i];
+    } else if (a == "--csv" && i + 1 < argc) {
+      csv_path = argv[++i];
+    } else if (a == "--sizes" && i + 1 < argc) {
+      std::stringstream ss(argv[++i]);
+      std::string item;
+      while (std::getline(ss, item, ',')) sizes.push_back(std::stoi(item));
+    } else if (a == "-h" || a == "--help") {
+      std::cout << "usage: bench_contact [--quick] [--json PATH] [--csv PATH] [--sizes N1,N2,...]\n";
+      return 0;
+    } else {
+      std::cerr << "bench_contact: unknown argument '" << a << "'\n";
+      return 2;
+    }
+  }
+  // Box of N x N x N cells per face edge (N in z one less): 4 (N^2 + 2 N (N-1)) elements.
+  if (sizes.empty()) sizes = quick ? std::vector<int>{6, 7} : std::vector<int>{5, 9, 14, 21};
+  const int updates = quick ? 10000 : 100000;
+  const int contact_sizes[] = {1, 7, 50};
+  const Material material{3000.0, 0.45, 1000.0};  // soft tissue-like, SI
+  const Eigen::Vector3d gravity(0, 0, -9.81);
+
+  nlohmann::json out;
+  out["benchmark"] = "bench_contact";
+  out["quick"] = quick;
+#ifdef BEMSURG_HAVE_BLAS
+  out["dense_backend"] = "OpenBLAS+LAPACKE (dgetrf/dgetrs)";
+#else
+  out["dense_backend"] = "Eigen PartialPivLU";
+#endif
+  std::ofstream csv;
+  if (!csv_path.empty()) {
+    csv.open(csv_path);
+    csv << "equations,region_elements,assembly_s,factorization_s,table_s,bare_factorization_s,bare_solve_s,ratio,"
+           "contact_elements,force_median_us,force_p99_us,force_p999_us,force_only_median_us,force_only_p999_us,"
+           "set_change_median_us,field_median_ms\n";
+  }
+  std::printf("bench_contact (%s)\n", quick ? "quick" : "full");
+  {
+    // Warm-up: the first LAPACK call of a process starts BLAS threads; neither side should pay it.
+    Eigen::MatrixXd A = Eigen::MatrixXd::Random(300, 300), B = Eigen::MatrixXd::Random(300, 10);
+    A.diagonal().array() += 300.0;
+    lu_factor_and_solve_in_place(A, B);
+  }
+  for (int N : sizes) {
+    const TriangleMesh mesh = box_mesh(Vec3(0, 0, 0), Vec3(0.1, 0.1, 0.1 * (N - 1) / N), N, N, std::max(1, N - 1));
+    const Index E = mesh.num_elements(), n = 3 * E;
+    std::vector<Index> bottom, top;
+    for (Index e = 0; e < E; ++e) {
+      if (mesh.normal(e).z() < -0.99) bottom.push_back(e);
+      if (mesh.normal(e).z() > 0.99) top.push_back(e);
+    }
+    const Vec3 centre(0.05, 0.05, 0.0);
+    std::sort(top.begin(), top.end(), [&](Index a, Index b) {
+      return (mesh.centroid(a) - centre).head<2>().norm() < (mesh.centroid(b) - centre).head<2>().norm();
+    });
+    // Region: where the tool acts (enough for 50 contact elements plus a ring for set changes).
+    std::vector<Index> region(top.begin(), top.begin() + std::min<std::size_t>(top.size(), 64));
+    const BoundaryConditions base = supported_base_conditions(E, bottom);
+    GreensTableOptions options;
+    options.region = region;
+    options.gravity = gravity;
+
+    // 1. Precompute, then the bare baseline on the same A* with the same right-hand sides.
+    const auto t_pre = Clock::now();
+    const GreensTable table = GreensTable::compute(mesh, material, base, options);
+    const double pre_total = seconds(t_pre);
+    const PrecomputeTimings& pt = table.timings();
+    double bare_f = 0.0, bare_s = 0.0;
+    {
+      // Same size, same number of right-hand sides, same back end. A random matrix stands in for
+      // A* (dgetrf's and dgetrs's cost does not depend on the values), which spares a second
+      // assembly of the same system at the largest sizes.
+      Eigen::MatrixXd A = Eigen::MatrixXd::Random(n, n);
+      A.diagonal().array() += double(n);
+      Eigen::MatrixXd B = Eigen::MatrixXd::Random(n, 3 * static_cast<Index>(region.size()) + 1);
+      lu_factor_and_solve_in_place(A, B, &bare_f, &bare_s);
+    }
+    const double ratio = (pt.factorization_seconds + pt.table_seconds) / (bare_f + bare_s);
+    std::printf("\nn = %ld equations (%ld elements), region %zu elements, table %.1f MiB\n", long(n), long(E), region.size(),
+                double(table.bytes()) / 1048576.0);
+    std::printf("  precompute: assembly %.3f s, factorisation %.3f s, table %.3f s (total %.3f s)\n", pt.assembly_seconds,
+                pt.factorization_seconds, pt.table_seconds, pre_total);
+    std::printf("  bare dgetrf + dgetrs(%zu rhs): %.3f s + %.3f s; precompute (factorisation + table) / bare = %.2f (target <= 1.5)\n",
+                3 * region.size() + 1, bare_f, bare_s, ratio);
+    nlohmann::json size_json = {{"equations", n},
+                                {"elements", E},
+                                {"region_elements", region.size()},
+                                {"assembly_seconds", pt.assembly_seconds},
+                                {"factorization_seconds", pt.factorization_seconds},
+                                {"table_seconds", pt.table_seconds},
+                                {"bare_factorization_seconds", bare_f},
+                                {"bare_solve_seconds", bare_s},
+                                {"precompute_over_bare", ratio}};
+
+    // 2. and 3. per contact size.
+    for (int k : contact_sizes) {
+      if (k + 1 > static_cast<int>(region.size())) {
+        std::printf("  k = %d: skipped (the top face has only %zu elements at this size)\n", k, region.size());
+        continue;
+      }
+      CapacitanceContact contact(mesh, table, 3 * 64);
+      for (int i = 0; i < k; ++i) contact.add_bonded(region[static_cast<std::size_t>(i)]);
+      const Index rows = contact.num_rows();
+      std::vector<double> base_targets(static_cast<std::size_t>(rows));
+      for (Index a = 0; a < rows; ++a) base_targets[static_cast<std::size_t>(a)] = contact.base_target(a);
+      std::vector<double> us(static_cast<std::size_t>(updates));
+      Eigen::Vector3d sink = Eigen::Vector3d::Zero();
+      for (int it = 0; it < updates; ++it) {
+        // The tool pose of this tick: pressed 0.1..1 mm, swaying sideways.
+        const double depth = 1e-4 * (1.0 + 9.0 * 0.5 * (1.0 + std::sin(1e-3 * it)));
+        const double sway = 2e-5 * std::cos(7e-4 * it);
+        const auto t0 = Clock::now();
+        for (Index a = 0; a < rows; ++a) {
+          const Eigen::Vector3d& w = contact.row(a).direction;
+          contact.set_target(a, base_targets[static_cast<std::size_t>(a)] - depth * w.z() + sway * w.x());
+        }
+        contact.solve();
+        sink += contact.force();
+        us[static_cast<std::size_t>(it)] = std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
+      }
+      const Percentiles p = percentiles(us);
+      // Force only (O(k) force operator, no tractions): the same poses.
+      for (int it = 0; it < updates; ++it) {
+        const double depth = 1e-4 * (1.0 + 9.0 * 0.5 * (1.0 + std::sin(1e-3 * it)));
+        const double sway = 2e-5 * std::cos(7e-4 * it);
+        const auto t0 = Clock::now();
+        for (Index a = 0; a < rows; ++a) {
+          const Eigen::Vector3d& w = contact.row(a).direction;
+          contact.set_target(a, base_targets[static_cast<std::size_t>(a)] - depth * w.z() + sway * w.x());
+        }
+        sink += contact.force_for_targets();
+        us[static_cast<std::size_t>(it)] = std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
+      }
+      const Percentiles q = percentiles(us);
+      // Contact-set change: one element leaves, another joins (Schur updates of P), then solve.
+      std::vector<double> change;
+      const int changes = quick ? 50 : 500;
+      for (int it = 0; it < changes; ++it) {
+        const Index leave = region[static_cast<std::size_t>(it % k)];
+        const Index join = region[static_cast<std::size_t>(k + it % (static_cast<int>(region.size()) - k))];
+        const auto t0 = Clock::now();
+        contact.remove_element(leave);
+        contact.add_bonded(join);
+        for (Index a = 0; a < contact.num_rows(); ++a) contact.set_target(a, contact.base_target(a) - 1e-4 * contact.row(a).direction.z());
+        contact.solve();
+        sink += contact.force();
+        change.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count());
+        contact.remove_element(join);
+        contact.add_bonded(leave);
+      }
+      const double change_med = median(change);
+      // Full field.
+      Eigen::VectorXd u(n);
+      std::vector<double> field;
+      for (int it = 0; it < (quick ? 20 : 200); ++it) {
+        const auto t0 = Clock::now();
+        contact.displacement_field(u);
+        field.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+      }
+      const double field_med = median(field);
+      std::printf("  k = %2d contact elements, %d updates: force+tractions (solve) median %.2f us, p99 %.2f us, p99.9 %.2f us "
+                  "(max %.1f); force only median %.2f us, p99 %.2f us, p99.9 %.2f us; set change %.1f us; full field %.3f ms%s\n",
+                  k, updates, p.median, p.p99, p.p999, p.max, q.median, q.p99, q.p999, change_med, field_med,
+                  sink.allFinite() ? "" : " (non-finite!)");
+      size_json["contact"].push_back({{"contact_elements", k},
+                                      {"force_update_us", {{"median", p.median}, {"p99", p.p99}, {"p999", p.p999}, {"max", p.max}}},
+                                      {"force_only_update_us", {{"median", q.median}, {"p99", q.p99}, {"p999", q.p999}, {"max", q.max}}},
+                                      {"updates", updates},
+                                      {"set_change_median_us", change_med},
+                                      {"full_field_median_ms", field_med}});
+      if (csv.is_open())
+        csv << n << ',' << region.size() << ',' << pt.assembly_seconds << ',' << pt.factorization_seconds << ','
+            << pt.table_seconds << ',' << bare_f << ',' << bare_s << ',' << ratio << ',' << k << ',' << p.median << ','
+            << p.p99 << ',' << p.p999 << ',' << q.median << ',' << q.p999 << ',' << change_med << ',' << field_med << '\n';
+    }
+    out["sizes"].push_back(size_json);
+    std::fflush(stdout);
+  }
+  if (!json_path.empty()) {
+    std::ofstream js(json_path);
+    js << out.dump(2) << "\n";
+    if (!js) {
+      std::cerr << "bench_contact: cannot write " << json_path << "\n";
+      return 1;
+    }
+  }
+  return 0;
+}

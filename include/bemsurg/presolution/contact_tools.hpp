@@ -1,0 +1,146 @@
+// bemsurg/presolution/contact_tools.hpp: surgical tools as contact constraints on the compliance
+// table (DESIGN.md §6; Wang et al. 2007 §5.1-5.2: prodding, pinching, retraction), solved exactly
+// and together by capacitance_contact.hpp, several tools at once (two hands).
+//
+// Every tool is engaged at first contact with the base-state (self-weight) surface and then moved
+// by a translation (the plate also by a small rotation) from that pose:
+//   point   the paper's tool: the element hit first takes the tool's displacement (bonded, or its
+//           normal component when frictionless). Its force depends on the element size and does
+//           NOT converge under refinement (a point load on an elastic body has infinite
+//           compliance); use a finite tool for forces.
+//   flat    rigid flat disc of radius a, axis along the approach direction: every element under
+//           the disc whose face the disc has reached moves with it (Boussinesq's punch).
+//   sphere  rigid sphere of radius R: the elements it overlaps are pushed onto its surface along
+//           their normals; elements whose contact traction would pull (adhesion) are released and
+//           the small system solved again until the set is consistent (unilateral contact by an
+//           active set, Hertz's problem).
+//   plate   rigid planar polygon retractor: the elements it touches move with it.
+//   pinch   grabs the element hit (and those within a jaw radius) at first contact; the contact
+//           sticks and carries tension, so pulling reverses the force.
+// Unilateral tools (point pushing, flat, sphere) release tensile elements; plate and pinch stick.
+//
+// Conventions: a unilateral row's direction w points into the body (the pushing direction) and
+// its traction multiplier lambda > 0 is compression. Forces are on the tool: -sum area * traction.
+#pragma once
+
+#include <Eigen/Core>
+#include <memory>
+#include <vector>
+
+#include "bemsurg/mesh/bvh.hpp"
+#include "bemsurg/mesh/triangle_mesh.hpp"
+#include "bemsurg/presolution/capacitance_contact.hpp"
+#include "bemsurg/presolution/greens_table.hpp"
+
+namespace bemsurg {
+
+enum class ToolShape { Point, FlatPunch, Sphere, Plate, Pinch };
+enum class ContactMode { Bonded, Frictionless };
+
+struct ToolSpec {
+  ToolShape shape = ToolShape::Point;
+  ContactMode mode = ContactMode::Bonded;
+  /// flat: disc radius a; sphere: R; pinch: jaw radius (0 = the element hit only).
+  double radius = 0.0;
+  /// plate: polygon vertices in world coordinates at engagement (planar, >= 3, convex or not).
+  std::vector<Eigen::Vector3d> polygon;
+  /// plate: elements whose centroid lies within this distance of the plate's plane are touched.
+  double plate_tolerance = 0.0;
+
+  static ToolSpec point(ContactMode m = ContactMode::Bonded) { return {ToolShape::Point, m, 0.0, {}, 0.0}; }
+  static ToolSpec flat(double a, ContactMode m = ContactMode::Frictionless) { return {ToolShape::FlatPunch, m, a, {}, 0.0}; }
+  static ToolSpec sphere(double r, ContactMode m = ContactMode::Frictionless) { return {ToolShape::Sphere, m, r, {}, 0.0}; }
+  static ToolSpec pinch(double jaw = 0.0) { return {ToolShape::Pinch, ContactMode::Bonded, jaw, {}, 0.0}; }
+  static ToolSpec plate(std::vector<Eigen::Vector3d> poly, double tolerance, ContactMode m = ContactMode::Bonded) {
+    return {ToolShape::Plate, m, 0.0, std::move(poly), tolerance};
+  }
+};
+
+/// What one update() did.
+struct ContactUpdateReport {
+  int active_set_iterations = 0;
+  bool consistent = true;  // false: the active set did not settle within the iteration limit
+  Index rows = 0;
+  Index elements = 0;
+};
+
+class ToolContactSolver {
+ public:
+  /// `capacity_rows`: the most constraint rows of all tools together (bonded elements take 3).
+  ToolContactSolver(const TriangleMesh& mesh, const GreensTable& table, Index capacity_rows = 600);
+
+  /// Adds a tool (not yet touching); returns its id (the tag of its rows).
+  int add_tool(const ToolSpec& spec);
+  Index num_tools() const { return static_cast<Index>(tools_.size()); }
+
+  /// The tool approaches along `direction` on the line through `at` and stops at first contact
+  /// with the base-state surface; returns false when the line misses the body (or, for a
+  /// flat/sphere, no element faces the tool). After this the tool's translation is zero.
+  bool engage(int tool, const Eigen::Vector3d& at, const Eigen::Vector3d& direction);
+  /// Places the tool directly (sphere: centre; flat: a point of the disc face, disc normal along
+  /// `direction`) without searching for first contact; its translation is then measured from here.
+  void place(int tool, const Eigen::Vector3d& position, const Eigen::Vector3d& direction);
+  void release(int tool);
+  bool engaged(int tool) const { return tools_[static_cast<std::size_t>(tool)].engaged; }
+
+  /// Tool pose relative to where it was engaged or placed (the plate also turns by `rotation`,
+  /// a small rotation vector about the polygon's centroid).
+  void set_translation(int tool, const Eigen::Vector3d& delta) { tools_[static_cast<std::size_t>(tool)].delta = delta; }
+  void set_rotation(int tool, const Eigen::Vector3d& rotation) { tools_[static_cast<std::size_t>(tool)].rotation = rotation; }
+  /// Convenience: translation `depth` along the approach direction.
+  void set_depth(int tool, double depth);
+
+  /// The haptic-rate step: brings the contact set up to date with the poses (incremental
+  /// capacitance updates), solves, and runs the active set of unilateral tools. Allocation-free
+  /// once the tools are engaged (buffers are reserved for the capacity).
+  ContactUpdateReport update(int max_active_set_iterations = 50);
+
+  /// Force on one tool (after update()).
+  Eigen::Vector3d force(int tool) const { return contact_.force_of_tag(tool); }
+  Index contact_elements(int tool) const;
+  /// Elements in contact with `tool`, appended to out.
+  void contact_element_list(int tool, std::vector<Index>& out) const;
+
+  const CapacitanceContact& contact() const { return contact_; }
+  CapacitanceContact& contact() { return contact_; }
+  /// Full field (graphics rate, O(n k)); u must have n entries.
+  void displacement_field(Eigen::VectorXd& u) const { contact_.displacement_field(u); }
+  /// The base-state surface the tools are engaged on.
+  const TriangleBvh& base_surface() const { return bvh_; }
+
+ private:
+  struct Tool {
+    ToolSpec spec;
+    bool engaged = false;
+    Eigen::Vector3d origin = Eigen::Vector3d::Zero();     // reference point (contact point / centre / disc face)
+    Eigen::Vector3d direction = Eigen::Vector3d::UnitZ();  // approach direction, unit
+    Eigen::Vector3d delta = Eigen::Vector3d::Zero();
+    Eigen::Vector3d rotation = Eigen::Vector3d::Zero();
+    Eigen::Vector3d pivot = Eigen::Vector3d::Zero();
+    std::vector<Index> candidates;  // elements the tool can reach (fixed at engagement)
+    std::vector<char> released;     // per candidate: released by the active set
+    std::vector<char> wanted;       // per candidate: scratch
+  };
+  bool unilateral(const Tool& t) const {
+    return t.spec.shape == ToolShape::FlatPunch || t.spec.shape == ToolShape::Sphere || t.spec.shape == ToolShape::Point;
+  }
+  Eigen::Vector3d base_position(Index e) const {
+    return mesh_.centroid(e) + table_.base_displacement().segment<3>(3 * e);
+  }
+  /// Whether candidate element e of tool t is geometrically in contact at the current pose, and
+  /// the displacement target: the displacement change from the base state it must undergo.
+  bool geometric_contact(const Tool& t, Index e, Eigen::Vector3d& push, Eigen::Vector3d& row_direction) const;
+  void collect_candidates(Tool& t);
+  void add_element_rows(const Tool& t, int tag, Index e, const Eigen::Vector3d& row_direction);
+  void set_targets(int unused);
+
+  const TriangleMesh& mesh_;
+  const GreensTable& table_;
+  CapacitanceContact contact_;
+  TriangleBvh bvh_;
+  std::vector<Tool> tools_;
+  std::vector<int> owner_;  // per element: tool id in contact, or -1
+  std::vector<ContactRow> add_buffer_;  // reserved to the capacity: rows joining in one update
+};
+
+}  // namespace bemsurg

@@ -1,0 +1,249 @@
+// `bemsurg press SCENE.json --tool point|flat:RADIUS|sphere:RADIUS --at X,Y,Z --direction DX,DY,DZ
+// --depth D [--frictionless] -o OUTDIR`: one tool pressed into a scene through the pre-solution
+// table and exact capacitance contact (DESIGN.md §6; Wang et al. 2007 §5.1-5.2). The tool comes
+// down along the direction onto the self-weight surface near X,Y,Z and pushes D beyond first
+// contact. Writes OUTDIR/elements.csv (as `bemsurg solve`) and OUTDIR/force.json.
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "bemsurg/io/results_io.hpp"
+#include "bemsurg/io/scene.hpp"
+#include "bemsurg/presolution/contact_tools.hpp"
+#include "bemsurg/presolution/greens_table.hpp"
+#include "bemsurg/presolution/table_file.hpp"
+#include "commands.hpp"
+
+namespace {
+
+using bemsurg::cli::UsageError;
+using Clock = std::chrono::steady_clock;
+
+constexpr const char* kPressUsage =
+    "usage: bemsurg press SCENE.json --tool point|flat:RADIUS|sphere:RADIUS --at X,Y,Z\n"
+    "                     --direction DX,DY,DZ --depth D [--frictionless] -o OUTDIR\n"
+    "                     [--table FILE] [--quiet]\n"
+    "\n"
+    "The tool comes down along DIRECTION on the line through X,Y,Z onto the body (deformed by its\n"
+    "own weight), stops at first contact and pushes DEPTH further. Contact is exact (capacitance\n"
+    "matrix on the pre-solution table): bonded unless --frictionless (normal component only).\n"
+    "flat: rigid flat disc of radius RADIUS; sphere: rigid sphere of radius RADIUS (unilateral:\n"
+    "elements that would pull are released). The point tool's force depends on the mesh size.\n"
+    "\n"
+    "writes OUTDIR/elements.csv (as bemsurg solve) and OUTDIR/force.json:\n"
+    "  {\"force\": [fx, fy, fz], \"contact_elements\": k, \"force_update_us\": time of one force evaluation, ...}\n"
+    "\n"
+    "options:\n"
+    "  --table FILE   load the pre-solution table from FILE when it matches the scene, else compute\n"
+    "                 it and save it there (a stale or corrupt file is reported and recomputed)\n"
+    "  -q, --quiet    print nothing but errors\n";
+
+Eigen::Vector3d parse_vector(const std::string& opt, const std::string& text) {
+  std::stringstream ss(text);
+  std::string item;
+  std::vector<double> v;
+  while (std::getline(ss, item, ',')) {
+    try {
+      std::size_t used = 0;
+      v.push_back(std::stod(item, &used));
+      if (used != item.size()) throw std::invalid_argument(item);
+    } catch (const std::exception&) {
+      throw UsageError("press: " + opt + " expects three comma-separated numbers, got '" + text + "'");
+    }
+  }
+  if (v.size() != 3 || !std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2]))
+    throw UsageError("press: " + opt + " expects three comma-separated finite numbers, got '" + text + "'");
+  return {v[0], v[1], v[2]};
+}
+
+double parse_number(const std::string& opt, const std::string& text) {
+  try {
+    std::size_t used = 0;
+    const double d = std::stod(text, &used);
+    if (used == text.size() && std::isfinite(d)) return d;
+  } catch (const std::exception&) {
+  }
+  throw UsageError("press: " + opt + " expects a finite number, got '" + text + "'");
+}
+
+struct PressOptions {
+  std::string scene, output, table_file, tool_text;
+  bemsurg::ToolSpec tool;
+  Eigen::Vector3d at = Eigen::Vector3d::Zero(), direction = Eigen::Vector3d::Zero();
+  double depth = 0.0;
+  bool have_at = false, have_direction = false, have_depth = false, frictionless = false, quiet = false, help = false;
+};
+
+PressOptions parse(int argc, char** argv) {
+  PressOptions o;
+  auto value = [&](int& i, const std::string& arg) -> std::string {
+    if (i + 1 >= argc) throw UsageError("press: " + arg + " needs a value");
+    return argv[++i];
+  };
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "-h" || arg == "--help") {
+      o.help = true;
+      return o;
+    } else if (arg == "--tool") {
+      o.tool_text = value(i, arg);
+    } else if (arg == "--at") {
+      o.at = parse_vector(arg, value(i, arg));
+      o.have_at = true;
+    } else if (arg == "--direction") {
+      o.direction = parse_vector(arg, value(i, arg));
+      o.have_direction = true;
+    } else if (arg == "--depth") {
+      o.depth = parse_number(arg, value(i, arg));
+      o.have_depth = true;
+    } else if (arg == "--frictionless") {
+      o.frictionless = true;
+    } else if (arg == "-o" || arg == "--output") {
+      o.output = value(i, arg);
+    } else if (arg == "--table") {
+      o.table_file = value(i, arg);
+    } else if (arg == "-q" || arg == "--quiet") {
+      o.quiet = true;
+    } else if (!arg.empty() && arg[0] == '-') {
+      throw UsageError("press: unknown option '" + arg + "'");
+    } else if (o.scene.empty()) {
+      o.scene = arg;
+    } else {
+      throw UsageError("press: unexpected argument '" + arg + "' (one scene file only)");
+    }
+  }
+  if (o.scene.empty()) throw UsageError("press: missing SCENE.json");
+  if (o.output.empty()) throw UsageError("press: missing -o OUTDIR");
+  if (o.tool_text.empty()) throw UsageError("press: missing --tool point|flat:RADIUS|sphere:RADIUS");
+  if (!o.have_at) throw UsageError("press: missing --at X,Y,Z");
+  if (!o.have_direction) throw UsageError("press: missing --direction DX,DY,DZ");
+  if (!o.have_depth) throw UsageError("press: missing --depth D");
+  if (!(o.direction.norm() > 0.0)) throw UsageError("press: --direction must not be the zero vector");
+  if (o.depth < 0.0) throw UsageError("press: --depth must be non-negative (the tool pushes into the body)");
+  const auto mode = o.frictionless ? bemsurg::ContactMode::Frictionless : bemsurg::ContactMode::Bonded;
+  const std::string& t = o.tool_text;
+  auto radius = [&](const std::string& prefix) {
+    const double r = parse_number("--tool " + prefix, t.substr(prefix.size()));
+    if (!(r > 0.0)) throw UsageError("press: the " + prefix.substr(0, prefix.size() - 1) + " radius must be positive");
+    return r;
+  };
+  if (t == "point")
+    o.tool = bemsurg::ToolSpec::point(mode);
+  else if (t.rfind("flat:", 0) == 0)
+    o.tool = bemsurg::ToolSpec::flat(radius("flat:"), mode);
+  else if (t.rfind("sphere:", 0) == 0)
+    o.tool = bemsurg::ToolSpec::sphere(radius("sphere:"), mode);
+  else
+    throw UsageError("press: --tool must be point, flat:RADIUS or sphere:RADIUS, got '" + t + "'");
+  return o;
+}
+
+}  // namespace
+
+int run_press(int argc, char** argv) {
+  const PressOptions o = parse(argc, argv);
+  if (o.help) {
+    std::cout << kPressUsage;
+    return 0;
+  }
+  const auto t_start = Clock::now();
+  const bemsurg::Scene scene = bemsurg::load_scene(o.scene);
+  if (!o.quiet)
+    for (const auto& w : scene.warnings) std::cerr << "bemsurg: warning: " << w << "\n";
+  const bemsurg::ElastostaticProblem& p = scene.problem;
+
+  // The table: loaded when a matching file is given, else computed (and saved when asked).
+  bemsurg::GreensTableOptions table_options;
+  table_options.gravity = p.gravity;
+  table_options.quadrature = p.quadrature;
+  const bemsurg::GreensTableKey key =
+      bemsurg::make_greens_table_key(p.mesh, p.material, p.boundary_conditions, p.gravity, p.quadrature);
+  bemsurg::GreensTable table;
+  bool loaded = false;
+  if (!o.table_file.empty() && std::filesystem::exists(o.table_file)) {
+    try {
+      table = bemsurg::load_greens_table(o.table_file, key);
+      loaded = true;
+    } catch (const bemsurg::ResourceError& e) {
+      if (!o.quiet) std::cerr << "bemsurg: warning: " << e.what() << "; recomputing\n";
+    }
+  }
+  if (!loaded) {
+    table = bemsurg::GreensTable::compute(p.mesh, p.material, p.boundary_conditions, table_options);
+    if (!o.table_file.empty()) bemsurg::save_greens_table(o.table_file, table);
+  }
+
+  bemsurg::ToolContactSolver solver(p.mesh, table, std::max<bemsurg::Index>(300, 3 * p.mesh.num_elements() / 4));
+  const int tool = solver.add_tool(o.tool);
+  if (!solver.engage(tool, o.at, o.direction))
+    throw bemsurg::Error("press: a tool coming along (" + std::to_string(o.direction.x()) + ", " +
+                         std::to_string(o.direction.y()) + ", " + std::to_string(o.direction.z()) +
+                         ") through the given point does not meet the body (or only outside the table's region)");
+  solver.set_depth(tool, o.depth);
+  const bemsurg::ContactUpdateReport report = solver.update();
+  const Eigen::Vector3d force = solver.force(tool);
+
+  // Time one force evaluation at this contact set (targets in, force out through the 3 x k force
+  // operator), median of many.
+  auto& contact = solver.contact();
+  std::vector<double> targets(static_cast<std::size_t>(contact.num_rows()));
+  for (bemsurg::Index a = 0; a < contact.num_rows(); ++a) targets[static_cast<std::size_t>(a)] = contact.target(a);
+  std::vector<double> us;
+  const int reps = 2001;
+  us.reserve(reps);
+  volatile double sink = 0.0;
+  for (int r = 0; r < reps; ++r) {
+    const auto t0 = Clock::now();
+    for (bemsurg::Index a = 0; a < contact.num_rows(); ++a) contact.set_target(a, targets[static_cast<std::size_t>(a)]);
+    sink = sink + contact.force_for_targets()(2);
+    us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count());
+  }
+  std::nth_element(us.begin(), us.begin() + reps / 2, us.end());
+  const double force_update_us = us[reps / 2];
+
+  // Full field and the per-element output, as `bemsurg solve` writes it.
+  const bemsurg::Index E = p.mesh.num_elements();
+  Eigen::VectorXd u(3 * E);
+  solver.displacement_field(u);
+  bemsurg::BoundarySolution out{bemsurg::RowMatrixX3d(E, 3), bemsurg::RowMatrixX3d(E, 3)};
+  for (bemsurg::Index e = 0; e < E; ++e) {
+    out.displacement.row(e) = u.segment<3>(3 * e).transpose();
+    out.traction.row(e) = (contact.contains(e) ? contact.traction(e) : table.base_traction().segment<3>(3 * e)).transpose();
+  }
+  std::filesystem::create_directories(o.output);
+  bemsurg::write_elements_csv((std::filesystem::path(o.output) / "elements.csv").string(), p.mesh, out);
+
+  nlohmann::json j;
+  j["force"] = {force.x(), force.y(), force.z()};
+  j["contact_elements"] = solver.contact_elements(tool);
+  j["force_update_us"] = force_update_us;
+  j["tool"] = o.tool_text;
+  j["frictionless"] = o.frictionless;
+  j["depth"] = o.depth;
+  j["active_set_iterations"] = report.active_set_iterations;
+  j["active_set_consistent"] = report.consistent;
+  j["equations"] = 3 * E;
+  j["table"] = {{"loaded_from_file", loaded},
+                {"assembly_seconds", table.timings().assembly_seconds},
+                {"factorization_seconds", table.timings().factorization_seconds},
+                {"table_seconds", table.timings().table_seconds}};
+  j["total_seconds"] = std::chrono::duration<double>(Clock::now() - t_start).count();
+  const std::string json_path = (std::filesystem::path(o.output) / "force.json").string();
+  std::ofstream js(json_path);
+  if (!js) throw bemsurg::Error("cannot write " + json_path);
+  js << std::setw(2) << j << "\n";
+  if (!js) throw bemsurg::Error("writing " + json_path + " failed");
+  if (!o.quiet)
+    std::cout << "press: " << o.tool_text << " depth " << o.depth << ": force (" << force.x() << ", " << force.y() << ", "
+              << force.z() << ") N on " << solver.contact_elements(tool) << " elements; one force update "
+              << force_update_us << " us\n";
+  (void)sink;
+  return 0;
+}

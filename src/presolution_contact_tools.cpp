@@ -1,0 +1,346 @@
+// Implementation of bemsurg/presolution/contact_tools.hpp: tool geometry -> contact rows ->
+// capacitance solve, with the unilateral active set (DESIGN.md §6; Hertz / Boussinesq checks).
+#include "bemsurg/presolution/contact_tools.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "bemsurg/error.hpp"
+
+namespace bemsurg {
+
+namespace {
+Eigen::Vector3d unit_or_throw(const Eigen::Vector3d& v, const char* what) {
+  const double n = v.norm();
+  if (!(n > 0.0) || !std::isfinite(n)) throw Error(std::string("contact tool: ") + what + " must be a non-zero finite vector");
+  return v / n;
+}
+
+// Point in polygon (projected onto the plane with normal m) by the winding/crossing rule.
+bool inside_polygon(const std::vector<Eigen::Vector3d>& poly, const Eigen::Vector3d& m, const Eigen::Vector3d& x) {
+  Eigen::Vector3d e1 = (std::abs(m.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY()).cross(m).normalized();
+  const Eigen::Vector3d e2 = m.cross(e1);
+  const double px = x.dot(e1), py = x.dot(e2);
+  bool in = false;
+  for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
+    const double xi = poly[i].dot(e1), yi = poly[i].dot(e2), xj = poly[j].dot(e1), yj = poly[j].dot(e2);
+    if ((yi > py) != (yj > py) && px < (xj - xi) * (py - yi) / (yj - yi) + xi) in = !in;
+  }
+  return in;
+}
+}  // namespace
+
+ToolContactSolver::ToolContactSolver(const TriangleMesh& mesh, const GreensTable& table, Index capacity_rows)
+    : mesh_(mesh),
+      table_(table),
+      contact_(mesh, table, capacity_rows),
+      bvh_(deformed_vertices(mesh, table.base_displacement()), mesh.faces()),
+      owner_(static_cast<std::size_t>(mesh.num_elements()), -1) {
+  add_buffer_.reserve(static_cast<std::size_t>(capacity_rows));
+}
+
+int ToolContactSolver::add_tool(const ToolSpec& spec) {
+  if ((spec.shape == ToolShape::FlatPunch || spec.shape == ToolShape::Sphere) && !(spec.radius > 0.0 && std::isfinite(spec.radius)))
+    throw Error("contact tool: a flat punch or sphere needs a finite positive radius");
+  if (spec.shape == ToolShape::Pinch && !(spec.radius >= 0.0 && std::isfinite(spec.radius)))
+    throw Error("contact tool: the pinch jaw radius must be finite and non-negative");
+  if (spec.shape == ToolShape::Plate && (spec.polygon.size() < 3 || !(spec.plate_tolerance > 0.0)))
+    throw Error("contact tool: a plate needs a polygon of at least 3 vertices and a positive plate_tolerance");
+  if (spec.shape == ToolShape::Pinch && spec.mode != ContactMode::Bonded)
+    throw Error("contact tool: a pinch holds the tissue, so it is bonded");
+  Tool t;
+  t.spec = spec;
+  tools_.push_back(std::move(t));
+  return static_cast<int>(tools_.size()) - 1;
+}
+
+void ToolContactSolver::set_depth(int tool, double depth) {
+  Tool& t = tools_.at(static_cast<std::size_t>(tool));
+  t.delta = depth * t.direction;
+}
+
+void ToolContactSolver::collect_candidates(Tool& t) {
+  t.candidates.clear();
+  const Eigen::Matrix<double, 3, 2> box = mesh_.bounding_box();
+  const double L = 2.0 * (box.col(1) - box.col(0)).norm() + (t.origin - box.col(0)).norm();
+  const double r = t.spec.shape == ToolShape::Pinch ? t.spec.radius : t.spec.radius;
+  const Eigen::Vector3d a = t.origin - L * t.direction, b = t.origin + L * t.direction;
+  const Eigen::Vector3d lo = a.cwiseMin(b).array() - r, hi = a.cwiseMax(b).array() + r;
+  std::vector<Index> found;
+  bvh_.query_box(lo, hi, found);
+  for (Index e : found) {
+    if (table_.region_slot(e) < 0) continue;
+    if (mesh_.normal(e).dot(t.direction) >= 0.0) continue;  // faces away from the tool
+    const Eigen::Vector3d x = base_position(e) - t.origin;
+    const double rho = (x - x.dot(t.direction) * t.direction).norm();
+    if (rho <= r) t.candidates.push_back(e);
+  }
+}
+
+bool ToolContactSolver::engage(int tool, const Eigen::Vector3d& at, const Eigen::Vector3d& direction) {
+  Tool& t = tools_.at(static_cast<std::size_t>(tool));
+  release(tool);
+  t.direction = unit_or_throw(direction, "the approach direction");
+  if (!at.allFinite()) throw Error("contact tool: the approach point is not finite");
+  t.delta.setZero();
+  t.rotation.setZero();
+  t.candidates.clear();
+  const Eigen::Matrix<double, 3, 2> box = mesh_.bounding_box();
+  const double L = 2.0 * (box.col(1) - box.col(0)).norm() + (at - box.col(0)).norm();
+  switch (t.spec.shape) {
+    case ToolShape::Point:
+    case ToolShape::Pinch: {
+      RayHit hit;
+      if (!bvh_.intersect_ray(at - L * t.direction, t.direction, hit, 2.0 * L, true)) return false;
+      if (table_.region_slot(hit.element) < 0)
+        throw Error("contact tool: the tool touches element " + std::to_string(hit.element) +
+                    ", outside the table's region");
+      t.origin = hit.point;
+      t.candidates.push_back(hit.element);
+      if (t.spec.shape == ToolShape::Pinch && t.spec.radius > 0.0) {
+        std::vector<Index> found;
+        const Eigen::Vector3d r = Eigen::Vector3d::Constant(t.spec.radius);
+        bvh_.query_box(hit.point - r, hit.point + r, found);
+        for (Index e : found)
+          if (e != hit.element && table_.region_slot(e) >= 0 && mesh_.normal(e).dot(t.direction) < 0.0 &&
+              (base_position(e) - hit.point).norm() <= t.spec.radius)
+            t.candidates.push_back(e);
+      }
+      break;
+    }
+    case ToolShape::FlatPunch:
+    case ToolShape::Sphere: {
+      t.origin = at;
+      collect_candidates(t);
+      if (t.candidates.empty()) return false;
+      // First contact: the disc face reaches the highest element; the sphere its first element.
+      double s0 = std::numeric_limits<double>::infinity();
+      for (Index e : t.candidates) {
+        const Eigen::Vector3d x = base_position(e) - at;
+        const double h = x.dot(t.direction);
+        const double rho2 = (x - h * t.direction).squaredNorm();
+        const double s = t.spec.shape == ToolShape::FlatPunch ? h : h - std::sqrt(std::max(0.0, t.spec.radius * t.spec.radius - rho2));
+        s0 = std::min(s0, s);
+      }
+      t.origin = at + s0 * t.direction;
+      break;
+    }
+    case ToolShape::Plate: {
+      Eigen::Vector3d c = Eigen::Vector3d::Zero();
+      for (const auto& p : t.spec.polygon) c += p;
+      c /= double(t.spec.polygon.size());
+      t.origin = c;
+      t.pivot = c;
+      std::vector<Index> found;
+      Eigen::Vector3d lo = c, hi = c;
+      for (const auto& p : t.spec.polygon) {
+        lo = lo.cwiseMin(p);
+        hi = hi.cwiseMax(p);
+      }
+      bvh_.query_box(lo.array() - t.spec.plate_tolerance, hi.array() + t.spec.plate_tolerance, found);
+      for (Index e : found) {
+        const Eigen::Vector3d x = base_position(e);
+        if (table_.region_slot(e) < 0) continue;
+        if (std::abs((x - c).dot(t.direction)) > t.spec.plate_tolerance) continue;
+        if (!inside_polygon(t.spec.polygon, t.direction, x)) continue;
+        t.candidates.push_back(e);
+      }
+      if (t.candidates.empty()) return false;
+      break;
+    }
+  }
+  t.released.assign(t.candidates.size(), 0);
+  t.wanted.assign(t.candidates.size(), 0);
+  t.engaged = true;
+  return true;
+}
+
+void ToolContactSolver::place(int tool, const Eigen::Vector3d& position, const Eigen::Vector3d& direction) {
+  Tool& t = tools_.at(static_cast<std::size_t>(tool));
+  if (t.spec.shape != ToolShape::FlatPunch && t.spec.shape != ToolShape::Sphere) {
+    if (!engage(tool, position, direction))
+      throw Error("contact tool: the tool placed at the given position does not touch the body");
+    return;
+  }
+  release(tool);
+  t.direction = unit_or_throw(direction, "the tool direction");
+  t.origin = position;
+  t.delta.setZero();
+  t.rotation.setZero();
+  collect_candidates(t);
+  t.released.assign(t.candidates.size(), 0);
+  t.wanted.assign(t.candidates.size(), 0);
+  t.engaged = true;
+}
+
+void ToolContactSolver::release(int tool) {
+  Tool& t = tools_.at(static_cast<std::size_t>(tool));
+  for (Index e : t.candidates)
+    if (owner_[static_cast<std::size_t>(e)] == tool) {
+      contact_.remove_element(e);
+      owner_[static_cast<std::size_t>(e)] = -1;
+    }
+  t.engaged = false;
+}
+
+bool ToolContactSolver::geometric_contact(const Tool& t, Index e, Eigen::Vector3d& push, Eigen::Vector3d& w) const {
+  const Eigen::Vector3d n = mesh_.normal(e);
+  switch (t.spec.shape) {
+    case ToolShape::Point: {
+      w = -n;
+      push = t.spec.mode == ContactMode::Bonded ? t.delta : Eigen::Vector3d(t.delta.dot(w) * w);
+      return t.delta.dot(w) > 0.0;
+    }
+    case ToolShape::Pinch:
+      push = t.delta;
+      w = -n;
+      return true;
+    case ToolShape::FlatPunch: {
+      const Eigen::Vector3d x = base_position(e) - t.origin - t.delta;
+      const double h = x.dot(t.direction);  // > 0: the element lies beyond the disc face
+      const double rho = (x - h * t.direction).norm();
+      w = t.direction;
+      if (rho > t.spec.radius || h > 0.0) return false;
+      const Eigen::Vector3d lateral = t.delta - t.delta.dot(t.direction) * t.direction;
+      push = -h * t.direction + (t.spec.mode == ContactMode::Bonded ? lateral : Eigen::Vector3d::Zero());
+      return true;
+    }
+    case ToolShape::Sphere: {
+      const Eigen::Vector3d x = base_position(e) - (t.origin + t.delta);
+      const double b = n.dot(x);
+      const double disc = b * b - x.squaredNorm() + t.spec.radius * t.spec.radius;
+      w = -n;
+      if (disc < 0.0) return false;
+      const double delta_n = -b - std::sqrt(disc);  // normal move (along n) onto the sphere
+      if (!(delta_n < 0.0)) return false;
+      push = delta_n * n;
+      return true;
+    }
+    case ToolShape::Plate: {
+      w = t.direction;
+      const Eigen::Vector3d move = t.delta + t.rotation.cross(base_position(e) - t.pivot);
+      push = t.spec.mode == ContactMode::Bonded ? move : Eigen::Vector3d(move.dot(w) * w);
+      return true;
+    }
+  }
+  return false;
+}
+
+void ToolContactSolver::set_targets(int /*unused*/) {
+  const Index k = contact_.num_rows();
+  const double* ug = table_.base_displacement().data();
+  for (Index a = 0; a < k; ++a) {
+    const ContactRow& r = contact_.row(a);
+    const Tool& t = tools_[static_cast<std::size_t>(r.tag)];
+    Eigen::Vector3d push, w;
+    geometric_contact(t, r.element, push, w);
+    const double* u = ug + 3 * r.element;
+    contact_.set_target(a, r.direction.dot(Eigen::Vector3d(u[0] + push(0), u[1] + push(1), u[2] + push(2))));
+  }
+}
+
+void ToolContactSolver::add_element_rows(const Tool& t, int tag, Index e, const Eigen::Vector3d& w) {
+  if (t.spec.mode == ContactMode::Bonded) {
+    add_buffer_.push_back({e, Eigen::Vector3d::UnitX(), tag});
+    add_buffer_.push_back({e, Eigen::Vector3d::UnitY(), tag});
+    add_buffer_.push_back({e, Eigen::Vector3d::UnitZ(), tag});
+  } else {
+    add_buffer_.push_back({e, w, tag});
+  }
+}
+
+ContactUpdateReport ToolContactSolver::update(int max_iterations) {
+  ContactUpdateReport report;
+  report.consistent = false;
+  for (int iter = 0; iter < std::max(1, max_iterations); ++iter) {
+    report.active_set_iterations = iter + 1;
+    // 1. Bring the rows in line with the geometry and the released flags.
+    add_buffer_.clear();
+    for (std::size_t ti = 0; ti < tools_.size(); ++ti) {
+      Tool& t = tools_[ti];
+      if (!t.engaged) continue;
+      const int tag = static_cast<int>(ti);
+      for (std::size_t i = 0; i < t.candidates.size(); ++i) {
+        const Index e = t.candidates[i];
+        Eigen::Vector3d push, w;
+        const bool geo = geometric_contact(t, e, push, w);
+        if (!geo) t.released[i] = 0;  // out of reach: forget an old release
+        const bool want = geo && !t.released[i];
+        int& owner = owner_[static_cast<std::size_t>(e)];
+        if (owner == tag && !want) {
+          contact_.remove_element(e);
+          owner = -1;
+        } else if (owner == -1 && want) {
+          if (static_cast<Index>(add_buffer_.size()) + 3 > static_cast<Index>(add_buffer_.capacity()))
+            throw Error("contact tools: more contact rows than the capacity");
+          add_element_rows(t, tag, e, w);
+          owner = tag;
+        }
+      }
+    }
+    contact_.add_rows(add_buffer_.data(), static_cast<Index>(add_buffer_.size()));
+    // 2. Targets from the poses, then the small solve.
+    set_targets(0);
+    contact_.solve();
+    // 3. Active set of unilateral tools: release tension; re-admit released elements that would
+    //    penetrate. One kind of change per iteration, so the two cannot undo each other at once.
+    double scale = 0.0;
+    for (Index a = 0; a < contact_.num_rows(); ++a) scale = std::max(scale, std::abs(contact_.multiplier(a)));
+    const double tol = 1e-10 * scale;
+    bool released_any = false;
+    for (std::size_t ti = 0; ti < tools_.size(); ++ti) {
+      Tool& t = tools_[ti];
+      if (!t.engaged || !unilateral(t)) continue;
+      for (std::size_t i = 0; i < t.candidates.size(); ++i) {
+        const Index e = t.candidates[i];
+        if (owner_[static_cast<std::size_t>(e)] != static_cast<int>(ti)) continue;
+        const Eigen::Vector3d tr = contact_.traction(e) - table_.base_traction().segment<3>(3 * e);
+        if (tr.dot(mesh_.normal(e)) > tol) {
+          t.released[i] = 1;
+          released_any = true;
+        }
+      }
+    }
+    if (released_any) continue;
+    bool readmitted = false;
+    for (std::size_t ti = 0; ti < tools_.size(); ++ti) {
+      Tool& t = tools_[ti];
+      if (!t.engaged || !unilateral(t)) continue;
+      for (std::size_t i = 0; i < t.candidates.size(); ++i) {
+        if (!t.released[i]) continue;
+        const Index e = t.candidates[i];
+        Eigen::Vector3d push, w;
+        if (!geometric_contact(t, e, push, w)) continue;
+        const Eigen::Vector3d moved = contact_.displacement_of(e) - table_.base_displacement().segment<3>(3 * e);
+        // Penetration: the element has not moved as far into the body as the tool demands.
+        const double need = push.dot(w);
+        if (moved.dot(w) < need - 1e-9 * std::abs(need)) {
+          t.released[i] = 0;
+          readmitted = true;
+        }
+      }
+    }
+    if (!readmitted) {
+      report.consistent = true;
+      break;
+    }
+  }
+  report.rows = contact_.num_rows();
+  report.elements = contact_.num_elements();
+  return report;
+}
+
+Index ToolContactSolver::contact_elements(int tool) const {
+  Index count = 0;
+  for (Index e : tools_.at(static_cast<std::size_t>(tool)).candidates)
+    if (owner_[static_cast<std::size_t>(e)] == tool) ++count;
+  return count;
+}
+
+void ToolContactSolver::contact_element_list(int tool, std::vector<Index>& out) const {
+  for (Index e : tools_.at(static_cast<std::size_t>(tool)).candidates)
+    if (owner_[static_cast<std::size_t>(e)] == tool) out.push_back(e);
+}
+
+}  // namespace bemsurg

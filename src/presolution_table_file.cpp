@@ -1,0 +1,161 @@
+// Implementation of bemsurg/presolution/table_file.hpp: the keyed, checksummed table file.
+#include "bemsurg/presolution/table_file.hpp"
+
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <vector>
+
+#include "bemsurg/error.hpp"
+#include "bemsurg/version.hpp"
+
+namespace bemsurg {
+
+namespace {
+constexpr char kMagic[8] = {'B', 'E', 'M', 'S', 'G', 'T', 'B', 'L'};
+constexpr std::uint32_t kFormat = 1;
+
+class Writer {
+ public:
+  void raw(const void* p, std::size_t n) {
+    const auto* c = static_cast<const char*>(p);
+    bytes_.insert(bytes_.end(), c, c + n);
+  }
+  template <class T>
+  void pod(const T& v) {
+    raw(&v, sizeof(T));
+  }
+  void str(const std::string& s) {
+    pod<std::uint32_t>(static_cast<std::uint32_t>(s.size()));
+    raw(s.data(), s.size());
+  }
+  std::vector<char> bytes_;
+};
+
+class Reader {
+ public:
+  Reader(const std::vector<char>& b, std::size_t end, const std::string& path) : b_(b), end_(end), path_(path) {}
+  void raw(void* p, std::size_t n) {
+    if (n > end_ - pos_) throw ResourceError("table file " + path_ + " is corrupt: it ends early (truncated)");
+    std::memcpy(p, b_.data() + pos_, n);
+    pos_ += n;
+  }
+  template <class T>
+  T pod() {
+    T v;
+    raw(&v, sizeof(T));
+    return v;
+  }
+  std::string str() {
+    const auto n = pod<std::uint32_t>();
+    if (n > 4096) throw ResourceError("table file " + path_ + " is corrupt: a string field is too long");
+    std::string s(n, '\0');
+    raw(s.data(), n);
+    return s;
+  }
+  std::size_t pos() const { return pos_; }
+
+ private:
+  const std::vector<char>& b_;
+  std::size_t end_;
+  std::size_t pos_ = 0;
+  const std::string& path_;
+};
+}  // namespace
+
+void save_greens_table(const std::string& path, const GreensTable& table) {
+  if (table.empty()) throw ResourceError("save_greens_table: the table is empty");
+  Writer w;
+  w.raw(kMagic, 8);
+  w.pod(kFormat);
+  w.str(version_string());
+  const GreensTableKey& k = table.key();
+  w.pod(k.mesh_hash);
+  w.pod(k.conditions_hash);
+  w.pod(k.quadrature_hash);
+  w.pod<std::int64_t>(k.num_elements);
+  w.pod(k.material.young_modulus);
+  w.pod(k.material.poisson_ratio);
+  w.pod(k.material.density);
+  w.raw(k.gravity.data(), 3 * sizeof(double));
+  w.pod<std::int64_t>(static_cast<std::int64_t>(table.region().size()));
+  for (Index e : table.region()) w.pod<std::int64_t>(e);
+  for (BcKind kind : table.base_kinds()) w.pod<std::uint8_t>(static_cast<std::uint8_t>(kind));
+  w.raw(table.base_displacement().data(), static_cast<std::size_t>(table.base_displacement().size()) * sizeof(double));
+  w.raw(table.base_traction().data(), static_cast<std::size_t>(table.base_traction().size()) * sizeof(double));
+  const std::uint64_t head = fnv1a64(w.bytes_.data(), w.bytes_.size());
+  const std::size_t col_bytes = static_cast<std::size_t>(table.columns().size()) * sizeof(double);
+  const std::uint64_t sum = fnv1a64(table.columns().data(), col_bytes, head);
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (!out) throw ResourceError("cannot write table file " + path);
+  out.write(w.bytes_.data(), static_cast<std::streamsize>(w.bytes_.size()));
+  out.write(reinterpret_cast<const char*>(table.columns().data()), static_cast<std::streamsize>(col_bytes));
+  out.write(reinterpret_cast<const char*>(&sum), sizeof(sum));
+  if (!out) throw ResourceError("writing table file " + path + " failed (disk full?)");
+}
+
+GreensTable load_greens_table(const std::string& path, const GreensTableKey& expected) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw ResourceError("cannot open table file " + path);
+  std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (bytes.size() < 8 + sizeof(std::uint64_t) || std::memcmp(bytes.data(), kMagic, 8) != 0)
+    throw ResourceError("file " + path + " is not a bemsurg table file (bad magic)");
+  const std::size_t end = bytes.size() - sizeof(std::uint64_t);
+  std::uint64_t stored = 0;
+  std::memcpy(&stored, bytes.data() + end, sizeof(stored));
+  if (fnv1a64(bytes.data(), end) != stored)
+    throw ResourceError("table file " + path + " is corrupt: its checksum does not match (recompute the table)");
+  Reader r(bytes, end, path);
+  char magic[8];
+  r.raw(magic, 8);
+  const auto format = r.pod<std::uint32_t>();
+  if (format != kFormat)
+    throw ResourceError("table file " + path + " has format " + std::to_string(format) + ", this library reads " +
+                        std::to_string(kFormat));
+  const std::string version = r.str();
+  if (version != version_string())
+    throw ResourceError("table file " + path + " is stale: written by bemsurg " + version + ", this is " + version_string());
+  GreensTableKey k;
+  k.mesh_hash = r.pod<std::uint64_t>();
+  k.conditions_hash = r.pod<std::uint64_t>();
+  k.quadrature_hash = r.pod<std::uint64_t>();
+  k.num_elements = static_cast<Index>(r.pod<std::int64_t>());
+  k.material.young_modulus = r.pod<double>();
+  k.material.poisson_ratio = r.pod<double>();
+  k.material.density = r.pod<double>();
+  r.raw(k.gravity.data(), 3 * sizeof(double));
+  const std::string stale = "table file " + path + " is stale: it was computed for ";
+  if (k.mesh_hash != expected.mesh_hash || k.num_elements != expected.num_elements)
+    throw ResourceError(stale + "a different mesh (" + std::to_string(k.num_elements) + " elements, hash " +
+                        std::to_string(k.mesh_hash) + "; expected " + std::to_string(expected.num_elements) + ", hash " +
+                        std::to_string(expected.mesh_hash) + ")");
+  if (k.material.young_modulus != expected.material.young_modulus || k.material.poisson_ratio != expected.material.poisson_ratio ||
+      k.material.density != expected.material.density)
+    throw ResourceError(stale + "a different material (E = " + std::to_string(k.material.young_modulus) +
+                        ", nu = " + std::to_string(k.material.poisson_ratio) + ", rho = " + std::to_string(k.material.density) + ")");
+  if (k.conditions_hash != expected.conditions_hash)
+    throw ResourceError(stale + "different supports / boundary conditions");
+  if (k.gravity != expected.gravity) throw ResourceError(stale + "a different gravity");
+  if (k.quadrature_hash != expected.quadrature_hash) throw ResourceError(stale + "different quadrature options");
+  const auto R = r.pod<std::int64_t>();
+  if (R < 0 || R > k.num_elements) throw ResourceError("table file " + path + " is corrupt: bad region size");
+  std::vector<Index> region(static_cast<std::size_t>(R));
+  for (auto& e : region) e = static_cast<Index>(r.pod<std::int64_t>());
+  const Index n = 3 * k.num_elements;
+  std::vector<BcKind> kinds(static_cast<std::size_t>(n));
+  for (auto& kind : kinds) {
+    const auto v = r.pod<std::uint8_t>();
+    if (v > 1) throw ResourceError("table file " + path + " is corrupt: bad boundary-condition kind");
+    kind = static_cast<BcKind>(v);
+  }
+  Eigen::VectorXd ug(n), tg(n);
+  r.raw(ug.data(), static_cast<std::size_t>(n) * sizeof(double));
+  r.raw(tg.data(), static_cast<std::size_t>(n) * sizeof(double));
+  Eigen::MatrixXd columns(n, 3 * R);
+  r.raw(columns.data(), static_cast<std::size_t>(columns.size()) * sizeof(double));
+  if (r.pos() != end) throw ResourceError("table file " + path + " is corrupt: unexpected trailing bytes");
+  return GreensTable(k, std::move(region), std::move(ug), std::move(tg), std::move(kinds), std::move(columns));
+}
+
+}  // namespace bemsurg

@@ -1,0 +1,266 @@
+// Tests for exact capacitance-matrix contact (presolution/capacitance_contact.hpp, DESIGN.md §6)
+// and the paper's look-up tables (presolution/paper_lookup_table.hpp, Wang et al. 2007 eq. 10):
+// against a full re-solve of the BEM system with the contacted elements' displacements prescribed.
+#include <algorithm>
+#include <atomic>
+#include <catch2/catch.hpp>
+#include <cstdlib>
+#include <new>
+
+#include "bemsurg/assembly/influence_assembler.hpp"
+#include "bemsurg/assembly/linear_system.hpp"
+#include "bemsurg/mesh/mesh_generators.hpp"
+#include "bemsurg/presolution/capacitance_contact.hpp"
+#include "bemsurg/presolution/greens_table.hpp"
+#include "bemsurg/presolution/paper_lookup_table.hpp"
+#include "bemsurg/solvers/dense_lu.hpp"
+
+// Counts every operator new in this process: the force path must not allocate.
+static std::atomic<long> g_allocations{0};
+void* operator new(std::size_t n) {
+  ++g_allocations;
+  if (void* p = std::malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+
+using namespace bemsurg;
+
+namespace {
+
+struct Fixture {
+  TriangleMesh mesh = box_mesh(Vec3(0, 0, 0), Vec3(1, 1, 0.5), 6, 6, 3);
+  Material material{2000.0, 0.3, 1000.0};
+  Eigen::Vector3d gravity{0.0, 0.0, -9.81};
+  std::vector<Index> bottom, top;
+  BoundaryConditions base;
+  InfluenceMatrices hg;
+  Eigen::VectorXd gvec;
+  GreensTable table;
+
+  Fixture() {
+    for (Index e = 0; e < mesh.num_elements(); ++e) {
+      if (mesh.normal(e).z() < -0.99) bottom.push_back(e);
+      if (mesh.normal(e).z() > 0.99) top.push_back(e);
+    }
+    // Top elements ordered by distance from the face's centre: the contact patches grow outwards.
+    std::sort(top.begin(), top.end(), [&](Index a, Index b) {
+      return (mesh.centroid(a) - Vec3(0.5, 0.5, 0.5)).norm() < (mesh.centroid(b) - Vec3(0.5, 0.5, 0.5)).norm();
+    });
+    base = supported_base_conditions(mesh.num_elements(), bottom);
+    const InfluenceAssembler assembler(mesh, material);
+    hg = assembler.assemble();
+    gvec = assembler.gravity_vector(gravity);
+    GreensTableOptions options;
+    options.region = top;
+    options.gravity = gravity;
+    table = GreensTable::compute(mesh, material, base, options);
+  }
+
+  /// The reference: the whole BEM system solved again with these conditions.
+  BoundarySolution full_solve(const BoundaryConditions& bc) const {
+    const Eigen::MatrixXd A = build_system_matrix(hg, bc);
+    const Eigen::VectorXd b = build_right_hand_side(hg, bc, gvec);
+    DenseLU lu(A);
+    return recover_boundary_solution(bc, lu.solve(b));
+  }
+};
+
+Fixture& fixture() {
+  static Fixture f;
+  return f;
+}
+
+// A displacement target per contact element that differs from element to element.
+Eigen::Vector3d prescribed(const Fixture& f, Index e, int i) {
+  return f.table.base_displacement().segment<3>(3 * e) +
+         Eigen::Vector3d(1e-3 * std::sin(1.0 + i), 2e-3 * std::cos(0.5 * i), -0.01 - 1e-3 * (i % 5));
+}
+
+double relative_difference(const RowMatrixX3d& a, const RowMatrixX3d& b) {
+  return (a - b).norm() / std::max(1e-300, b.norm());
+}
+
+}  // namespace
+
+TEST_CASE("base state of the table equals a direct solve with gravity", "[contact]") {
+  Fixture& f = fixture();
+  const BoundarySolution ref = f.full_solve(f.base);
+  RowMatrixX3d u = Eigen::Map<const RowMatrixX3d>(f.table.base_displacement().data(), f.mesh.num_elements(), 3);
+  REQUIRE(ref.displacement.norm() > 0.0);
+  CHECK(relative_difference(u, ref.displacement) < 1e-10);
+}
+
+TEST_CASE("bonded capacitance contact equals a full re-solve for 1, 7 and 50 elements", "[contact]") {
+  Fixture& f = fixture();
+  for (int k : {1, 7, 50}) {
+    CapacitanceContact contact(f.mesh, f.table, 200);
+    BoundaryConditions bc = f.base;
+    for (int i = 0; i < k; ++i) {
+      const Index e = f.top[static_cast<std::size_t>(i)];
+      contact.add_bonded(e);
+      bc.prescribe_displacement(e, prescribed(f, e, i));
+    }
+    for (Index a = 0; a < contact.num_rows(); ++a) {
+      const ContactRow& r = contact.row(a);
+      const int i = static_cast<int>(std::find(f.top.begin(), f.top.end(), r.element) - f.top.begin());
+      contact.set_target(a, r.direction.dot(prescribed(f, r.element, i)));
+    }
+    contact.solve();
+    const BoundarySolution ref = f.full_solve(bc);
+    Eigen::VectorXd u(f.mesh.num_dofs());
+    contact.displacement_field(u);
+    const RowMatrixX3d uc = Eigen::Map<const RowMatrixX3d>(u.data(), f.mesh.num_elements(), 3);
+    INFO("k = " << k);
+    CHECK(relative_difference(uc, ref.displacement) < 1e-9);
+    Eigen::Vector3d ref_force = Eigen::Vector3d::Zero();
+    RowMatrixX3d tc(k, 3), tr(k, 3);
+    for (int i = 0; i < k; ++i) {
+      const Index e = f.top[static_cast<std::size_t>(i)];
+      tc.row(i) = contact.traction(e).transpose();
+      tr.row(i) = ref.traction.row(e);
+      ref_force -= f.mesh.area(e) * ref.traction.row(e).transpose();
+    }
+    CHECK(relative_difference(tc, tr) < 1e-9);
+    CHECK((contact.force() - ref_force).norm() < 1e-9 * ref_force.norm());
+    // The O(k) force-only path gives the same force without the tractions.
+    CHECK((contact.force_for_targets() - contact.force()).norm() < 1e-12 * ref_force.norm());
+  }
+}
+
+TEST_CASE("frictionless capacitance contact equals a full re-solve for 1, 7 and 50 elements", "[contact]") {
+  Fixture& f = fixture();
+  for (int k : {1, 7, 50}) {
+    CapacitanceContact contact(f.mesh, f.table, 200);
+    BoundaryConditions bc = f.base;
+    for (int i = 0; i < k; ++i) {
+      const Index e = f.top[static_cast<std::size_t>(i)];
+      contact.add_normal(e, Eigen::Vector3d::UnitZ());
+      const double uz = prescribed(f, e, i).z();
+      bc.prescribe_component(e, 2, BcKind::Displacement, uz);  // normal component only
+      contact.set_target(contact.num_rows() - 1, uz);
+    }
+    contact.solve();
+    const BoundarySolution ref = f.full_solve(bc);
+    Eigen::VectorXd u(f.mesh.num_dofs());
+    contact.displacement_field(u);
+    const RowMatrixX3d uc = Eigen::Map<const RowMatrixX3d>(u.data(), f.mesh.num_elements(), 3);
+    INFO("k = " << k);
+    CHECK(relative_difference(uc, ref.displacement) < 1e-9);
+    double worst = 0.0, scale = 0.0;
+    for (int i = 0; i < k; ++i) {
+      const Index e = f.top[static_cast<std::size_t>(i)];
+      worst = std::max(worst, (contact.traction(e) - ref.traction.row(e).transpose()).norm());
+      scale = std::max(scale, ref.traction.row(e).norm());
+      CHECK(std::abs(contact.traction(e).x()) < 1e-14 * scale + 1e-300);  // no tangential traction
+    }
+    CHECK(worst < 1e-9 * scale);
+    CHECK((contact.force_for_targets() - contact.force()).norm() < 1e-12 * contact.force().norm());
+  }
+}
+
+TEST_CASE("incremental updates of the capacitance matrix match a fresh factorisation", "[contact]") {
+  Fixture& f = fixture();
+  CapacitanceContact inc(f.mesh, f.table, 200), fresh(f.mesh, f.table, 200);
+  // Grow one element at a time (bordering), shrink by removing every third, then compare with a
+  // set built in one go and with refactor().
+  for (int i = 0; i < 30; ++i) inc.add_bonded(f.top[static_cast<std::size_t>(i)]);
+  for (int i = 0; i < 30; i += 3) inc.remove_element(f.top[static_cast<std::size_t>(i)]);
+  for (int i = 0; i < 30; ++i)
+    if (i % 3 != 0) fresh.add_bonded(f.top[static_cast<std::size_t>(i)]);
+  REQUIRE(inc.num_rows() == fresh.num_rows());
+  REQUIRE(inc.num_elements() == 20);
+  auto solve_both = [&](CapacitanceContact& c) {
+    for (Index a = 0; a < c.num_rows(); ++a) c.set_target(a, c.base_target(a) - 0.01 * c.row(a).direction.z());
+    c.solve();
+  };
+  solve_both(inc);
+  solve_both(fresh);
+  CHECK((inc.force() - fresh.force()).norm() < 1e-10 * fresh.force().norm());
+  for (int i = 0; i < 30; ++i) {
+    const Index e = f.top[static_cast<std::size_t>(i)];
+    CHECK(inc.contains(e) == (i % 3 != 0));
+    if (i % 3) CHECK((inc.traction(e) - fresh.traction(e)).norm() < 1e-9 * fresh.traction(e).norm());
+  }
+  CHECK((inc.force_for_targets() - fresh.force()).norm() < 1e-10 * fresh.force().norm());
+  inc.refactor();
+  solve_both(inc);
+  CHECK((inc.force() - fresh.force()).norm() < 1e-11 * fresh.force().norm());
+}
+
+TEST_CASE("the force path allocates nothing", "[contact]") {
+  Fixture& f = fixture();
+  CapacitanceContact c(f.mesh, f.table, 200);
+  for (int i = 0; i < 7; ++i) c.add_bonded(f.top[static_cast<std::size_t>(i)]);
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  const long before = g_allocations.load();
+  for (int rep = 0; rep < 1000; ++rep) {
+    for (Index a = 0; a < c.num_rows(); ++a) c.set_target(a, c.base_target(a) - 1e-4 * rep * c.row(a).direction.z());
+    c.solve();
+    sum += c.force();
+    sum += c.force_for_targets();
+  }
+  // Contact-set changes within capacity allocate nothing either.
+  c.remove_element(f.top[3]);
+  c.add_bonded(f.top[40]);
+  CHECK(g_allocations.load() == before);
+  CHECK(sum.allFinite());
+}
+
+TEST_CASE("contact on an element outside the region or twice is refused, the set unchanged", "[contact]") {
+  Fixture& f = fixture();
+  CapacitanceContact c(f.mesh, f.table, 6);
+  c.add_bonded(f.top[0]);
+  CHECK_THROWS_WITH(c.add_bonded(f.top[0]), Catch::Contains("already in the contact set"));
+  CHECK_THROWS_WITH(c.add_bonded(f.bottom[0]), Catch::Contains("outside the table's region"));
+  c.add_bonded(f.top[1]);
+  CHECK_THROWS_WITH(c.add_bonded(f.top[2]), Catch::Contains("capacity"));
+  CHECK(c.num_rows() == 6);
+}
+
+TEST_CASE("the table refuses a precomputation that does not fit, with the estimate", "[contact]") {
+  Fixture& f = fixture();
+  GreensTableOptions options;
+  options.memory_limit_bytes = 1e5;
+  CHECK_THROWS_AS(GreensTable::compute(f.mesh, f.material, f.base, options), ResourceError);
+  CHECK_THROWS_WITH(GreensTable::compute(f.mesh, f.material, f.base, options), Catch::Contains("needs about"));
+  // The estimate scales with the region: n x 3|region| for the table.
+  CHECK(GreensTable::estimate_bytes(1000, 100) < GreensTable::estimate_bytes(1000, 1000));
+}
+
+TEST_CASE("paper mode (Up/Tp, eq. 10) equals single-element capacitance contact", "[contact][paper]") {
+  Fixture& f = fixture();
+  const PaperLookupTable paper(f.mesh, f.table);
+  for (int i : {0, 5, 20}) {
+    const Index j = f.top[static_cast<std::size_t>(i)];
+    const Eigen::Vector3d push(0.002, -0.001, -0.01);
+    CapacitanceContact c(f.mesh, f.table, 3);
+    c.add_bonded(j);
+    const Eigen::Vector3d target = f.table.base_displacement().segment<3>(3 * j) + push;
+    for (Index a = 0; a < 3; ++a) c.set_target(a, c.row(a).direction.dot(target));
+    c.solve();
+    Eigen::VectorXd up(f.mesh.num_dofs()), uc(f.mesh.num_dofs());
+    paper.displacement_field(j, push, up);
+    c.displacement_field(uc);
+    CHECK((up - uc).norm() < 1e-12 * uc.norm());
+    CHECK((paper.force(j, push) - c.force()).norm() < 1e-12 * c.force().norm());
+    // The paper's Up column j moves node j by exactly the unit push.
+    CHECK((paper.up(j).middleRows(3 * j, 3) - Eigen::Matrix3d::Identity()).norm() < 1e-12);
+  }
+}
+
+TEST_CASE("superposing the paper's single-node tables is not exact for several nodes", "[contact][paper]") {
+  // Why capacitance contact exists: the paper's tables superposed over 7 nodes miss the target.
+  Fixture& f = fixture();
+  const PaperLookupTable paper(f.mesh, f.table);
+  const Eigen::Vector3d push(0, 0, -0.01);
+  Eigen::VectorXd u = f.table.base_displacement(), tmp(f.mesh.num_dofs());
+  for (int i = 0; i < 7; ++i) {
+    paper.displacement_field(f.top[static_cast<std::size_t>(i)], push, tmp);
+    u += tmp - f.table.base_displacement();
+  }
+  const Index j = f.top[0];
+  const double moved = u(3 * j + 2) - f.table.base_displacement()(3 * j + 2);
+  CHECK(std::abs(moved - push.z()) > 0.2 * std::abs(push.z()));  // superposition overshoots
+}

@@ -1,0 +1,233 @@
+// Tests for the surgical tools on exact contact (presolution/contact_tools.hpp, DESIGN.md §6):
+// Boussinesq's flat punch and Hertz's sphere on a large graded block (closed-form forces),
+// pinch sign reversal, plate retractor, two tools at once, unilateral release.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <iostream>
+
+#include "bemsurg/mesh/mesh_generators.hpp"
+#include "bemsurg/presolution/contact_tools.hpp"
+#include "bemsurg/presolution/greens_table.hpp"
+
+using namespace bemsurg;
+
+namespace {
+
+// A block [-L, L]^2 x [-L, 0], fine (spacing h) on the top face within `fine` of the z axis, graded
+// into a coarse remainder; bottom held. The half-space of the closed-form solutions, truncated.
+struct Block {
+  TriangleMesh mesh;
+  GreensTable table;
+  Block(double L, double h, double growth, double h_max, double fine, double region_radius, const Material& m) {
+    const auto xs = graded_coordinates(-L, L, 0.0, h, h_max, growth, fine);
+    const auto zs = graded_coordinates(-L, 0.0, 0.0, 2.0 * h, h_max, growth, 0.0);
+    mesh = box_mesh_from_grid(xs, xs, zs);
+    std::vector<Index> bottom, region;
+    for (Index e = 0; e < mesh.num_elements(); ++e) {
+      if (mesh.normal(e).z() < -0.99) bottom.push_back(e);
+      if (mesh.normal(e).z() > 0.99 && mesh.centroid(e).head<2>().norm() < region_radius) region.push_back(e);
+    }
+    GreensTableOptions options;
+    options.region = region;  // columns only where the tool acts: n x 3|region| memory
+    table = GreensTable::compute(mesh, m, supported_base_conditions(mesh.num_elements(), bottom), options);
+  }
+};
+
+double contact_area(const ToolContactSolver& s, const TriangleMesh& mesh, int tool) {
+  std::vector<Index> list;
+  s.contact_element_list(tool, list);
+  double a = 0.0;
+  for (Index e : list) a += mesh.area(e);
+  return a;
+}
+
+struct SmallBox {
+  TriangleMesh mesh = box_mesh(Vec3(0, 0, 0), Vec3(1, 1, 0.5), 6, 6, 3);
+  Material material{2.0e5, 0.3, 1000.0};  // sags ~1 % of its height under its own weight
+  GreensTable table;
+  SmallBox() {
+    std::vector<Index> bottom;
+    for (Index e = 0; e < mesh.num_elements(); ++e)
+      if (mesh.normal(e).z() < -0.99) bottom.push_back(e);
+    GreensTableOptions options;
+    options.gravity = Eigen::Vector3d(0, 0, -9.81);
+    table = GreensTable::compute(mesh, material, supported_base_conditions(mesh.num_elements(), bottom), options);
+  }
+};
+SmallBox& small_box() {
+  static SmallBox b;
+  return b;
+}
+
+}  // namespace
+
+TEST_CASE("frictionless flat punch converges towards Boussinesq 2aEd/(1-nu^2) as the block grows", "[contact][punch]") {
+  // Levels: the block grows (L/a = 3, 8, 20) at a fixed fine spacing a/2 under the disc, so h/L
+  // falls. The truncation error (a held bottom at depth L) dominates the first levels; at the last
+  // one it and the discretisation error are both about 1 % (docs/contact.md has the table).
+  const Material m{1.0, 0.3, 0.0};
+  const double a = 1.0, d = 0.01, boussinesq = 2.0 * a * m.young_modulus * d / (1.0 - 0.3 * 0.3);
+  struct Level {
+    double L, h, growth, h_max;
+  };
+  const Level levels[] = {{3.0, 0.5, 1.5, 1.5}, {8.0, 0.5, 2.0, 4.0}, {20.0, 0.5, 2.0, 8.0}};
+  std::vector<double> errors;
+  double bonded_ratio = 0.0;
+  for (const Level& lv : levels) {
+    Block block(lv.L, lv.h, lv.growth, lv.h_max, a, 1.5 * a, m);
+    ToolContactSolver solver(block.mesh, block.table, 400);
+    const int punch = solver.add_tool(ToolSpec::flat(a, ContactMode::Frictionless));
+    solver.place(punch, Vec3(0, 0, 0), Vec3(0, 0, -1));
+    solver.set_depth(punch, d);
+    const ContactUpdateReport report = solver.update();
+    REQUIRE(report.consistent);
+    const Eigen::Vector3d F = solver.force(punch);
+    CHECK(std::abs(F.x()) < 1e-9 * F.z());  // symmetric block: no lateral force
+    const double err = F.z() / boussinesq - 1.0;
+    errors.push_back(std::abs(err));
+    std::cout << "flat punch: L/a = " << lv.L << ", h/a = " << lv.h << ", " << block.mesh.num_elements()
+              << " elements, " << solver.contact_elements(punch) << " in contact: F/F_Boussinesq = " << 1.0 + err << "\n";
+    const int bonded = solver.add_tool(ToolSpec::flat(a, ContactMode::Bonded));
+    solver.release(punch);
+    solver.place(bonded, Vec3(0, 0, 0), Vec3(0, 0, -1));
+    solver.set_depth(bonded, d);
+    solver.update();
+    bonded_ratio = solver.force(bonded).z() / F.z();
+  }
+  for (std::size_t i = 1; i < errors.size(); ++i) CHECK(errors[i] < errors[i - 1]);
+  CHECK(errors.back() < 0.03);
+  // A bonded punch is a few per cent stiffer than a frictionless one at nu = 0.3.
+  CHECK(bonded_ratio > 1.0);
+  CHECK(bonded_ratio < 1.05);
+}
+
+TEST_CASE("sphere: Hertz force and a contact set that grows as sqrt(R d)", "[contact][sphere]") {
+  // R = 8, fine spacing 0.3 within 0.9 of the axis on a block of half-width 14: contact radii
+  // sqrt(R d) = 0.63 .. 0.94 at the depths asserted, i.e. 4 to 6 elements across the contact.
+  // The remaining 5-8 % excess is mostly the truncated half-space (the punch test shows the same
+  // trend with the block size); see docs/contact.md.
+  const Material m{1.0, 0.3, 0.0};
+  const double R = 8.0;
+  Block block(14.0, 0.3, 2.2, 6.0, 0.9, 1.6, m);
+  ToolContactSolver solver(block.mesh, block.table, 400);
+  const int sphere = solver.add_tool(ToolSpec::sphere(R));
+  solver.place(sphere, Vec3(0, 0, R), Vec3(0, 0, -1));  // touching the top face z = 0 at the origin
+  Index last_count = 0;
+  for (double d : {0.02, 0.05, 0.08, 0.11}) {
+    solver.set_depth(sphere, d);
+    const ContactUpdateReport report = solver.update();
+    REQUIRE(report.consistent);
+    const double F = solver.force(sphere).z();
+    const double hertz = 4.0 / 3.0 * m.young_modulus / (1.0 - 0.09) * std::sqrt(R) * std::pow(d, 1.5);
+    const double area = contact_area(solver, block.mesh, sphere);
+    std::cout << "sphere: d = " << d << ", " << solver.contact_elements(sphere) << " elements in contact (area / pi R d = "
+              << area / (M_PI * R * d) << "), F/F_Hertz = " << F / hertz << ", active-set iterations "
+              << report.active_set_iterations << "\n";
+    CHECK(solver.contact_elements(sphere) > last_count);  // the set grows with depth
+    last_count = solver.contact_elements(sphere);
+    if (d >= 0.05) {
+      CHECK(std::abs(F / hertz - 1.0) < 0.10);
+      CHECK(std::abs(area / (M_PI * R * d) - 1.0) < 0.3);
+    }
+    // Unilateral: no contact element pulls.
+    std::vector<Index> list;
+    solver.contact_element_list(sphere, list);
+    for (Index e : list) CHECK(solver.contact().traction(e).dot(block.mesh.normal(e)) <= 1e-12 * std::abs(F));
+  }
+}
+
+TEST_CASE("pinch: the contact sticks and pulling reverses the force exactly", "[contact][pinch]") {
+  SmallBox& b = small_box();
+  ToolContactSolver solver(b.mesh, b.table);
+  const int pinch = solver.add_tool(ToolSpec::pinch(0.1));
+  REQUIRE(solver.engage(pinch, Vec3(0.52, 0.47, 2.0), Vec3(0, 0, -1)));
+  REQUIRE(solver.contact_elements(pinch) == 0);  // not yet updated
+  solver.set_translation(pinch, Vec3(0.001, 0.0, 0.01));  // pull up and a little sideways
+  solver.update();
+  const Eigen::Vector3d pull = solver.force(pinch);
+  REQUIRE(solver.contact_elements(pinch) >= 1);
+  CHECK(pull.z() < 0.0);  // the tissue pulls the tool back down
+  std::vector<Index> list;
+  solver.contact_element_list(pinch, list);
+  double tension = 0.0;
+  for (Index e : list) tension += solver.contact().traction(e).dot(b.mesh.normal(e));
+  CHECK(tension > 0.0);  // carries tension: a pushing tool would have released it
+  solver.set_translation(pinch, Vec3(-0.001, 0.0, -0.01));
+  solver.update();
+  const Eigen::Vector3d push = solver.force(pinch);
+  CHECK((push + pull).norm() < 1e-10 * pull.norm());  // linear: signs reverse, magnitudes equal
+}
+
+TEST_CASE("point tool: its element takes the tool displacement as in the paper and is released when pulled back", "[contact][point]") {
+  SmallBox& b = small_box();
+  ToolContactSolver solver(b.mesh, b.table);
+  const int point = solver.add_tool(ToolSpec::point(ContactMode::Bonded));
+  REQUIRE(solver.engage(point, Vec3(0.5, 0.5, 3.0), Vec3(0, 0, -1)));
+  solver.set_depth(point, 0.01);
+  solver.update();
+  REQUIRE(solver.contact_elements(point) == 1);
+  std::vector<Index> list;
+  solver.contact_element_list(point, list);
+  const Index e = list[0];
+  Eigen::VectorXd u(b.mesh.num_dofs());
+  solver.displacement_field(u);
+  // The touched element takes the tool's displacement on top of the self-weight state.
+  CHECK((u.segment<3>(3 * e) - b.table.base_displacement().segment<3>(3 * e) - Vec3(0, 0, -0.01)).norm() < 1e-12);
+  CHECK(solver.force(point).z() > 0.0);
+  solver.set_depth(point, -0.01);  // pulled away: a point tool does not stick
+  solver.update();
+  CHECK(solver.contact_elements(point) == 0);
+  CHECK(solver.force(point).norm() == 0.0);
+  // The hit element is the one under the approach line (checked against the triangle directly).
+  const auto c = b.mesh.corners(e);
+  const Eigen::Vector2d p(0.5, 0.5);
+  auto side = [&](const Vec3& a, const Vec3& q) { return (q.x() - a.x()) * (p.y() - a.y()) - (q.y() - a.y()) * (p.x() - a.x()); };
+  const double s0 = side(c[0], c[1]), s1 = side(c[1], c[2]), s2 = side(c[2], c[0]);
+  CHECK(((s0 >= -1e-12 && s1 >= -1e-12 && s2 >= -1e-12) || (s0 <= 1e-12 && s1 <= 1e-12 && s2 <= 1e-12)));
+}
+
+TEST_CASE("plate retractor: the elements it touches move with it", "[contact][plate]") {
+  SmallBox& b = small_box();
+  ToolContactSolver solver(b.mesh, b.table);
+  // A square plate against the x = 1 side face, pushing along -x.
+  const std::vector<Eigen::Vector3d> poly = {Vec3(1, 0.3, 0.15), Vec3(1, 0.7, 0.15), Vec3(1, 0.7, 0.4), Vec3(1, 0.3, 0.4)};
+  const int plate = solver.add_tool(ToolSpec::plate(poly, 0.01));
+  REQUIRE(solver.engage(plate, Vec3(1, 0.5, 0.3), Vec3(-1, 0, 0)));
+  const Vec3 move(-0.01, 0.002, 0.001);
+  solver.set_translation(plate, move);
+  solver.update();
+  REQUIRE(solver.contact_elements(plate) >= 4);
+  std::vector<Index> list;
+  solver.contact_element_list(plate, list);
+  Eigen::VectorXd u(b.mesh.num_dofs());
+  solver.displacement_field(u);
+  for (Index e : list) {
+    CHECK(std::abs(b.mesh.centroid(e).x() - 1.0) < 1e-12);  // only the side face it lies on
+    CHECK((u.segment<3>(3 * e) - b.table.base_displacement().segment<3>(3 * e) - move).norm() < 1e-12);
+  }
+  CHECK(solver.force(plate).dot(move) < 0.0);  // the tissue resists the retractor
+}
+
+TEST_CASE("two tools at once interact through the body", "[contact][two-hands]") {
+  SmallBox& b = small_box();
+  ToolContactSolver solver(b.mesh, b.table);
+  const int left = solver.add_tool(ToolSpec::flat(0.12));
+  const int right = solver.add_tool(ToolSpec::flat(0.12));
+  REQUIRE(solver.engage(left, Vec3(0.35, 0.5, 1.0), Vec3(0, 0, -1)));
+  solver.set_depth(left, 0.005);
+  solver.update();
+  const Eigen::Vector3d alone = solver.force(left);
+  REQUIRE(solver.engage(right, Vec3(0.65, 0.5, 1.0), Vec3(0, 0, -1)));
+  solver.set_depth(right, 0.005);
+  solver.update();
+  const Eigen::Vector3d together = solver.force(left);
+  CHECK(solver.contact_elements(left) > 0);
+  CHECK(solver.contact_elements(right) > 0);
+  // Pressing next to it softens the left tool's surface: less force for the same depth.
+  CHECK(together.z() < alone.z());
+  CHECK(together.z() > 0.5 * alone.z());
+  CHECK((solver.contact().force() - solver.force(left) - solver.force(right)).norm() < 1e-12 * together.norm());
+  solver.release(right);
+  solver.update();
+  CHECK((solver.force(left) - alone).norm() < 1e-9 * alone.norm());
+}
