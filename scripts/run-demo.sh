@@ -11,7 +11,7 @@ BEMSURG="$BUILD_DIR/bin/bemsurg"
 mkdir -p out/demo
 "$BEMSURG" solve examples/scenes/cube_under_gravity.json -o out/demo/solve
 echo "demo: self-weight solution written to out/demo/solve (elements.csv, surface.vtk, report.json)"
-"$BEMSURG" press examples/scenes/cube_under_gravity.json --tool flat:0.01 --at 0,0,0.08 --direction 0,0,-1 \
+"$BEMSURG" press examples/scenes/cube_under_gravity.json --tool flat:0.02 --at 0,0,0.08 --direction 0,0,-1 \
   --depth 0.002 -o out/demo/press
 echo "demo: flat-punch press written to out/demo/press (elements.csv, force.json)"
 cat out/demo/press/force.json

@@ -86,6 +86,7 @@ bool ToolContactSolver::engage(int tool, const Eigen::Vector3d& at, const Eigen:
   t.delta.setZero();
   t.rotation.setZero();
   t.candidates.clear();
+  t.reach = t.spec.radius;
   const Eigen::Matrix<double, 3, 2> box = mesh_.bounding_box();
   const double L = 2.0 * (box.col(1) - box.col(0)).norm() + (at - box.col(0)).norm();
   switch (t.spec.shape) {
@@ -113,7 +114,16 @@ bool ToolContactSolver::engage(int tool, const Eigen::Vector3d& at, const Eigen:
     case ToolShape::Sphere: {
       t.origin = at;
       collect_candidates(t);
-      if (t.candidates.empty()) return false;
+      if (t.candidates.empty() && t.spec.shape == ToolShape::FlatPunch) {
+        // A punch narrower than the elements under it covers no centroid; it still presses the
+        // element its axis lands on rather than missing the body.
+        RayHit hit;
+        if (!bvh_.intersect_ray(at - L * t.direction, t.direction, hit, 2.0 * L, true)) return false;
+        if (table_.region_slot(hit.element) < 0) return false;
+        const Eigen::Vector3d x = base_position(hit.element) - at;
+        t.reach = (1.0 + 1e-9) * (x - x.dot(t.direction) * t.direction).norm();
+        t.candidates.push_back(hit.element);
+      }
       // First contact: the disc face reaches the highest element; the sphere its first element.
       double s0 = std::numeric_limits<double>::infinity();
       for (Index e : t.candidates) {
@@ -166,6 +176,7 @@ void ToolContactSolver::place(int tool, const Eigen::Vector3d& position, const E
   release(tool);
   t.direction = unit_or_throw(direction, "the tool direction");
   t.origin = position;
+  t.reach = t.spec.radius;
   t.delta.setZero();
   t.rotation.setZero();
   collect_candidates(t);
@@ -201,7 +212,7 @@ bool ToolContactSolver::geometric_contact(const Tool& t, Index e, Eigen::Vector3
       const double h = x.dot(t.direction);  // > 0: the element lies beyond the disc face
       const double rho = (x - h * t.direction).norm();
       w = t.direction;
-      if (rho > t.spec.radius || h > 0.0) return false;
+      if (rho > t.reach || h > 0.0) return false;
       const Eigen::Vector3d lateral = t.delta - t.delta.dot(t.direction) * t.direction;
       push = -h * t.direction + (t.spec.mode == ContactMode::Bonded ? lateral : Eigen::Vector3d::Zero());
       return true;

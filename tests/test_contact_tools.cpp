@@ -231,3 +231,22 @@ TEST_CASE("two tools at once interact through the body", "[contact][two-hands]")
   solver.update();
   CHECK((solver.force(left) - alone).norm() < 1e-9 * alone.norm());
 }
+
+TEST_CASE("a flat punch narrower than the elements presses the element its axis lands on, like a bonded point",
+          "[contact][punch]") {
+  SmallBox& b = small_box();  // top elements are about 0.17 wide: a 0.01-radius disc covers no centroid
+  ToolContactSolver solver(b.mesh, b.table);
+  const int narrow = solver.add_tool(ToolSpec::flat(0.01, ContactMode::Bonded));
+  REQUIRE(solver.engage(narrow, Vec3(0.51, 0.52, 3.0), Vec3(0, 0, -1)));
+  solver.set_depth(narrow, 0.01);
+  solver.update();
+  REQUIRE(solver.contact_elements(narrow) == 1);
+  const Vec3 narrow_force = solver.force(narrow);
+  solver.release(narrow);
+  const int point = solver.add_tool(ToolSpec::point(ContactMode::Bonded));
+  REQUIRE(solver.engage(point, Vec3(0.51, 0.52, 3.0), Vec3(0, 0, -1)));
+  solver.set_depth(point, 0.01);
+  solver.update();
+  CHECK(narrow_force.z() > 0.0);
+  CHECK((solver.force(point) - narrow_force).norm() < 1e-9 * narrow_force.norm());
+}

@@ -117,6 +117,10 @@ class ToolContactSolver {
     Eigen::Vector3d delta = Eigen::Vector3d::Zero();
     Eigen::Vector3d rotation = Eigen::Vector3d::Zero();
     Eigen::Vector3d pivot = Eigen::Vector3d::Zero();
+    // Radius within which element centroids count as under a flat punch: the punch's radius, or,
+    // when the punch is narrower than the elements and covers no centroid, just enough to hold
+    // the element its axis lands on (so a fine tool on a coarse mesh still presses something).
+    double reach = 0.0;
     std::vector<Index> candidates;  // elements the tool can reach (fixed at engagement)
     std::vector<char> released;     // per candidate: released by the active set
     std::vector<char> wanted;       // per candidate: scratch
