@@ -4,7 +4,6 @@
 #include <catch2/catch.hpp>
 
 #include <sys/wait.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -17,29 +16,16 @@
 #include <vector>
 
 #include "bemsurg/mesh/mesh_generators.hpp"
+#include "support/temp_dir.hpp"
 
 using namespace bemsurg;
 namespace fs = std::filesystem;
 
 namespace {
 
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    static int counter = 0;
-    path = fs::temp_directory_path() / ("bemsurg_test_cli_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-  std::string file(const std::string& name) const { return (path / name).string(); }
-  std::string write(const std::string& name, const std::string& text) const {
-    std::ofstream(path / name) << text;
-    return file(name);
-  }
+/// A fresh directory per test case, removed at the end (tests/support/temp_dir.hpp).
+struct TempDir : bemsurg_test::TempDir {
+  TempDir() : bemsurg_test::TempDir("bemsurg_test_cli_") {}
 };
 
 std::string read_text(const std::string& path) {

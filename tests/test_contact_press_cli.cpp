@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "support/temp_dir.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -20,9 +22,8 @@ int run(const std::string& args) {
 }  // namespace
 
 TEST_CASE("bemsurg press writes elements.csv and force.json consistent with each other", "[contact][cli]") {
-  const fs::path dir = fs::temp_directory_path() / "bemsurg_press_test";
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const bemsurg_test::TempDir temp("bemsurg_test_press_");
+  const fs::path& dir = temp.path;
   {
     std::ofstream scene(dir / "scene.json");
     scene << R"({"mesh": {"generator": "box", "min": [-0.05, -0.05, 0], "max": [0.05, 0.05, 0.05], "divisions": [6, 6, 3]},
@@ -65,5 +66,4 @@ TEST_CASE("bemsurg press writes elements.csv and force.json consistent with each
   CHECK(run("press " + scene + " --tool cone --at 0,0,1 --direction 0,0,-1 --depth 0.001 -o " + out) == 2);
   CHECK(run("press " + scene + " --tool point --at 5,5,1 --direction 0,0,-1 --depth 0.001 -o " + out) == 1);
   CHECK(run("press " + scene + " --tool point --at 0,0,1 --direction 0,0,0 --depth 0.001 -o " + out) == 2);
-  fs::remove_all(dir);
 }

@@ -16,7 +16,7 @@
 #include "bemsurg/solvers/gmres.hpp"
 #include "bemsurg/solvers/linear_solve.hpp"
 #include "bemsurg/solvers/near_field_preconditioner.hpp"
-#include "krylov_test_systems.hpp"
+#include "support/krylov_test_systems.hpp"
 
 using namespace bemsurg;
 using bemsurg_test::BemSystem;

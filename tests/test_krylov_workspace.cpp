@@ -14,7 +14,7 @@
 #include "bemsurg/solvers/block_jacobi_preconditioner.hpp"
 #include "bemsurg/solvers/gmres.hpp"
 #include "bemsurg/solvers/near_field_preconditioner.hpp"
-#include "krylov_test_systems.hpp"
+#include "support/krylov_test_systems.hpp"
 
 extern "C" void* __libc_malloc(std::size_t size);
 

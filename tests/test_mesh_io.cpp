@@ -5,39 +5,26 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <random>
 #include <sstream>
 
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/mesh/mesh_io.hpp"
 #include "bemsurg/mesh/mesh_validation.hpp"
+#include "support/temp_dir.hpp"
 
 using namespace bemsurg;
 namespace fs = std::filesystem;
 
 namespace {
 
-/// A fresh directory per test case, removed afterwards.
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    static std::atomic<int> counter{0};
-    std::random_device rd;
-    path = fs::temp_directory_path() /
-           ("bemsurg_test_mesh_io_" + std::to_string(rd()) + "_" + std::to_string(counter++));
-    fs::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-  std::string file(const std::string& name) const { return (path / name).string(); }
+/// A fresh directory per test case, removed at the end (tests/support/temp_dir.hpp).
+struct TempDir : bemsurg_test::TempDir {
+  TempDir() : bemsurg_test::TempDir("bemsurg_test_mesh_io_") {}
 };
 
 void write_text(const std::string& path, const std::string& text) {

@@ -8,35 +8,21 @@
 #include <fstream>
 #include <set>
 #include <string>
-#include <unistd.h>
 
 #include "bemsurg/io/element_selector.hpp"
 #include "bemsurg/io/scene.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/mesh/mesh_io.hpp"
+#include "support/temp_dir.hpp"
 
 using namespace bemsurg;
 namespace fs = std::filesystem;
 
 namespace {
 
-/// A fresh directory per test case, removed at the end.
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    static int counter = 0;
-    path = fs::temp_directory_path() / ("bemsurg_test_scene_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-  std::string write(const std::string& name, const std::string& text) const {
-    std::ofstream(path / name) << text;
-    return (path / name).string();
-  }
+/// A fresh directory per test case, removed at the end (tests/support/temp_dir.hpp).
+struct TempDir : bemsurg_test::TempDir {
+  TempDir() : bemsurg_test::TempDir("bemsurg_test_scene_") {}
 };
 
 /// The SceneError message of loading `json`, or a marker saying what happened instead.

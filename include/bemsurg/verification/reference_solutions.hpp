@@ -6,16 +6,19 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <cmath>
 #include <functional>
 #include <vector>
 
 #include "bemsurg/assembly/boundary_conditions.hpp"
+#include "bemsurg/assembly/influence_assembler.hpp"
 #include "bemsurg/assembly/linear_system.hpp"
 #include "bemsurg/elastostatic_solver.hpp"
 #include "bemsurg/kernels/kelvin_kernel.hpp"
 #include "bemsurg/kernels/kernel_gradients.hpp"
 #include "bemsurg/material.hpp"
 #include "bemsurg/mesh/triangle_mesh.hpp"
+#include "bemsurg/post/interior_evaluator.hpp"
 
 namespace bemsurg::verification {
 
@@ -148,6 +151,47 @@ inline RelativeErrors solve_exact_trace_problem(const TriangleMesh& mesh, const 
   const ElastostaticSolution s = solve_elastostatic(p);
   if (solution) *solution = s.boundary;
   return relative_l2_errors(mesh, p.boundary_conditions, s.boundary, exact_traces(mesh, field));
+}
+
+/// Relative L2 errors over a set of interior points of the displacement u and of the six stress
+/// components (sxx, syy, szz, sxy, syz, sxz) that InteriorEvaluator gives from a boundary solution:
+/// sqrt(sum_k |x_k - x*_k|^2 / sum_k |x*_k|^2), with x* from the closed-form `field`.
+struct InteriorErrors {
+  double displacement = 0.0;
+  double stress = 0.0;
+};
+
+inline InteriorErrors interior_relative_errors(const TriangleMesh& mesh, const Material& m, const ElasticField& field,
+                                               const BoundarySolution& solution, const RowMatrixX3d& points,
+                                               const Eigen::Vector3d& gravity = Eigen::Vector3d::Zero()) {
+  const InteriorEvaluator ev(mesh, m, gravity);
+  const RowMatrixX3d u = ev.displacement(points, solution);
+  const StressRows sigma = ev.stress(points, solution);
+  double du = 0.0, nu = 0.0, ds = 0.0, ns = 0.0;
+  for (Index k = 0; k < points.rows(); ++k) {
+    const Eigen::Vector3d x = points.row(k).transpose();
+    du += (u.row(k).transpose() - field.displacement(x)).squaredNorm();
+    nu += field.displacement(x).squaredNorm();
+    const Eigen::Matrix3d S = field.stress(x);
+    Eigen::Matrix<double, 6, 1> exact;
+    exact << S(0, 0), S(1, 1), S(2, 2), S(0, 1), S(1, 2), S(0, 2);
+    ds += (sigma.row(k).transpose() - exact).squaredNorm();
+    ns += exact.squaredNorm();
+  }
+  return {std::sqrt(du / nu), std::sqrt(ds / ns)};
+}
+
+/// Rigid-body identity residual (DESIGN.md §4): a rigid translation gives zero traction, so the
+/// 3x3 blocks of every block row of H sum to zero. Returns max_i |sum_e H_ie| / |H_ii| (Frobenius).
+inline double rigid_body_row_sum_ratio(const InfluenceMatrices& hg) {
+  const Index n = hg.H.rows() / 3;
+  double worst = 0.0;
+  for (Index i = 0; i < n; ++i) {
+    Eigen::Matrix3d sum = Eigen::Matrix3d::Zero();
+    for (Index e = 0; e < n; ++e) sum += hg.H.block<3, 3>(3 * i, 3 * e);
+    worst = std::max(worst, sum.norm() / hg.H.block<3, 3>(3 * i, 3 * i).norm());
+  }
+  return worst;
 }
 
 /// A few well-spread elements (four, evenly spaced in index order) on which a traction-loaded
