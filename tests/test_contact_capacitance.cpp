@@ -14,16 +14,7 @@
 #include "bemsurg/presolution/greens_table.hpp"
 #include "bemsurg/presolution/paper_lookup_table.hpp"
 #include "bemsurg/solvers/dense_lu.hpp"
-
-// Counts every operator new in this process: the force path must not allocate.
-static std::atomic<long> g_allocations{0};
-void* operator new(std::size_t n) {
-  ++g_allocations;
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+#include "support/allocation_counter.hpp"
 
 using namespace bemsurg;
 
@@ -194,17 +185,18 @@ TEST_CASE("the force path allocates nothing", "[contact]") {
   CapacitanceContact c(f.mesh, f.table, 200);
   for (int i = 0; i < 7; ++i) c.add_bonded(f.top[static_cast<std::size_t>(i)]);
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  const long before = g_allocations.load();
-  for (int rep = 0; rep < 1000; ++rep) {
-    for (Index a = 0; a < c.num_rows(); ++a) c.set_target(a, c.base_target(a) - 1e-4 * rep * c.row(a).direction.z());
-    c.solve();
-    sum += c.force();
-    sum += c.force_for_targets();
-  }
-  // Contact-set changes within capacity allocate nothing either.
-  c.remove_element(f.top[3]);
-  c.add_bonded(f.top[40]);
-  CHECK(g_allocations.load() == before);
+  const long allocations = bemsurg_test::allocations_during([&] {
+    for (int rep = 0; rep < 1000; ++rep) {
+      for (Index a = 0; a < c.num_rows(); ++a) c.set_target(a, c.base_target(a) - 1e-4 * rep * c.row(a).direction.z());
+      c.solve();
+      sum += c.force();
+      sum += c.force_for_targets();
+    }
+    // Contact-set changes within capacity allocate nothing either.
+    c.remove_element(f.top[3]);
+    c.add_bonded(f.top[40]);
+  });
+  CHECK(allocations == 0);
   CHECK(sum.allFinite());
 }
 

@@ -1,7 +1,7 @@
 // test_krylov_workspace.cpp: the Krylov iteration loops allocate nothing (issue 4, item 5): once
 // a solver object has solved a system of one size, solving it again (a new right-hand side or a
 // warm start, as after each cut in Wang et al. 2007 §5.3) makes no heap allocation at all, with any
-// preconditioner. Counted by wrapping malloc for this executable (glibc's __libc_malloc), which
+// preconditioner. Counted by tests/support/allocation_counter.hpp, which
 // sees Eigen's aligned allocations, operator new and std::vector growth alike.
 #include <catch2/catch.hpp>
 
@@ -14,39 +14,13 @@
 #include "bemsurg/solvers/block_jacobi_preconditioner.hpp"
 #include "bemsurg/solvers/gmres.hpp"
 #include "bemsurg/solvers/near_field_preconditioner.hpp"
+#include "support/allocation_counter.hpp"
 #include "support/krylov_test_systems.hpp"
 
-extern "C" void* __libc_malloc(std::size_t size);
-
-namespace {
-std::atomic<long> g_allocations{0};
-std::atomic<bool> g_counting{false};
-std::thread::id g_counted_thread;
-}  // namespace
-
-// Under AddressSanitizer malloc belongs to the sanitizer's allocator, so the counting wrapper is
-// left out there (the count stays zero); the allocation check is made by the ordinary build.
-#ifndef __SANITIZE_ADDRESS__
-extern "C" void* malloc(std::size_t size) {
-  if (g_counting.load(std::memory_order_relaxed) && std::this_thread::get_id() == g_counted_thread) ++g_allocations;
-  return __libc_malloc(size);
-}
-#endif
-
 using namespace bemsurg;
+using bemsurg_test::allocations_during;
 
 namespace {
-
-/// Allocations made by this thread while f runs.
-template <class F>
-long allocations_during(F&& f) {
-  g_counted_thread = std::this_thread::get_id();
-  g_allocations = 0;
-  g_counting = true;
-  f();
-  g_counting = false;
-  return g_allocations.load();
-}
 
 template <class Solver>
 void check_second_solve_allocates_nothing(Solver& solver, const bemsurg_test::BemSystem& s) {
