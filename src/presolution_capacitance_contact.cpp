@@ -153,8 +153,12 @@ void CapacitanceContact::add_rows(const ContactRow* rows, Index m) {
   double* Y = work_b_.data();  // c P      (m x k)
   double* Z = work_c_.data();  // Schur    (m x m)
   double* Zi = work_d_.data();
-  // b = S(K, N) into Zi's buffer temporarily? Keep it simple: b stored in Zi (k x m), c into Z.
-  // X = P b
+  // C = S(N, K) (m x k), c(i, p) = S(N_i, K_p), computed once into Zi's buffer: it is needed for
+  // Y and Z only, both before the inversion overwrites the buffer with Zi.
+  double* C = work_d_.data();
+  for (Index p = 0; p < k; ++p)
+    for (Index i = 0; i < m; ++i) C[i + p * ld] = s_entry(rows[i], rows_[static_cast<std::size_t>(p)]);
+  // X = P b, b(p, j) = S(K_p, N_j)
   for (Index j = 0; j < m; ++j) {
     double* x = X + j * ld;
     for (Index i = 0; i < k; ++i) x[i] = 0.0;
@@ -164,23 +168,13 @@ void CapacitanceContact::add_rows(const ContactRow* rows, Index m) {
       for (Index i = 0; i < k; ++i) x[i] += b * pc[i];
     }
   }
-  // Y = c P, c(i, p) = S(N_i, K_p)
-  for (Index i = 0; i < m; ++i)
-    for (Index j = 0; j < k; ++j) Y[i + j * ld] = 0.0;
-  for (Index p = 0; p < k; ++p)
-    for (Index i = 0; i < m; ++i) {
-      const double c = s_entry(rows[i], rows_[static_cast<std::size_t>(p)]);
-      if (c == 0.0) continue;
-      for (Index j = 0; j < k; ++j) Y[i + j * ld] += c * P_[static_cast<std::size_t>(p + j * ld)];
-    }
-  // Z = d - c X
+  // Y = C P (m x k)
+  gemm(m, k, k, 1.0, C, ld, P_.data(), ld, 0.0, Y, ld);
+  // Z = d - C X (m x m), d(i, j) = S(N_i, N_j)
   for (Index j = 0; j < m; ++j)
-    for (Index i = 0; i < m; ++i) {
-      double z = s_entry(rows[i], rows[j]);
-      for (Index p = 0; p < k; ++p) z -= s_entry(rows[i], rows_[static_cast<std::size_t>(p)]) * X[p + j * ld];
-      Z[i + j * ld] = z;
-    }
-  invert_into(Z, Zi, m);  // throws before anything is committed
+    for (Index i = 0; i < m; ++i) Z[i + j * ld] = s_entry(rows[i], rows[j]);
+  gemm(m, m, k, -1.0, C, ld, X, ld, 1.0, Z, ld);
+  invert_into(Z, Zi, m);  // overwrites C; throws before anything is committed
   // W = X Zi (k x m) into Z's buffer (Z no longer needed).
   double* W = Z;
   gemm(k, m, m, 1.0, X, ld, Zi, ld, 0.0, W, ld);
@@ -216,7 +210,7 @@ void CapacitanceContact::add_bonded(Index element, int tag) {
 }
 
 void CapacitanceContact::add_normal(Index element, const Eigen::Vector3d& direction, int tag) {
-  const double len = direction.norm();
+  const double len = direction.allFinite() ? direction.stableNorm() : 0.0;  // stable for 1e-200 / 1e200
   if (!(len > 0.0) || !std::isfinite(len)) throw Error("CapacitanceContact: a contact normal must be a non-zero finite vector");
   const ContactRow r{element, direction / len, tag};
   add_rows(&r, 1);

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "bemsurg/error.hpp"
@@ -12,7 +13,9 @@ namespace bemsurg {
 
 namespace {
 Eigen::Vector3d unit_or_throw(const Eigen::Vector3d& v, const char* what) {
-  const double n = v.norm();
+  // stableNorm: components like 1e-200 or 1e200 would underflow / overflow in norm().
+  if (!v.allFinite()) throw Error(std::string("contact tool: ") + what + " must be a non-zero finite vector");
+  const double n = v.stableNorm();
   if (!(n > 0.0) || !std::isfinite(n)) throw Error(std::string("contact tool: ") + what + " must be a non-zero finite vector");
   return v / n;
 }
@@ -55,8 +58,21 @@ int ToolContactSolver::add_tool(const ToolSpec& spec) {
   return static_cast<int>(tools_.size()) - 1;
 }
 
+void ToolContactSolver::set_translation(int tool, const Eigen::Vector3d& delta) {
+  Tool& t = tools_.at(static_cast<std::size_t>(tool));
+  if (!delta.allFinite()) throw Error("contact tool: set_translation: the translation `delta` is not finite");
+  t.delta = delta;
+}
+
+void ToolContactSolver::set_rotation(int tool, const Eigen::Vector3d& rotation) {
+  Tool& t = tools_.at(static_cast<std::size_t>(tool));
+  if (!rotation.allFinite()) throw Error("contact tool: set_rotation: the rotation vector `rotation` is not finite");
+  t.rotation = rotation;
+}
+
 void ToolContactSolver::set_depth(int tool, double depth) {
   Tool& t = tools_.at(static_cast<std::size_t>(tool));
+  if (!std::isfinite(depth)) throw Error("contact tool: set_depth: the depth `depth` is not finite");
   t.delta = depth * t.direction;
 }
 
@@ -124,6 +140,11 @@ bool ToolContactSolver::engage(int tool, const Eigen::Vector3d& at, const Eigen:
         t.reach = (1.0 + 1e-9) * (x - x.dot(t.direction) * t.direction).norm();
         t.candidates.push_back(hit.element);
       }
+      // A sphere that covers no element centroid (it misses the body, or is narrower than the
+      // elements under it) has nothing to push: unlike the flat punch's fallback, the element its
+      // axis lands on cannot stand in for it, since the sphere contact moves centroids along their
+      // normals onto the sphere and a centroid whose normal line misses the sphere never touches it.
+      if (t.candidates.empty()) return false;
       // First contact: the disc face reaches the highest element; the sphere its first element.
       double s0 = std::numeric_limits<double>::infinity();
       for (Index e : t.candidates) {
@@ -132,6 +153,10 @@ bool ToolContactSolver::engage(int tool, const Eigen::Vector3d& at, const Eigen:
         const double rho2 = (x - h * t.direction).squaredNorm();
         const double s = t.spec.shape == ToolShape::FlatPunch ? h : h - std::sqrt(std::max(0.0, t.spec.radius * t.spec.radius - rho2));
         s0 = std::min(s0, s);
+      }
+      if (!std::isfinite(s0)) {
+        t.candidates.clear();
+        return false;
       }
       t.origin = at + s0 * t.direction;
       break;
@@ -173,6 +198,7 @@ void ToolContactSolver::place(int tool, const Eigen::Vector3d& position, const E
       throw Error("contact tool: the tool placed at the given position does not touch the body");
     return;
   }
+  if (!position.allFinite()) throw Error("contact tool: place: the position is not finite");
   release(tool);
   t.direction = unit_or_throw(direction, "the tool direction");
   t.origin = position;
@@ -222,7 +248,9 @@ bool ToolContactSolver::geometric_contact(const Tool& t, Index e, Eigen::Vector3
       const double b = n.dot(x);
       const double disc = b * b - x.squaredNorm() + t.spec.radius * t.spec.radius;
       w = -n;
-      if (disc < 0.0) return false;
+      // In contact only when the centroid lies inside the sphere: delta_n < 0 alone also holds for
+      // a centroid outside the sphere with the sphere on its -n side (both crossings behind it).
+      if (disc < 0.0 || !(x.squaredNorm() < t.spec.radius * t.spec.radius)) return false;
       const double delta_n = -b - std::sqrt(disc);  // normal move (along n) onto the sphere
       if (!(delta_n < 0.0)) return false;
       push = delta_n * n;
@@ -261,12 +289,20 @@ void ToolContactSolver::add_element_rows(const Tool& t, int tag, Index e, const 
   }
 }
 
+void ToolContactSolver::rollback_additions() {
+  for (const ContactRow& r : add_buffer_) owner_[static_cast<std::size_t>(r.element)] = -1;
+  add_buffer_.clear();
+}
+
 ContactUpdateReport ToolContactSolver::update(int max_iterations) {
   ContactUpdateReport report;
   report.consistent = false;
   for (int iter = 0; iter < std::max(1, max_iterations); ++iter) {
     report.active_set_iterations = iter + 1;
-    // 1. Bring the rows in line with the geometry and the released flags.
+    // 1. Bring the rows in line with the geometry and the released flags: first every removal
+    //    (it frees capacity), then the additions, committed in one add_rows. A throw (capacity
+    //    exceeded, singular S) rolls the new elements' ownership back, so the solver stays
+    //    consistent with the contact set and a later update() starts from there.
     add_buffer_.clear();
     for (std::size_t ti = 0; ti < tools_.size(); ++ti) {
       Tool& t = tools_[ti];
@@ -278,19 +314,45 @@ ContactUpdateReport ToolContactSolver::update(int max_iterations) {
         const bool geo = geometric_contact(t, e, push, w);
         if (!geo) t.released[i] = 0;  // out of reach: forget an old release
         const bool want = geo && !t.released[i];
+        t.wanted[i] = want ? 1 : 0;
         int& owner = owner_[static_cast<std::size_t>(e)];
         if (owner == tag && !want) {
           contact_.remove_element(e);
           owner = -1;
-        } else if (owner == -1 && want) {
-          if (static_cast<Index>(add_buffer_.size()) + 3 > static_cast<Index>(add_buffer_.capacity()))
-            throw Error("contact tools: more contact rows than the capacity");
-          add_element_rows(t, tag, e, w);
-          owner = tag;
         }
       }
     }
-    contact_.add_rows(add_buffer_.data(), static_cast<Index>(add_buffer_.size()));
+    const Index free_rows = contact_.capacity() - contact_.num_rows();
+    for (std::size_t ti = 0; ti < tools_.size(); ++ti) {
+      Tool& t = tools_[ti];
+      if (!t.engaged) continue;
+      const int tag = static_cast<int>(ti);
+      for (std::size_t i = 0; i < t.candidates.size(); ++i) {
+        if (!t.wanted[i]) continue;
+        const Index e = t.candidates[i];
+        int& owner = owner_[static_cast<std::size_t>(e)];
+        if (owner != -1) continue;  // already in contact (with this tool or another)
+        const Index need = t.spec.mode == ContactMode::Bonded ? 3 : 1;
+        if (static_cast<Index>(add_buffer_.size()) + need > free_rows) {
+          const Index wanted_rows = static_cast<Index>(add_buffer_.size()) + need;
+          rollback_additions();
+          throw Error("contact tools: the contact set needs at least " +
+                      std::to_string(contact_.num_rows() + wanted_rows) + " constraint rows, more than the capacity of " +
+                      std::to_string(contact_.capacity()) +
+                      " (construct the ToolContactSolver with a larger capacity_rows); the contact set is unchanged");
+        }
+        Eigen::Vector3d push, w;
+        geometric_contact(t, e, push, w);
+        add_element_rows(t, tag, e, w);
+        owner = tag;  // claimed, so no other tool adds it too; rolled back if add_rows throws
+      }
+    }
+    try {
+      contact_.add_rows(add_buffer_.data(), static_cast<Index>(add_buffer_.size()));
+    } catch (...) {
+      rollback_additions();
+      throw;
+    }
     // 2. Targets from the poses, then the small solve.
     set_targets(0);
     contact_.solve();

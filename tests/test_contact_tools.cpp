@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <iostream>
+#include <limits>
 
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/presolution/contact_tools.hpp"
@@ -249,4 +250,121 @@ TEST_CASE("a flat punch narrower than the elements presses the element its axis 
   solver.update();
   CHECK(narrow_force.z() > 0.0);
   CHECK((solver.force(point) - narrow_force).norm() < 1e-9 * narrow_force.norm());
+}
+
+TEST_CASE("a sphere that covers no element centroid is not engaged (no NaN pose)", "[contact][sphere]") {
+  SmallBox& b = small_box();
+  ToolContactSolver solver(b.mesh, b.table);
+  const int far = solver.add_tool(ToolSpec::sphere(0.01));
+  const int big_far = solver.add_tool(ToolSpec::sphere(0.3));
+  // Far from the body: no candidate, so no first contact (it used to report success at inf/NaN).
+  CHECK_FALSE(solver.engage(far, Vec3(100, 100, 100), Vec3(0, 0, -1)));
+  CHECK_FALSE(solver.engaged(far));
+  CHECK_FALSE(solver.engage(big_far, Vec3(100, 100, 100), Vec3(0, 0, -1)));
+  CHECK_FALSE(solver.engaged(big_far));
+  // On the body but narrower than the elements (about 0.17 wide): no centroid's normal line can
+  // meet it, so it is refused too rather than engaged and never touching.
+  const int narrow = solver.add_tool(ToolSpec::sphere(0.01));
+  CHECK_FALSE(solver.engage(narrow, Vec3(0.51, 0.52, 3.0), Vec3(0, 0, -1)));
+  CHECK_FALSE(solver.engaged(narrow));
+  const ContactUpdateReport report = solver.update();
+  CHECK(report.rows == 0);
+  CHECK(solver.force(far).allFinite());
+  // A sphere that does cover centroids still engages, with a finite pose and force.
+  const int good = solver.add_tool(ToolSpec::sphere(1.0));
+  REQUIRE(solver.engage(good, Vec3(0.5, 0.5, 2.0), Vec3(0, 0, -1)));
+  solver.set_depth(good, 0.01);
+  solver.update();
+  CHECK(solver.contact_elements(good) > 0);
+  CHECK(solver.force(good).allFinite());
+  CHECK(solver.force(good).z() > 0.0);
+}
+
+TEST_CASE("an update past the capacity throws and leaves the solver consistent", "[contact][capacity]") {
+  SmallBox& b = small_box();
+  const Index capacity = 12;  // a frictionless R = 1 sphere takes 8 rows at depth 0.01, over 24 at 0.08
+  ToolContactSolver solver(b.mesh, b.table, capacity);
+  const int s = solver.add_tool(ToolSpec::sphere(1.0));
+  REQUIRE(solver.engage(s, Vec3(0.5, 0.5, 2.0), Vec3(0, 0, -1)));
+  solver.set_depth(s, 0.08);
+  CHECK_THROWS_WITH(solver.update(), Catch::Contains("capacity"));
+  CHECK(solver.contact().num_rows() <= capacity);
+  CHECK(solver.contact_elements(s) == solver.contact().num_elements());  // bookkeeping matches the set
+  solver.set_depth(s, 0.01);
+  const ContactUpdateReport report = solver.update();
+  REQUIRE(report.consistent);
+  ToolContactSolver fresh(b.mesh, b.table, capacity);
+  const int f = fresh.add_tool(ToolSpec::sphere(1.0));
+  REQUIRE(fresh.engage(f, Vec3(0.5, 0.5, 2.0), Vec3(0, 0, -1)));
+  fresh.set_depth(f, 0.01);
+  fresh.update();
+  REQUIRE(fresh.contact_elements(f) > 0);
+  CHECK(solver.contact_elements(s) == fresh.contact_elements(f));
+  CHECK((solver.force(s) - fresh.force(f)).norm() < 1e-9 * fresh.force(f).norm());
+  // Also after a set had been in contact before the failed update.
+  solver.set_depth(s, 0.08);
+  CHECK_THROWS_WITH(solver.update(), Catch::Contains("capacity"));
+  solver.set_depth(s, 0.01);
+  solver.update();
+  CHECK((solver.force(s) - fresh.force(f)).norm() < 1e-9 * fresh.force(f).norm());
+}
+
+TEST_CASE("a non-finite tool pose is refused, naming the argument", "[contact][pose]") {
+  SmallBox& b = small_box();
+  ToolContactSolver solver(b.mesh, b.table);
+  const int tool = solver.add_tool(ToolSpec::flat(0.12));
+  REQUIRE(solver.engage(tool, Vec3(0.5, 0.5, 1.0), Vec3(0, 0, -1)));
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  CHECK_THROWS_AS(solver.set_depth(tool, nan), Error);
+  CHECK_THROWS_WITH(solver.set_depth(tool, inf), Catch::Contains("depth"));
+  CHECK_THROWS_WITH(solver.set_translation(tool, Vec3(0, nan, 0)), Catch::Contains("translation"));
+  CHECK_THROWS_WITH(solver.set_rotation(tool, Vec3(inf, 0, 0)), Catch::Contains("rotation"));
+  CHECK_THROWS_WITH(solver.place(tool, Vec3(nan, 0.5, 1.0), Vec3(0, 0, -1)), Catch::Contains("position"));
+  // The pose is unchanged by a refused call: the force stays finite.
+  solver.set_depth(tool, 0.005);
+  CHECK_THROWS(solver.set_depth(tool, nan));
+  solver.update();
+  CHECK(solver.force(tool).allFinite());
+  CHECK(solver.force(tool).z() > 0.0);
+}
+
+TEST_CASE("approach directions with tiny or huge components are normalised stably", "[contact][pose]") {
+  SmallBox& b = small_box();
+  ToolContactSolver solver(b.mesh, b.table);
+  const int ref = solver.add_tool(ToolSpec::point(ContactMode::Bonded));
+  REQUIRE(solver.engage(ref, Vec3(0.5, 0.5, 3.0), Vec3(0, 0, -1)));
+  solver.set_depth(ref, 0.01);
+  solver.update();
+  const Vec3 expected = solver.force(ref);
+  solver.release(ref);
+  for (double scale : {1e-200, 1e200}) {
+    const int t = solver.add_tool(ToolSpec::point(ContactMode::Bonded));
+    REQUIRE_NOTHROW(solver.engage(t, Vec3(0.5, 0.5, 3.0), Vec3(0, 0, -scale)));
+    REQUIRE(solver.engaged(t));
+    solver.set_depth(t, 0.01);
+    solver.update();
+    CHECK((solver.force(t) - expected).norm() < 1e-12 * expected.norm());
+    solver.release(t);
+  }
+  const int s = solver.add_tool(ToolSpec::sphere(0.5));
+  CHECK_NOTHROW(solver.place(s, Vec3(0.5, 0.5, 1.0), Vec3(1e-200, 0, -1e-200)));
+  CHECK_THROWS_WITH(solver.place(s, Vec3(0.5, 0.5, 1.0), Vec3(0, 0, 0)), Catch::Contains("non-zero finite"));
+}
+
+TEST_CASE("a sphere inside the body below a face does not touch it", "[contact][sphere]") {
+  // The sphere lies on the -n side of the top elements (centre 0.3 below the top face, R = 0.15):
+  // each centroid's normal line crosses it behind the centroid, so delta_n < 0, but no centroid
+  // is inside the sphere and nothing is in contact.
+  SmallBox& b = small_box();
+  ToolContactSolver solver(b.mesh, b.table);
+  const int s = solver.add_tool(ToolSpec::sphere(0.15));
+  solver.place(s, Vec3(0.5, 0.5, 0.2), Vec3(0, 0, -1));
+  solver.update();
+  CHECK(solver.contact_elements(s) == 0);
+  CHECK(solver.force(s).norm() == 0.0);
+  // Raised so that it does reach the face, it touches.
+  solver.set_translation(s, Vec3(0, 0, 0.25));
+  solver.update();
+  CHECK(solver.contact_elements(s) > 0);
+  CHECK(solver.force(s).z() > 0.0);
 }

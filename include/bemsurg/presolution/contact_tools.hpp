@@ -75,7 +75,10 @@ class ToolContactSolver {
 
   /// The tool approaches along `direction` on the line through `at` and stops at first contact
   /// with the base-state surface; returns false when the line misses the body (or, for a
-  /// flat/sphere, no element faces the tool). After this the tool's translation is zero.
+  /// flat/sphere, no element faces the tool). A flat punch narrower than the elements presses the
+  /// element its axis lands on; a sphere must cover at least one element centroid (within R of
+  /// its axis), else false: a sphere narrower than the elements cannot be resolved by the mesh.
+  /// After this the tool's translation is zero.
   bool engage(int tool, const Eigen::Vector3d& at, const Eigen::Vector3d& direction);
   /// Places the tool directly (sphere: centre; flat: a point of the disc face, disc normal along
   /// `direction`) without searching for first contact; its translation is then measured from here.
@@ -85,14 +88,18 @@ class ToolContactSolver {
 
   /// Tool pose relative to where it was engaged or placed (the plate also turns by `rotation`,
   /// a small rotation vector about the polygon's centroid).
-  void set_translation(int tool, const Eigen::Vector3d& delta) { tools_[static_cast<std::size_t>(tool)].delta = delta; }
-  void set_rotation(int tool, const Eigen::Vector3d& rotation) { tools_[static_cast<std::size_t>(tool)].rotation = rotation; }
-  /// Convenience: translation `depth` along the approach direction.
+  /// Both throw bemsurg::Error for a non-finite argument (the tool keeps its pose).
+  void set_translation(int tool, const Eigen::Vector3d& delta);
+  void set_rotation(int tool, const Eigen::Vector3d& rotation);
+  /// Convenience: translation `depth` along the approach direction (throws when not finite).
   void set_depth(int tool, double depth);
 
   /// The haptic-rate step: brings the contact set up to date with the poses (incremental
   /// capacitance updates), solves, and runs the active set of unilateral tools. Allocation-free
   /// once the tools are engaged (buffers are reserved for the capacity).
+  /// Throws bemsurg::Error when the contact set would exceed the capacity (or SolverError for a
+  /// singular small system); the contact set and the solver's bookkeeping are then left as they
+  /// were before the failed additions, so a later update() at a reachable pose is correct.
   ContactUpdateReport update(int max_active_set_iterations = 50);
 
   /// Force on one tool (after update()).
@@ -137,6 +144,7 @@ class ToolContactSolver {
   void collect_candidates(Tool& t);
   void add_element_rows(const Tool& t, int tag, Index e, const Eigen::Vector3d& row_direction);
   void set_targets(int unused);
+  void rollback_additions();  // after a failed addition: unclaim the elements in add_buffer_
 
   const TriangleMesh& mesh_;
   const GreensTable& table_;
