@@ -1,7 +1,11 @@
-// Implementation of bemsurg/elastostatic_solver.hpp: validate, assemble, swap columns, solve.
+// Implementation of bemsurg/elastostatic_solver.hpp: validate, check memory, assemble, swap
+// columns, solve.
 #include "bemsurg/elastostatic_solver.hpp"
 
 #include <chrono>
+#include <string>
+
+#include "bemsurg/memory_budget.hpp"
 
 namespace bemsurg {
 
@@ -11,24 +15,47 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }
 }  // namespace
 
+double estimate_elastostatic_bytes(Index num_elements) {
+  const double n = 3.0 * double(num_elements);
+  // Peak: H, G and A* together while the system is built (H and G are released before the
+  // solve, so the LU copy or the Krylov workspace then fits in their place), plus O(n) vectors.
+  return 8.0 * (3.0 * n * n + 8.0 * n);
+}
+
 ElastostaticSolution solve_elastostatic(const ElastostaticProblem& problem, const LinearSolverSettings& solver) {
   problem.material.validate();
   if (!problem.gravity.allFinite()) throw BoundaryConditionError("gravity must be finite");
   problem.boundary_conditions.require_supported(problem.mesh);
 
+  const Index E = problem.mesh.num_elements();
+  const double need = estimate_elastostatic_bytes(E);
+  const double limit = default_memory_limit_bytes();
+  if (need > limit) {
+    const double physical = physical_memory_bytes();
+    throw ResourceError("solve_elastostatic: the dense solve of " + std::to_string(E) + " elements (" +
+                        std::to_string(3 * E) + " equations) needs about " + format_gib(need) +
+                        " (H, G and A*, each " + format_gib(8.0 * 9.0 * double(E) * double(E)) + "), more than " +
+                        format_gib(limit) + " (80 % of this machine's " +
+                        (physical > 0.0 ? format_gib(physical) : std::string("unknown")) +
+                        " of physical memory); coarsen the mesh");
+  }
+
   ElastostaticSolution out;
-  out.report.elements = problem.mesh.num_elements();
+  out.report.elements = E;
   out.report.equations = problem.mesh.num_dofs();
 
-  auto t0 = std::chrono::steady_clock::now();
-  const InfluenceAssembler assembler(problem.mesh, problem.material, problem.quadrature);
-  const InfluenceMatrices hg = assembler.assemble();
-  const Eigen::VectorXd gravity = assembler.gravity_vector(problem.gravity);
-  out.report.assembly_seconds = seconds_since(t0);
+  LinearSystem system;
+  {
+    auto t0 = std::chrono::steady_clock::now();
+    const InfluenceAssembler assembler(problem.mesh, problem.material, problem.quadrature);
+    const InfluenceMatrices hg = assembler.assemble();
+    const Eigen::VectorXd gravity = assembler.gravity_vector(problem.gravity);
+    out.report.assembly_seconds = seconds_since(t0);
 
-  t0 = std::chrono::steady_clock::now();
-  const LinearSystem system = build_linear_system(hg, problem.boundary_conditions, gravity);
-  out.report.system_seconds = seconds_since(t0);
+    t0 = std::chrono::steady_clock::now();
+    system = build_linear_system(hg, problem.boundary_conditions, gravity);
+    out.report.system_seconds = seconds_since(t0);
+  }  // H and G are freed here, before the solver allocates
 
   const Eigen::VectorXd x = solve_linear_system(system.matrix, system.rhs, solver, out.report.solver, &problem.mesh);
   out.boundary = recover_boundary_solution(problem.boundary_conditions, x);

@@ -333,6 +333,7 @@ struct PlyElement {
   std::string name;
   long long count = 0;
   std::vector<PlyProperty> properties;
+  std::size_t line = 0;  // of its 'element' line, for messages
 };
 
 bool ply_type(std::string_view name, PlyType& type) {
@@ -431,7 +432,7 @@ TriangleMesh parse_ply(const std::string& data, const std::string& path) {
       if (tok.size() < 3) fail(path, line, "'element' needs a name and a count");
       const long long count = to_integer(tok[2], path, line, "the element count");
       if (count < 0) fail(path, line, "negative element count");
-      elements.push_back({std::string(tok[1]), count, {}});
+      elements.push_back({std::string(tok[1]), count, {}, line});
     } else if (tok[0] == "property") {
       if (elements.empty()) fail(path, line, "'property' before any 'element'");
       PlyProperty prop;
@@ -455,6 +456,27 @@ TriangleMesh parse_ply(const std::string& data, const std::string& path) {
   }
   if (!ended) fail(path, line, "the PLY header has no 'end_header'");
   if (format.empty()) fail(path, line, "the PLY header has no 'format' line");
+  // An instance with no properties reads nothing, so a huge count would loop without ever reaching
+  // the end of the data; for binary data each instance needs at least its scalars and list counts,
+  // so the counts must fit in the bytes left (ASCII runs out of tokens and stops at end of file).
+  for (const auto& e : elements)
+    if (e.count > 0 && e.properties.empty())
+      fail(path, e.line, "element '" + e.name + "' has " + std::to_string(e.count) + " instances but no properties");
+  if (format != "ascii") {
+    std::size_t remaining = data.size() - std::min(pos, data.size());
+    for (const auto& e : elements) {
+      std::size_t record = 0;
+      for (const auto& prop : e.properties) record += ply_size(prop.is_list ? prop.count_type : prop.type);
+      if (e.count == 0) continue;
+      const auto count = static_cast<unsigned long long>(e.count);
+      if (count > remaining / record)
+        fail(path, e.line, "unexpected end of binary data: element '" + e.name + "' declares " + std::to_string(e.count) +
+                               " instances of at least " +
+                               std::to_string(record) + " bytes, but only " + std::to_string(remaining) +
+                               " bytes of binary data remain");
+      remaining -= static_cast<std::size_t>(count) * record;
+    }
+  }
 
   const PlyElement* vertex_el = nullptr;
   const PlyElement* face_el = nullptr;

@@ -83,6 +83,13 @@ NearFieldPreconditioner& NearFieldPreconditioner::compute(const Eigen::MatrixXd&
       const double reach = radius * std::max(d(i), d(e));
       if (i == e || (c.row(i) - c.row(e)).squaredNorm() < reach * reach) near.push_back(static_cast<int>(i));
     }
+    // UMFPACK's int interface indexes the 9 nonzeros of every pair; stop before they overflow int
+    // (checked per column, so a radius that selects nearly every pair fails before filling memory).
+    if (near.size() > static_cast<std::size_t>(std::numeric_limits<int>::max() / 9))
+      throw SolverError("near-field preconditioner: radius " + std::to_string(radius) + " selects more than " +
+                        std::to_string(std::numeric_limits<int>::max() / 9) + " element pairs (over " +
+                        std::to_string(std::numeric_limits<int>::max()) +
+                        " nonzeros, the limit of UMFPACK's int interface); use a smaller radius or block_jacobi");
     near_start[static_cast<std::size_t>(e) + 1] = static_cast<int>(near.size());
   }
 

@@ -3,17 +3,16 @@
 // the region's unit-traction columns as one multi-right-hand-side back-substitution.
 #include "bemsurg/presolution/greens_table.hpp"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstring>
-#include <sstream>
 
 #include "bemsurg/assembly/influence_assembler.hpp"
 #include "bemsurg/assembly/linear_system.hpp"
 #include "bemsurg/error.hpp"
+#include "bemsurg/memory_budget.hpp"
+#include "bemsurg/solvers/dense_lu.hpp"
 
 #ifdef BEMSURG_HAVE_BLAS
 #include <lapacke.h>
@@ -27,12 +26,7 @@ namespace {
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
-std::string gib(double bytes) {
-  std::ostringstream s;
-  s.precision(3);
-  s << bytes / (1024.0 * 1024.0 * 1024.0) << " GiB";
-  return s.str();
-}
+std::string gib(double bytes) { return format_gib(bytes); }
 }  // namespace
 
 std::uint64_t fnv1a64(const void* data, std::size_t bytes, std::uint64_t seed) {
@@ -87,26 +81,21 @@ double GreensTable::estimate_bytes(Index num_elements, Index region_elements) {
   return 8.0 * (3.0 * n * n + n * (3.0 * double(region_elements) + 1.0) + 4.0 * n);
 }
 
-double GreensTable::default_memory_limit_bytes() {
-  const long pages = sysconf(_SC_PHYS_PAGES);
-  const long page = sysconf(_SC_PAGE_SIZE);
-  if (pages <= 0 || page <= 0) return 4.0 * 1024.0 * 1024.0 * 1024.0;
-  return 0.8 * double(pages) * double(page);
-}
+double GreensTable::default_memory_limit_bytes() { return bemsurg::default_memory_limit_bytes(); }
 
 void lu_factor_and_solve_in_place(Eigen::MatrixXd& A, Eigen::MatrixXd& B, double* factor_seconds, double* solve_seconds) {
   const Index n = A.rows();
   if (A.cols() != n || B.rows() != n) throw SolverError("lu_factor_and_solve_in_place: sizes do not agree");
   if (n == 0) throw SolverError("lu_factor_and_solve_in_place: empty system");
-  const double largest = A.cwiseAbs().maxCoeff();
-  if (!std::isfinite(largest)) throw SolverError("the system matrix A* has non-finite entries");
+  // Pivots are judged on the column-equilibrated matrix (scale-invariant; see DenseLU::compute).
+  const Eigen::VectorXd column_max = DenseLU::column_maxima(A);
+  if (!column_max.allFinite()) throw SolverError("the system matrix A* has non-finite entries");
   auto t0 = std::chrono::steady_clock::now();
 #ifdef BEMSURG_HAVE_BLAS
   std::vector<lapack_int> pivots(static_cast<std::size_t>(n));
   const lapack_int info = LAPACKE_dgetrf(LAPACK_COL_MAJOR, lapack_int(n), lapack_int(n), A.data(), lapack_int(n), pivots.data());
   if (info < 0) throw SolverError("LAPACK dgetrf: invalid argument " + std::to_string(-info));
-  const double smallest = A.diagonal().cwiseAbs().minCoeff();
-  if (info > 0 || !(smallest > 1e-14 * largest))
+  if (info > 0 || !DenseLU::equilibrated_pivots_ok(A.diagonal(), column_max))
     throw SolverError("the system matrix A* is singular to working precision (is the body supported?)");
   if (factor_seconds) *factor_seconds = seconds_since(t0);
   t0 = std::chrono::steady_clock::now();
@@ -118,8 +107,7 @@ void lu_factor_and_solve_in_place(Eigen::MatrixXd& A, Eigen::MatrixXd& B, double
   if (solve_seconds) *solve_seconds = seconds_since(t0);
 #else
   Eigen::PartialPivLU<Eigen::Ref<Eigen::MatrixXd>> lu(A);
-  const double smallest = A.diagonal().cwiseAbs().minCoeff();
-  if (!(smallest > 1e-14 * largest))
+  if (!DenseLU::equilibrated_pivots_ok(A.diagonal(), column_max))
     throw SolverError("the system matrix A* is singular to working precision (is the body supported?)");
   if (factor_seconds) *factor_seconds = seconds_since(t0);
   t0 = std::chrono::steady_clock::now();

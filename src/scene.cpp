@@ -387,7 +387,9 @@ LinearSolverSettings load_solver(const json& s, std::vector<std::string>& warnin
     if (!(out.tolerance > 0.0 && out.tolerance < 1.0))
       fail("solver.tolerance", "must lie in (0, 1) (a relative residual), got " + v->dump());
   }
-  if (const json* v = optional(s, "max_iterations")) out.max_iterations = as_int_in(*v, "solver.max_iterations", 1, 100000000);
+  // A cap of a million iterations: far beyond any useful BEM solve (GMRES restarts or BiCGSTAB
+  // on A* converge in tens to hundreds), while a typo such as 1e8 is caught here.
+  if (const json* v = optional(s, "max_iterations")) out.max_iterations = as_int_in(*v, "solver.max_iterations", 1, 1000000);
   if (const json* v = optional(s, "restart")) out.restart = as_int_in(*v, "solver.restart", 0, 100000000);
   if (const json* v = optional(s, "preconditioner")) {
     out.preconditioner = as_string(*v, "solver.preconditioner");
@@ -395,8 +397,13 @@ LinearSolverSettings load_solver(const json& s, std::vector<std::string>& warnin
       fail("solver.preconditioner",
            "unknown preconditioner '" + out.preconditioner + "' (expected none, block_jacobi or near_field)");
   }
-  if (const json* v = optional(s, "near_field_radius"))
-    out.near_field_radius = positive(as_number(*v, "solver.near_field_radius"), "solver.near_field_radius");
+  if (const json* v = optional(s, "near_field_radius")) {
+    // In element diameters: a few is typical; beyond 100 every pair of a practical mesh is near,
+    // which makes the sparse factor a slower dense one (and can overflow UMFPACK's int indices).
+    out.near_field_radius = as_number(*v, "solver.near_field_radius");
+    if (!(out.near_field_radius > 0.0 && out.near_field_radius <= 100.0))
+      fail("solver.near_field_radius", "must lie in (0, 100] element diameters, got " + v->dump());
+  }
   return out;
 }
 

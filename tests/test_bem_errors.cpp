@@ -1,7 +1,10 @@
 // Bad input to the solver gets a clear error that names the problem, never garbage.
 #include <catch2/catch.hpp>
 
+#include <chrono>
+
 #include "bemsurg/elastostatic_solver.hpp"
+#include "bemsurg/memory_budget.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
 
 using namespace bemsurg;
@@ -39,4 +42,25 @@ TEST_CASE("boundary conditions of the wrong size or element are rejected") {
   CHECK_THROWS_WITH(bc.prescribe_displacement(m.num_elements(), Eigen::Vector3d::Zero()), Contains("out of range"));
   ElastostaticProblem p{m, Material{1.0, 0.3, 0.0}, Eigen::Vector3d::Zero(), BoundaryConditions(3), {}};
   CHECK_THROWS_AS(solve_elastostatic(p), BoundaryConditionError);
+}
+
+TEST_CASE("a dense solve that cannot fit in memory is refused before allocating") {
+  // 12 * 80^2 = 76,800 elements: H, G and A* would need about 1.3 TB (3 x 8 x 230,400^2 bytes).
+  const TriangleMesh m = box_mesh(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones(), 80, 80, 80);
+  REQUIRE(m.num_elements() == 76800);
+  const double need = estimate_elastostatic_bytes(m.num_elements());
+  CHECK(need == Approx(3.0 * 8.0 * 230400.0 * 230400.0).epsilon(1e-4));
+  if (need <= default_memory_limit_bytes()) {
+    WARN("this machine has more than 1.6 TB of memory; the refusal is not exercised");
+    return;
+  }
+  BoundaryConditions bc(m.num_elements());
+  for (Index e = 0; e < m.num_elements(); ++e)
+    if (m.normal(e).z() < -0.999) bc.prescribe_displacement(e, Eigen::Vector3d::Zero());
+  ElastostaticProblem p{m, Material{1.0, 0.3, 0.0}, Eigen::Vector3d::Zero(), bc, {}};
+  const auto start = std::chrono::steady_clock::now();
+  CHECK_THROWS_AS(solve_elastostatic(p), ResourceError);
+  CHECK_THROWS_WITH(solve_elastostatic(p), Contains("76800 elements") && Contains(format_gib(need)) &&
+                                               Contains("physical memory"));
+  CHECK(std::chrono::steady_clock::now() - start < std::chrono::seconds(5));
 }

@@ -278,3 +278,34 @@ TEST_CASE("solve: a bad scene exits with 1 and names the key, line or element", 
   CHECK(r.exit_code == 1);
   CHECK_THAT(r.err, Catch::Contains("missing.json"));
 }
+
+TEST_CASE("press: --direction is any finite nonzero vector, however large or small", "[cli]") {
+  TempDir dir;
+  {
+    std::ofstream scene(dir.file("scene.json"));
+    scene << R"({"mesh": {"generator": "box", "min": [-0.05, -0.05, 0], "max": [0.05, 0.05, 0.05], "divisions": [2, 2, 1]},
+                 "material": {"young_modulus": 3000, "poisson_ratio": 0.45, "density": 0},
+                 "boundary_conditions": {"rules": [{"select": {"plane": {"point": [0, 0, 0], "normal": [0, 0, 1]}},
+                                                    "displacement": [0, 0, 0]}]}})";
+  }
+  std::vector<std::string> forces;
+  int k = 0;
+  for (const char* direction : {"0,0,-1", "0,0,-1e200", "0,0,-1e-200", "1e-200,0,-1e-200"}) {
+    INFO(direction);
+    const std::string out = dir.file("out" + std::to_string(k++));
+    const Run r = run_cli("press '" + dir.file("scene.json") + "' --tool point --at 0.01,0.01,0.05 --direction " + direction +
+                              " --depth 0.001 --quiet -o '" + out + "'",
+                          dir);
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+    forces.push_back(nlohmann::json::parse(read_text(out + "/force.json")).at("force").dump());
+  }
+  CHECK(forces[1] == forces[0]);  // the same unit direction
+  CHECK(forces[2] == forces[0]);
+  for (const char* direction : {"0,0,0", "0,0,1e400"}) {
+    const Run r = run_cli("press '" + dir.file("scene.json") + "' --tool point --at 0,0,0.05 --direction " + direction +
+                              " --depth 0.001 -o '" + dir.file("bad") + "'",
+                          dir);
+    CHECK(r.exit_code == 2);
+  }
+}

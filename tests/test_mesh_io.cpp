@@ -367,6 +367,42 @@ TEST_CASE("PLY polygons are fan-triangulated; errors are reported", "[mesh][io]"
   CHECK_THROWS_WITH(read_ply(dir.file("bad.ply")), Catch::Contains("bad.ply:4") && Catch::Contains("'quad'"));
 }
 
+TEST_CASE("PLY element counts that cannot fit are refused at once", "[mesh][io]") {
+  // Each of these used to loop about 9e18 times (no properties: nothing read per instance).
+  TempDir dir;
+  const std::string vertex_header =
+      "element vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 1\nproperty list uchar int vertex_indices\n";
+  const std::string ascii_body = "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  auto timed_throw = [&](const std::string& text, const std::string& needle) {
+    write_text(dir.file("huge.ply"), text);
+    const auto start = std::chrono::steady_clock::now();
+    CHECK_THROWS_WITH(read_ply(dir.file("huge.ply")), Catch::Contains(needle));
+    CHECK(std::chrono::steady_clock::now() - start < std::chrono::seconds(2));
+  };
+  for (const char* fmt : {"ascii", "binary_little_endian", "binary_big_endian"})
+    timed_throw(std::string("ply\nformat ") + fmt + " 1.0\n" + vertex_header +
+                    "element junk 9000000000000000000\nend_header\n" + ascii_body,
+                "no properties");
+  CHECK_THROWS_WITH(read_ply(dir.file("huge.ply")), Catch::Contains("huge.ply:9") && Catch::Contains("'junk'"));
+
+  // Binary: a record of at least 4 bytes times the count must fit in what is left.
+  timed_throw("ply\nformat binary_little_endian 1.0\n" + vertex_header +
+                  "element junk 9000000000000000000\nproperty int a\nend_header\n" + std::string(64, '\0'),
+              "unexpected end of binary data");
+  CHECK_THROWS_WITH(read_ply(dir.file("huge.ply")), Catch::Contains("'junk'") && Catch::Contains("9000000000000000000"));
+  timed_throw("ply\nformat binary_big_endian 1.0\nelement vertex 4611686018427387904\nproperty double x\n"
+                  "property double y\nproperty double z\nend_header\n" + std::string(24, '\0'),
+              "unexpected end of binary data");
+  // ASCII with properties runs out of tokens and stops with a clear message.
+  timed_throw("ply\nformat ascii 1.0\n" + vertex_header + "element junk 9000000000000000000\nproperty int a\nend_header\n" +
+                  ascii_body + "1 2 3\n",
+              "unexpected end of file");
+  // A zero count needs no properties, and an empty trailing element is still fine.
+  write_text(dir.file("ok.ply"), "ply\nformat ascii 1.0\n" + vertex_header + "element junk 0\nend_header\n" + ascii_body);
+  CHECK(read_ply(dir.file("ok.ply")).num_elements() == 1);
+}
+
 TEST_CASE("VTK output carries named cell and point fields and reads back", "[mesh][io]") {
   TempDir dir;
   const TriangleMesh sphere = icosphere_mesh(Vec3::Zero(), 1.0, 1);

@@ -120,3 +120,32 @@ TEST_CASE("assembled self block: U by polar rule, T by principal value with 1/2 
   CHECK(std::abs(n.dot(S * n)) < 1e-14);
   CHECK((G - G.transpose()).norm() < 1e-14 * G.norm());
 }
+
+TEST_CASE("quadrature options out of range are refused, naming the field") {
+  using Catch::Matchers::Contains;
+  CHECK_NOTHROW(QuadratureOptions().validate());
+  CHECK_NOTHROW(ElementQuadrature(QuadratureOptions()));
+  auto with = [](auto change) {
+    QuadratureOptions o;
+    change(o);
+    return o;
+  };
+  const std::pair<QuadratureOptions, const char*> bad[] = {
+      {with([](QuadratureOptions& o) { o.polar_order = 0; }), "polar_order"},
+      {with([](QuadratureOptions& o) { o.polar_order = 41; }), "polar_order"},
+      {with([](QuadratureOptions& o) { o.polar_max_angle = 0.0; }), "polar_max_angle"},
+      {with([](QuadratureOptions& o) { o.polar_max_angle = std::nan(""); }), "polar_max_angle"},
+      {with([](QuadratureOptions& o) { o.polar_max_angle = 4.0; }), "polar_max_angle"},
+      {with([](QuadratureOptions& o) { o.mid_order = 0; }), "mid_order"},
+      {with([](QuadratureOptions& o) { o.max_depth = -1; }), "max_depth"},
+      {with([](QuadratureOptions& o) { o.far_ratio = 0.0; }), "far_ratio"},
+      {with([](QuadratureOptions& o) { o.far_ratio = INFINITY; }), "far_ratio"},
+      {with([](QuadratureOptions& o) { o.mid_ratio = -1.0; }), "mid_ratio"},
+      {with([](QuadratureOptions& o) { o.mid_ratio = 5.0; }), "mid_ratio"},
+  };
+  for (const auto& [options, field] : bad) {
+    INFO(field);
+    CHECK_THROWS_AS(options.validate(), bemsurg::Error);
+    CHECK_THROWS_WITH(ElementQuadrature(options), Contains(field));
+  }
+}

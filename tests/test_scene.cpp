@@ -139,6 +139,21 @@ TEST_CASE("values of the wrong type are named with their path", "[scene][errors]
   CHECK_THAT(scene_error("{\"mesh\": "), Catch::Contains("test.json: not valid JSON"));
 }
 
+TEST_CASE("solver limits: near_field_radius in (0, 100], max_iterations at most a million", "[scene][errors]") {
+  for (const char* bad : {"0", "-1", "100.5", "1e300"})
+    CHECK_THAT(scene_error(scene(kCube, kMaterial, kFixBottom, std::string(R"("solver": {"near_field_radius": )") + bad + "}")),
+               Catch::Contains("solver.near_field_radius: must lie in (0, 100]"));
+  for (const char* good : {"1e-3", "2", "100"}) {
+    const Scene s = load_scene_from_string(
+        scene(kCube, kMaterial, kFixBottom, std::string(R"("solver": {"near_field_radius": )") + good + "}"), ".", "test.json");
+    CHECK(s.solver.near_field_radius == Approx(std::stod(good)));
+  }
+  CHECK_THAT(scene_error(scene(kCube, kMaterial, kFixBottom, R"("solver": {"max_iterations": 100000000})")),
+             Catch::Contains("solver.max_iterations: must lie in [1, 1000000]"));
+  CHECK(load_scene_from_string(scene(kCube, kMaterial, kFixBottom, R"("solver": {"max_iterations": 1000000})"), ".", "test.json")
+            .solver.max_iterations == 1000000);
+}
+
 TEST_CASE("unknown kinds, methods and generators are named", "[scene][errors]") {
   TempDir dir;
   dir.write("bc.csv", "element,kind_x,kind_y,kind_z,value_x,value_y,value_z\n0,u,u,u,0,0,0\n1,u,q,t,0,0,0\n");

@@ -34,8 +34,14 @@ struct ElastostaticSolution {
   ElastostaticReport report;
 };
 
-/// Validates the material and the support (BoundaryConditions::require_supported), assembles,
-/// solves. Throws InvalidMaterialError, BoundaryConditionError or SolverError with a message.
+/// Bytes solve_elastostatic needs at its peak for a mesh of `num_elements`: H, G and A*
+/// (n = 3E; 3 n^2 doubles) plus a few vectors.
+double estimate_elastostatic_bytes(Index num_elements);
+
+/// Validates the material and the support (BoundaryConditions::require_supported), checks the
+/// memory estimate against 80 % of physical memory (bemsurg/memory_budget.hpp), assembles,
+/// solves. Throws InvalidMaterialError, BoundaryConditionError, ResourceError (before allocating
+/// anything large) or SolverError with a message.
 /// The mesh is not validated here (callers that read files run require_valid_mesh first).
 ElastostaticSolution solve_elastostatic(const ElastostaticProblem& problem,
                                         const LinearSolverSettings& solver = LinearSolverSettings());

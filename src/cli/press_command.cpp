@@ -4,6 +4,7 @@
 // down along the direction onto the self-weight surface near X,Y,Z and pushes D beyond first
 // contact. Writes OUTDIR/elements.csv (as `bemsurg solve`) and OUTDIR/force.json.
 #include <algorithm>
+#include <cmath>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -125,7 +126,11 @@ PressOptions parse(int argc, char** argv) {
   if (!o.have_at) throw UsageError("press: missing --at X,Y,Z");
   if (!o.have_direction) throw UsageError("press: missing --direction DX,DY,DZ");
   if (!o.have_depth) throw UsageError("press: missing --depth D");
-  if (!(o.direction.norm() > 0.0)) throw UsageError("press: --direction must not be the zero vector");
+  // stableNorm: 1e-200,0,0 and 1e200,0,0 are directions too (norm() under- or overflows there).
+  const double direction_norm = o.direction.stableNorm();
+  if (!(direction_norm > 0.0) || !std::isfinite(direction_norm))
+    throw UsageError("press: --direction must be a finite, nonzero vector");
+  o.direction /= direction_norm;
   if (o.depth < 0.0) throw UsageError("press: --depth must be non-negative (the tool pushes into the body)");
   const auto mode = o.frictionless ? bemsurg::ContactMode::Frictionless : bemsurg::ContactMode::Bonded;
   const std::string& t = o.tool_text;

@@ -11,14 +11,25 @@ ForceLimiter::ForceLimiter(double max_force, double max_step) : max_force_(max_f
     throw std::invalid_argument("ForceLimiter: max_force and max_step must be finite and positive");
 }
 
+namespace {
+/// Scales v down to length `limit` when it is longer. v is divided by its largest component
+/// first, so the length is computed from components in [-1, 1] and cannot overflow to inf (a
+/// request of 1e200 or DBL_MAX would otherwise clip to zero and freeze) or underflow to zero.
+void clip_length(Eigen::Vector3d& v, double limit) {
+  const double largest = v.cwiseAbs().maxCoeff();
+  if (!(largest > 0.0)) return;
+  const Eigen::Vector3d scaled = v / largest;
+  const double n = scaled.stableNorm();  // in [1, sqrt 3]
+  if (largest > limit / n) v = scaled * (limit / n);
+}
+}  // namespace
+
 Eigen::Vector3d ForceLimiter::operator()(const Eigen::Vector3d& requested) {
   if (!requested.allFinite()) return last_;
-  Eigen::Vector3d step = requested - last_;
-  const double step_norm = step.norm();
-  if (step_norm > max_step_) step *= max_step_ / step_norm;
+  Eigen::Vector3d step = requested - last_;  // finite: |last_| <= max_force
+  clip_length(step, max_step_);
   Eigen::Vector3d out = last_ + step;
-  const double norm = out.norm();
-  if (norm > max_force_) out *= max_force_ / norm;
+  clip_length(out, max_force_);
   last_ = out;
   return out;
 }

@@ -71,7 +71,7 @@ class GreensTable {
   /// Bytes the precomputation needs at its peak: H and G during assembly plus A* (3 n^2 doubles
   /// at most at once), and the table n x 3|region| with the base state.
   static double estimate_bytes(Index num_elements, Index region_elements);
-  /// The default limit: 80 % of this machine's physical memory.
+  /// The default limit: 80 % of this machine's physical memory (bemsurg/memory_budget.hpp).
   static double default_memory_limit_bytes();
 
   /// Assembles, factorises A* once, solves the base state and the region's columns. Throws

@@ -14,7 +14,9 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <string>
 
+#include "bemsurg/error.hpp"
 #include "bemsurg/quadrature/triangle_rules.hpp"
 
 namespace bemsurg {
@@ -26,12 +28,31 @@ struct QuadratureOptions {
   int max_depth = 10;   // depth at which splitting stops and the mid rule is used regardless
   int polar_order = 8;  // Gauss points per angular piece of the self-element rule
   double polar_max_angle = 0.25;  // radians per angular piece
+
+  /// Throws bemsurg::Error naming the first field out of range: ratios finite and positive with
+  /// mid_ratio <= far_ratio, mid_order in [1, 20], max_depth in [0, 20], polar_order in [1, 40],
+  /// polar_max_angle in (0, pi] (0 would divide by zero, polar_order 0 would zero self terms).
+  void validate() const {
+    auto fail = [](const char* field, const std::string& what) {
+      throw Error(std::string("quadrature options: ") + field + " " + what);
+    };
+    if (!(std::isfinite(far_ratio) && far_ratio > 0.0)) fail("far_ratio", "must be finite and positive, got " + std::to_string(far_ratio));
+    if (!(std::isfinite(mid_ratio) && mid_ratio > 0.0)) fail("mid_ratio", "must be finite and positive, got " + std::to_string(mid_ratio));
+    if (mid_ratio > far_ratio) fail("mid_ratio", "must not exceed far_ratio (" + std::to_string(far_ratio) + "), got " + std::to_string(mid_ratio));
+    if (mid_order < 1 || mid_order > 20) fail("mid_order", "must lie in [1, 20], got " + std::to_string(mid_order));
+    if (max_depth < 0 || max_depth > 20) fail("max_depth", "must lie in [0, 20], got " + std::to_string(max_depth));
+    if (polar_order < 1 || polar_order > 40) fail("polar_order", "must lie in [1, 40], got " + std::to_string(polar_order));
+    if (!(polar_max_angle > 0.0 && polar_max_angle <= 3.14159265358979323846))
+      fail("polar_max_angle", "must lie in (0, pi] radians, got " + std::to_string(polar_max_angle));
+  }
 };
 
 class ElementQuadrature {
  public:
   explicit ElementQuadrature(const QuadratureOptions& options = {})
-      : options_(options), mid_rule_(collapsed_gauss_rule(options.mid_order)), line_(gauss_legendre(options.polar_order)) {}
+      : options_((options.validate(), options)),
+        mid_rule_(collapsed_gauss_rule(options.mid_order)),
+        line_(gauss_legendre(options.polar_order)) {}
 
   const QuadratureOptions& options() const { return options_; }
 

@@ -29,14 +29,20 @@ class BlockJacobiPreconditioner {
     inverses_.resize(3, A.rows());
     for (Eigen::Index e = 0; e < blocks; ++e) {
       const Eigen::Matrix3d block = A.block<3, 3>(3 * e, 3 * e);
-      Eigen::FullPivLU<Eigen::Matrix3d> lu(block);
-      // Relative test: a block is unusable when its smallest pivot is negligible against its largest entry.
-      const double scale = block.cwiseAbs().maxCoeff();
-      if (!block.allFinite() || !(scale > 0.0) || !lu.isInvertible() ||
-          std::abs(lu.matrixLU()(2, 2)) <= 1e-13 * scale)
+      // Scale-invariant test: an element with mixed conditions has H columns (~1/2) and -G columns
+      // (~ size / shear modulus) in one block, so each column is equilibrated to largest entry 1
+      // first (block = S D^-1, block^-1 = D S^-1) and the pivots of S are judged against 1.
+      const Eigen::Array3d column_max = block.cwiseAbs().colwise().maxCoeff().transpose().array();
+      if (!block.allFinite() || !(column_max.minCoeff() > 0.0))
         throw SolverError("block-Jacobi preconditioner: the 3x3 diagonal block of element " + std::to_string(e) +
                           " is singular or non-finite");
-      inverses_.block<3, 3>(0, 3 * e) = lu.inverse();
+      const Eigen::Vector3d d = column_max.inverse().matrix();
+      const Eigen::Matrix3d scaled = block * d.asDiagonal();
+      Eigen::FullPivLU<Eigen::Matrix3d> lu(scaled);
+      if (!lu.isInvertible() || !(std::abs(lu.matrixLU()(2, 2)) > 1e-13))
+        throw SolverError("block-Jacobi preconditioner: the 3x3 diagonal block of element " + std::to_string(e) +
+                          " is singular or non-finite");
+      inverses_.block<3, 3>(0, 3 * e) = d.asDiagonal() * lu.inverse();
     }
     return *this;
   }

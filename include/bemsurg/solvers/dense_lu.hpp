@@ -17,13 +17,35 @@ class DenseLU {
 
   /// Factorises A. A numerically singular matrix (a zero or non-finite pivot) sets info() to
   /// NumericalIssue; solve() then throws instead of returning garbage.
+  ///
+  /// The test is scale-invariant: A*'s columns are H's (~1/2) or -G's (~ size / shear modulus,
+  /// 1e-15 for steel and millimetre elements), so pivots are judged on the column-equilibrated
+  /// matrix A D, D = diag(1 / max_i |A_ij|): pivot j of A D is U_jj / max_i |A_ij|, and it must
+  /// exceed 1e-14 (the equilibrated columns have largest entry 1). Partial pivoting chooses the
+  /// same rows for A D as for A (scaling a column scales every candidate in it alike), and with
+  /// power-of-two factors A D = L (U D) holds exactly, so factorising A itself and dividing its
+  /// pivots by the column maxima is the equilibrated factorisation; solving for the scaled
+  /// unknowns y = D^-1 x and unscaling gives the same x bit for bit, without an n x n copy.
   DenseLU& compute(const Eigen::MatrixXd& A) {
     if (A.rows() != A.cols()) throw SolverError("DenseLU: the matrix is not square");
+    const Eigen::VectorXd column_max = column_maxima(A);
     lu_.compute(A);
-    const auto d = lu_.matrixLU().diagonal().cwiseAbs();
-    const double largest = A.rows() ? A.cwiseAbs().maxCoeff() : 0.0;
-    ok_ = A.rows() > 0 && d.allFinite() && d.minCoeff() > 1e-14 * largest;
+    ok_ = A.rows() > 0 && equilibrated_pivots_ok(lu_.matrixLU().diagonal(), column_max);
     return *this;
+  }
+
+  /// max_i |A_ij| per column j: the equilibration D = diag(1 / column_maxima(A)).
+  static Eigen::VectorXd column_maxima(const Eigen::MatrixXd& A) { return A.cwiseAbs().colwise().maxCoeff().transpose(); }
+
+  /// True when every pivot of the column-equilibrated factorisation, |U_jj| / column_max_j, is
+  /// finite and above `tolerance`. `pivots` is the diagonal of U from A's own LU (partial
+  /// pivoting), `column_max` the column maxima of A taken before it was factorised.
+  static bool equilibrated_pivots_ok(const Eigen::Ref<const Eigen::VectorXd>& pivots, const Eigen::VectorXd& column_max,
+                                     double tolerance = 1e-14) {
+    if (pivots.size() != column_max.size() || column_max.size() == 0) return false;
+    if (!column_max.allFinite() || !(column_max.minCoeff() > 0.0)) return false;  // a zero column is singular
+    const Eigen::VectorXd scaled = pivots.cwiseAbs().cwiseQuotient(column_max);
+    return scaled.allFinite() && scaled.minCoeff() > tolerance;
   }
 
   Eigen::ComputationInfo info() const { return ok_ ? Eigen::Success : Eigen::NumericalIssue; }
@@ -35,7 +57,8 @@ class DenseLU {
     return lu_.solve(b);
   }
 
-  /// Reciprocal condition number estimate (LAPACK-style, 1-norm): cheap health check for reports.
+  /// Reciprocal condition number estimate (LAPACK-style, 1-norm) of A itself, not of the
+  /// equilibrated matrix: cheap health check for reports.
   double rcond() const { return lu_.rcond(); }
 
   const Eigen::PartialPivLU<Eigen::MatrixXd>& factorization() const { return lu_; }

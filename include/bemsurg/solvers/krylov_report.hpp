@@ -45,7 +45,8 @@ struct KrylovReport {
   double true_residual = 0.0;         // ||b - A x|| / ||b||, recomputed from the returned x
   double estimated_residual = 0.0;    // the recurrence's last estimate (for comparison only)
   /// Relative residual estimate after each iteration, starting with the initial residual; the
-  /// capacity is reused between solves, so a warm solver allocates nothing here.
+  /// capacity is reused between solves, so a warm solver allocates nothing here (up to 4096
+  /// iterations are reserved before a solve; a longer run grows it, and keeps the capacity).
   std::vector<double> residual_history;
   double seconds = 0.0;               // wall time of the solve (not of compute())
 

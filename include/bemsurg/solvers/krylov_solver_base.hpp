@@ -9,6 +9,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <string>
@@ -74,7 +75,10 @@ class KrylovSolverBase {
     report_.restarts = 0;
     report_.initial_residual = report_.true_residual = report_.estimated_residual = 0.0;
     report_.residual_history.clear();
-    report_.residual_history.reserve(static_cast<std::size_t>(settings_.max_iterations) + 2);
+    // Reserve for typical solves only: a limit such as 1e8 must not cost 800 MB up front. Longer
+    // runs grow the history past the cap (amortised; the capacity stays for later solves).
+    report_.residual_history.reserve(
+        static_cast<std::size_t>(std::min(settings_.max_iterations, kHistoryReserveCap)) + 2);
     report_.seconds = 0.0;
     b_norm_ = b.norm();
     if (!std::isfinite(b_norm_)) return finish(KrylovStatus::NonFinite, "right-hand side b", start), false;
@@ -104,6 +108,9 @@ class KrylovSolverBase {
   bool vanished(double value, double scale) const {
     return !(std::abs(value) > settings_.breakdown_tolerance * scale) || scale == 0.0;
   }
+
+  /// Most iterations whose residual history is reserved before a solve (32 KiB).
+  static constexpr int kHistoryReserveCap = 4096;
 
   KrylovSettings settings_;
   KrylovReport report_;
