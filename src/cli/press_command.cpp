@@ -190,7 +190,8 @@ int run_press(int argc, char** argv) {
   if (!solver.engage(tool, o.at, o.direction))
     throw bemsurg::Error("press: a tool coming along (" + std::to_string(o.direction.x()) + ", " +
                          std::to_string(o.direction.y()) + ", " + std::to_string(o.direction.z()) +
-                         ") through the given point does not meet the body (or only outside the table's region)");
+                         ") through the given point does not meet the body (or only outside the table's region, or the "
+                         "sphere is narrower than the elements where it lands and covers no element centroid)");
   solver.set_depth(tool, o.depth);
   const bemsurg::ContactUpdateReport report = solver.update();
   const Eigen::Vector3d force = solver.force(tool);
