@@ -167,32 +167,28 @@ int main(int argc, char** argv) {
       for (Index a = 0; a < rows; ++a) base_targets[static_cast<std::size_t>(a)] = contact.base_target(a);
       std::vector<double> us(static_cast<std::size_t>(updates));
       Eigen::Vector3d sink = Eigen::Vector3d::Zero();
-      for (int it = 0; it < updates; ++it) {
-        // The tool pose of this tick: pressed 0.1..1 mm, swaying sideways.
-        const double depth = 1e-4 * (1.0 + 9.0 * 0.5 * (1.0 + std::sin(1e-3 * it)));
-        const double sway = 2e-5 * std::cos(7e-4 * it);
-        const auto t0 = Clock::now();
-        for (Index a = 0; a < rows; ++a) {
-          const Eigen::Vector3d& w = contact.row(a).direction;
-          contact.set_target(a, base_targets[static_cast<std::size_t>(a)] - depth * w.z() + sway * w.x());
+      // Times `updates` haptic ticks: the tool pose of each tick (pressed 0.1..1 mm, swaying
+      // sideways) sets every row's target, then `evaluate` turns the targets into a force.
+      auto time_ticks = [&](auto&& evaluate) {
+        for (int it = 0; it < updates; ++it) {
+          const double depth = 1e-4 * (1.0 + 9.0 * 0.5 * (1.0 + std::sin(1e-3 * it)));
+          const double sway = 2e-5 * std::cos(7e-4 * it);
+          const auto t0 = Clock::now();
+          for (Index a = 0; a < rows; ++a) {
+            const Eigen::Vector3d& w = contact.row(a).direction;
+            contact.set_target(a, base_targets[static_cast<std::size_t>(a)] - depth * w.z() + sway * w.x());
+          }
+          sink += evaluate();
+          us[static_cast<std::size_t>(it)] = std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
         }
+      };
+      time_ticks([&] {
         contact.solve();
-        sink += contact.force();
-        us[static_cast<std::size_t>(it)] = std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
-      }
+        return contact.force();
+      });
       const Percentiles p = percentiles(us);
       // Force only (O(k) force operator, no tractions): the same poses.
-      for (int it = 0; it < updates; ++it) {
-        const double depth = 1e-4 * (1.0 + 9.0 * 0.5 * (1.0 + std::sin(1e-3 * it)));
-        const double sway = 2e-5 * std::cos(7e-4 * it);
-        const auto t0 = Clock::now();
-        for (Index a = 0; a < rows; ++a) {
-          const Eigen::Vector3d& w = contact.row(a).direction;
-          contact.set_target(a, base_targets[static_cast<std::size_t>(a)] - depth * w.z() + sway * w.x());
-        }
-        sink += contact.force_for_targets();
-        us[static_cast<std::size_t>(it)] = std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
-      }
+      time_ticks([&] { return contact.force_for_targets(); });
       const Percentiles q = percentiles(us);
       // Contact-set change: one element leaves, another joins (Schur updates of P), then solve.
       std::vector<double> change;
