@@ -47,3 +47,6 @@ ElastostaticSolution solve_elastostatic(const ElastostaticProblem& problem,
                                         const LinearSolverSettings& solver = LinearSolverSettings());
 
 }  // namespace bemsurg
+
+// Definitions (header-only: the numerical core needs no compiled library, docs/design.md).
+#include "bemsurg/impl/elastostatic_solver_impl.hpp"

@@ -1,5 +1,8 @@
-// bemsurg/error.hpp: the exceptions bemsurg throws. Every message names the offending item
-// (face, edge, key, element) so a user can act on it; programs catch them at their edge.
+// bemsurg/error.hpp: the exceptions bemsurg throws, one family with a type per cause, so that a
+// caller can catch what it can act on (a bad mesh, a stale cache file, a full contact set) and
+// let the rest reach its edge. Every message names the offending item (face, edge, key, element,
+// file) so a user can act on it. The haptic force path never throws (docs/design.md §9): it
+// returns statuses; these exceptions belong to set-up, loading and the simulation side.
 #pragma once
 
 #include <stdexcept>
@@ -7,13 +10,13 @@
 
 namespace bemsurg {
 
-/// Base of every bemsurg error.
+/// Base of every bemsurg error: `catch (const bemsurg::Error&)` catches them all.
 class Error : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
 
-/// The surface mesh is unusable: open, non-manifold, flipped, degenerate, non-finite, unreadable.
+/// The surface mesh is unusable: open, non-manifold, flipped, degenerate, non-finite, malformed.
 class InvalidMeshError : public Error {
  public:
   using Error::Error;
@@ -31,7 +34,8 @@ class BoundaryConditionError : public Error {
   using Error::Error;
 };
 
-/// A linear solver did not reach its tolerance, broke down, or met non-finite values.
+/// A linear solver did not reach its tolerance, broke down, met non-finite values, or the
+/// system is singular.
 class SolverError : public Error {
  public:
   using Error::Error;
@@ -43,8 +47,36 @@ class SceneError : public Error {
   using Error::Error;
 };
 
-/// A memory estimate that does not fit, or a cache file that is stale or corrupt.
+/// A computation whose memory or cost estimate does not fit this machine; refused before it starts.
 class ResourceError : public Error {
+ public:
+  using Error::Error;
+};
+
+/// A file that cannot be opened, read or written, or whose content is corrupt or stale (a
+/// pre-solution table computed for another mesh, material or version).
+class IoError : public Error {
+ public:
+  using Error::Error;
+};
+
+/// A contact tool or contact set that cannot be used: a tool that misses the body, a pose that is
+/// not finite, an element outside the table's region.
+class ContactError : public Error {
+ public:
+  using Error::Error;
+};
+
+/// The contact set would exceed the capacity reserved up front (the force path never allocates);
+/// construct the contact model with a larger capacity.
+class CapacityError : public ContactError {
+ public:
+  using ContactError::ContactError;
+};
+
+/// An argument outside the documented range of a function or option (sizes that do not agree,
+/// a non-positive limit): a programming error in the caller, not a property of the model.
+class InvalidArgumentError : public Error {
  public:
   using Error::Error;
 };

@@ -2,6 +2,7 @@
 // Young's modulus E in Pa, Poisson's ratio nu (dimensionless), density rho in kg/m^3.
 #pragma once
 
+#include <Eigen/Core>
 #include <cmath>
 #include <string>
 
@@ -32,6 +33,15 @@ struct Material {
   double shear_modulus() const { return young_modulus / (2.0 * (1.0 + poisson_ratio)); }
   double lame_lambda() const {
     return young_modulus * poisson_ratio / ((1.0 + poisson_ratio) * (1.0 - 2.0 * poisson_ratio));
+  }
+
+  /// Hooke's law from the displacement gradient du(a, b) = d u_a / d x_b:
+  /// sigma = 2 mu eps + lambda tr(eps) I with eps = (du + du^T) / 2 (small strain).
+  Eigen::Matrix3d stress(const Eigen::Matrix3d& displacement_gradient) const {
+    const Eigen::Matrix3d strain = 0.5 * (displacement_gradient + displacement_gradient.transpose());
+    Eigen::Matrix3d sigma = 2.0 * shear_modulus() * strain;
+    sigma.diagonal().array() += lame_lambda() * strain.trace();
+    return sigma;
   }
 };
 

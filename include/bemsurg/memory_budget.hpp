@@ -17,3 +17,6 @@ double default_memory_limit_bytes();
 std::string format_gib(double bytes);
 
 }  // namespace bemsurg
+
+// Definitions (header-only: the numerical core needs no compiled library, docs/design.md).
+#include "bemsurg/impl/memory_budget_impl.hpp"

@@ -176,7 +176,7 @@ int run_press(int argc, char** argv) {
     try {
       table = bemsurg::load_greens_table(o.table_file, key);
       loaded = true;
-    } catch (const bemsurg::ResourceError& e) {
+    } catch (const bemsurg::IoError& e) {  // stale or corrupt: recompute
       if (!o.quiet) std::cerr << "bemsurg: warning: " << e.what() << "; recomputing\n";
     }
   }
@@ -188,7 +188,7 @@ int run_press(int argc, char** argv) {
   bemsurg::ToolContactSolver solver(p.mesh, table, std::max<bemsurg::Index>(300, 3 * p.mesh.num_elements() / 4));
   const int tool = solver.add_tool(o.tool);
   if (!solver.engage(tool, o.at, o.direction))
-    throw bemsurg::Error("press: a tool coming along (" + std::to_string(o.direction.x()) + ", " +
+    throw bemsurg::ContactError("press: a tool coming along (" + std::to_string(o.direction.x()) + ", " +
                          std::to_string(o.direction.y()) + ", " + std::to_string(o.direction.z()) +
                          ") through the given point does not meet the body (or only outside the table's region, or the "
                          "sphere is narrower than the elements where it lands and covers no element centroid)");
@@ -243,9 +243,9 @@ int run_press(int argc, char** argv) {
   j["total_seconds"] = std::chrono::duration<double>(Clock::now() - t_start).count();
   const std::string json_path = (std::filesystem::path(o.output) / "force.json").string();
   std::ofstream js(json_path);
-  if (!js) throw bemsurg::Error("cannot write " + json_path);
+  if (!js) throw bemsurg::IoError("cannot write " + json_path);
   js << std::setw(2) << j << "\n";
-  if (!js) throw bemsurg::Error("writing " + json_path + " failed");
+  if (!js) throw bemsurg::IoError("writing " + json_path + " failed");
   if (!o.quiet)
     std::cout << "press: " << o.tool_text << " depth " << o.depth << ": force (" << force.x() << ", " << force.y() << ", "
               << force.z() << ") N on " << solver.contact_elements(tool) << " elements; one force update "

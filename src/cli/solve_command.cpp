@@ -89,7 +89,7 @@ int run_solve(int argc, char** argv) {
   std::error_code ec;
   fs::create_directories(options.output, ec);
   if (ec || !fs::is_directory(options.output))
-    throw Error("cannot create the output directory '" + options.output + "': " +
+    throw IoError("cannot create the output directory '" + options.output + "': " +
                 (ec ? ec.message() : std::string("a file of that name exists")));
 
   if (!options.quiet)

@@ -2,13 +2,14 @@
 #include "bemsurg/haptics/force_limiter.hpp"
 
 #include <cmath>
-#include <stdexcept>
+
+#include "bemsurg/error.hpp"
 
 namespace bemsurg::haptics {
 
 ForceLimiter::ForceLimiter(double max_force, double max_step) : max_force_(max_force), max_step_(max_step) {
   if (!(max_force > 0.0) || !std::isfinite(max_force) || !(max_step > 0.0) || !std::isfinite(max_step))
-    throw std::invalid_argument("ForceLimiter: max_force and max_step must be finite and positive");
+    throw InvalidArgumentError("ForceLimiter: max_force and max_step must be finite and positive");
 }
 
 namespace {

@@ -45,6 +45,13 @@ class BoundaryConditions {
   BcKind kind(Index dof) const { return kinds_[static_cast<std::size_t>(dof)]; }
   double value(Index dof) const { return values_(dof); }
   const std::vector<BcKind>& kinds() const { return kinds_; }
+  /// True when all three dofs of the element are traction-prescribed (a tool may act on it).
+  bool is_free(Index element) const { return is_free_element(kinds_, element); }
+  /// The same test on a stored list of kinds (3 per element), as the Green's table keeps them.
+  static bool is_free_element(const std::vector<BcKind>& kinds, Index element) {
+    const auto k = static_cast<std::size_t>(3 * element);
+    return kinds[k] == BcKind::Traction && kinds[k + 1] == BcKind::Traction && kinds[k + 2] == BcKind::Traction;
+  }
   const Eigen::VectorXd& values() const { return values_; }
 
   Index num_displacement_dofs() const {

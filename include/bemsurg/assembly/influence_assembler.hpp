@@ -58,3 +58,6 @@ class InfluenceAssembler {
 };
 
 }  // namespace bemsurg
+
+// Definitions (header-only: the numerical core needs no compiled library, docs/design.md).
+#include "bemsurg/assembly/impl/influence_assembler_impl.hpp"

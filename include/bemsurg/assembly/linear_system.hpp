@@ -39,3 +39,6 @@ inline LinearSystem build_linear_system(const InfluenceMatrices& hg, const Bound
 BoundarySolution recover_boundary_solution(const BoundaryConditions& bc, const Eigen::VectorXd& x);
 
 }  // namespace bemsurg
+
+// Definitions (header-only: the numerical core needs no compiled library, docs/design.md).
+#include "bemsurg/assembly/impl/linear_system_impl.hpp"

@@ -75,3 +75,6 @@ class TriangleBvh {
 RowMatrixX3d deformed_vertices(const TriangleMesh& mesh, const Eigen::VectorXd& element_displacement);
 
 }  // namespace bemsurg
+
+// Definitions (header-only: the numerical core needs no compiled library, docs/design.md).
+#include "bemsurg/mesh/impl/bvh_impl.hpp"

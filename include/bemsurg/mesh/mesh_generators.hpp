@@ -61,3 +61,6 @@ TriangleMesh merge_meshes(const TriangleMesh& a, const TriangleMesh& b);
 TriangleMesh flip_orientation(const TriangleMesh& mesh);
 
 }  // namespace bemsurg
+
+// Definitions (header-only: the numerical core needs no compiled library, docs/design.md).
+#include "bemsurg/mesh/impl/mesh_generators_impl.hpp"

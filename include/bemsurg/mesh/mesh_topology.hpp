@@ -93,6 +93,14 @@ class MeshTopology {
 /// shell), by the solid-angle winding number: |w| > 1/2 is inside. Unlike ray parity it has no
 /// trouble with rays through vertices or edges, and it works for either orientation. Returns the
 /// winding number (about +1 inside an outward shell, -1 inside an inward one, 0 outside).
-double winding_number(const TriangleMesh& mesh, const std::vector<Index>& faces, const Vec3& p);
+/// `on_surface` (optional) is set when p lies on one of the triangles, where w is not defined.
+double winding_number(const TriangleMesh& mesh, const std::vector<Index>& faces, const Vec3& p,
+                      bool* on_surface = nullptr);
+/// The same over every face of the mesh: 1 inside the material of a closed outward body, 0
+/// outside and inside a cavity (whose shell faces the other way).
+double winding_number(const TriangleMesh& mesh, const Vec3& p, bool* on_surface = nullptr);
 
 }  // namespace bemsurg
+
+// Definitions (header-only: the numerical core needs no compiled library, docs/design.md).
+#include "bemsurg/mesh/impl/mesh_topology_impl.hpp"

@@ -74,3 +74,6 @@ MeshValidationReport validate_mesh(const TriangleMesh& mesh, const MeshValidatio
 void require_valid_mesh(const TriangleMesh& mesh, const MeshValidationOptions& options = {});
 
 }  // namespace bemsurg
+
+// Definitions (header-only: the numerical core needs no compiled library, docs/design.md).
+#include "bemsurg/mesh/impl/mesh_validation_impl.hpp"

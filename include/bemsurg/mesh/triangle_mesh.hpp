@@ -14,15 +14,9 @@
 #include <utility>
 
 #include "bemsurg/error.hpp"
+#include "bemsurg/types.hpp"
 
 namespace bemsurg {
-
-using Index = Eigen::Index;
-using Vec3 = Eigen::Vector3d;
-using Mat3 = Eigen::Matrix3d;
-/// One row per vertex or per element, columns x, y, z.
-using RowMatrixX3d = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
-using RowMatrixX3i = Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>;
 
 class TriangleMesh {
  public:
@@ -115,8 +109,8 @@ class TriangleMesh {
       centroids_.row(e) = ((c[0] + c[1] + c[2]) / 3.0).transpose();
       areas_(e) = 0.5 * twice_area;
       // A degenerate face keeps a zero normal; validation reports it by index.
-      const Vec3 n = twice_area > 0.0 ? Vec3(cross / twice_area) : Vec3(Vec3::Zero());
-      normals_.row(e) = n.transpose();
+      const Vec3 normal = twice_area > 0.0 ? Vec3(cross / twice_area) : Vec3(Vec3::Zero());
+      normals_.row(e) = normal.transpose();
       diameters_(e) = std::max({(c[1] - c[0]).norm(), (c[2] - c[1]).norm(), (c[0] - c[2]).norm()});
     }
   }

@@ -26,6 +26,12 @@ class InteriorEvaluator {
   StressRows stress(const RowMatrixX3d& points, const BoundarySolution& solution) const;
 
  private:
+  /// The traversal both evaluations share: every point (in parallel) against every element, with
+  /// the adaptive rule of assembly; integrand(sum, r = x - p, n_e, w, t_e, u_e) per quadrature
+  /// point, then finish(k, sum) per point.
+  template <class Accumulator, class Integrand, class Finish>
+  void traverse(const RowMatrixX3d& points, const BoundarySolution& s, const Integrand& integrand, const Finish& finish) const;
+
   const TriangleMesh& mesh_;
   Material material_;
   Eigen::Vector3d body_force_;
@@ -33,3 +39,6 @@ class InteriorEvaluator {
 };
 
 }  // namespace bemsurg
+
+// Definitions (header-only: the numerical core needs no compiled library, docs/design.md).
+#include "bemsurg/post/impl/interior_evaluator_impl.hpp"

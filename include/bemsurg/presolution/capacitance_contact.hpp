@@ -119,3 +119,6 @@ class CapacitanceContact {
 };
 
 }  // namespace bemsurg
+
+// Definitions (header-only: the numerical core needs no compiled library, docs/design.md).
+#include "bemsurg/presolution/impl/capacitance_contact_impl.hpp"

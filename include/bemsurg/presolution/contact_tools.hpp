@@ -88,7 +88,7 @@ class ToolContactSolver {
 
   /// Tool pose relative to where it was engaged or placed (the plate also turns by `rotation`,
   /// a small rotation vector about the polygon's centroid).
-  /// Both throw bemsurg::Error for a non-finite argument (the tool keeps its pose).
+  /// Both throw ContactError for a non-finite argument (the tool keeps its pose).
   void set_translation(int tool, const Eigen::Vector3d& delta);
   void set_rotation(int tool, const Eigen::Vector3d& rotation);
   /// Convenience: translation `depth` along the approach direction (throws when not finite).
@@ -156,3 +156,6 @@ class ToolContactSolver {
 };
 
 }  // namespace bemsurg
+
+// Definitions (header-only: the numerical core needs no compiled library, docs/design.md).
+#include "bemsurg/presolution/impl/contact_tools_impl.hpp"

@@ -22,6 +22,7 @@
 #include "bemsurg/material.hpp"
 #include "bemsurg/mesh/triangle_mesh.hpp"
 #include "bemsurg/quadrature/element_quadrature.hpp"
+#include "bemsurg/solvers/lu_in_place.hpp"
 
 namespace bemsurg {
 
@@ -95,11 +96,7 @@ class GreensTable {
   /// Column block of element e, or -1 when e is not in the region.
   Index region_slot(Index element) const { return slot_[static_cast<std::size_t>(element)]; }
   /// True when all three dofs of e are traction-prescribed in the base state.
-  bool is_free(Index element) const {
-    const auto k = static_cast<std::size_t>(3 * element);
-    return base_kinds_[k] == BcKind::Traction && base_kinds_[k + 1] == BcKind::Traction &&
-           base_kinds_[k + 2] == BcKind::Traction;
-  }
+  bool is_free(Index element) const { return BoundaryConditions::is_free_element(base_kinds_, element); }
   const std::vector<BcKind>& base_kinds() const { return base_kinds_; }
 
   /// Base state (gravity and the base conditions): displacement and traction of every dof.
@@ -136,10 +133,8 @@ class GreensTable {
   PrecomputeTimings timings_;
 };
 
-/// Factorises the square matrix A in place (LU with partial pivoting; LAPACK dgetrf when BLAS is
-/// linked) and overwrites B with A^{-1} B. Throws SolverError for a singular matrix. Shared by
-/// the table and the benchmark's bare baseline, so both use the same back end.
-void lu_factor_and_solve_in_place(Eigen::MatrixXd& A, Eigen::MatrixXd& B, double* factor_seconds = nullptr,
-                                  double* solve_seconds = nullptr);
 
 }  // namespace bemsurg
+
+// Definitions (header-only: the numerical core needs no compiled library, docs/design.md).
+#include "bemsurg/presolution/impl/greens_table_impl.hpp"

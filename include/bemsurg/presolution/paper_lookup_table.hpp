@@ -46,3 +46,6 @@ class PaperLookupTable {
 };
 
 }  // namespace bemsurg
+
+// Definitions (header-only: the numerical core needs no compiled library, docs/design.md).
+#include "bemsurg/presolution/impl/paper_lookup_table_impl.hpp"

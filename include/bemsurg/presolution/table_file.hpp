@@ -5,7 +5,7 @@
 // library version, then the key: mesh hash, boundary-condition hash, quadrature hash, element
 // count, material (E, nu, rho), gravity; then region, base kinds, base state and the columns;
 // last a 64-bit FNV-1a checksum of everything before it. A stale file (its key differs from the
-// scene's) or a corrupt one (checksum, size, magic) is rejected with ResourceError saying which,
+// scene's) or a corrupt one (checksum, size, magic) is rejected with IoError saying which,
 // never used: a silently wrong table gives silently wrong forces (cf. SOFA issue 1809).
 #pragma once
 
@@ -15,11 +15,11 @@
 
 namespace bemsurg {
 
-/// Writes the table; throws ResourceError when the file cannot be written.
+/// Writes the table; throws IoError when the file cannot be written.
 void save_greens_table(const std::string& path, const GreensTable& table);
 
 /// Reads a table and checks it against `expected` (make_greens_table_key of the scene at hand).
-/// Throws ResourceError naming the path and the reason: unreadable, not a table file, another
+/// Throws IoError naming the path and the reason: unreadable, not a table file, another
 /// format or library version, corrupt (checksum or truncation), or stale (which key differs).
 GreensTable load_greens_table(const std::string& path, const GreensTableKey& expected);
 

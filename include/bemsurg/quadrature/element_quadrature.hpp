@@ -34,7 +34,7 @@ struct QuadratureOptions {
   /// polar_max_angle in (0, pi] (0 would divide by zero, polar_order 0 would zero self terms).
   void validate() const {
     auto fail = [](const char* field, const std::string& what) {
-      throw Error(std::string("quadrature options: ") + field + " " + what);
+      throw InvalidArgumentError(std::string("quadrature options: ") + field + " " + what);
     };
     if (!(std::isfinite(far_ratio) && far_ratio > 0.0)) fail("far_ratio", "must be finite and positive, got " + std::to_string(far_ratio));
     if (!(std::isfinite(mid_ratio) && mid_ratio > 0.0)) fail("mid_ratio", "must be finite and positive, got " + std::to_string(mid_ratio));

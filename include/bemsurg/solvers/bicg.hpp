@@ -19,14 +19,11 @@
 namespace bemsurg {
 
 template <class Operator = DenseOperator, class Preconditioner = IdentityPreconditioner>
-class BiCg : public KrylovSolverBase<Operator, Preconditioner> {
-  using Base = KrylovSolverBase<Operator, Preconditioner>;
+class BiCg : public KrylovSolverBase<BiCg<Operator, Preconditioner>, Operator, Preconditioner> {
+  using Base = KrylovSolverBase<BiCg<Operator, Preconditioner>, Operator, Preconditioner>;
 
  public:
   using Base::Base;
-
-  BiCg& compute(const Operator& A, const Preconditioner& M) { return this->set_operator(A, M), *this; }
-  BiCg& compute(const Operator& A) { return this->set_operator(A), *this; }
 
   /// Solves A x = b. On entry x is the initial guess (empty: zero), on exit the last iterate,
   /// whatever the status. One iteration = one product with A and one with A^T.
@@ -41,11 +38,8 @@ class BiCg : public KrylovSolverBase<Operator, Preconditioner> {
     if (r_.size() != n)
       r_.resize(n), rt_.resize(n), z_.resize(n), zt_.resize(n), p_.resize(n), pt_.resize(n), q_.resize(n), qt_.resize(n);
 
-    double residual = this->true_residual(b, x, r_);
-    report.initial_residual = report.true_residual = report.estimated_residual = residual;
-    report.residual_history.push_back(residual);
-    if (!std::isfinite(residual)) return this->finish(KrylovStatus::NonFinite, "initial residual b - A x0", start), report;
-    if (residual <= s.tolerance) return this->finish(KrylovStatus::Converged, "", start), report;
+    double residual = 0.0;
+    if (!this->begin_residual(b, x, r_, residual, start)) return report;
 
     double replaced_at = residual;
     for (;;) {  // one pass per (re)start of the recurrence from the true residual

@@ -18,14 +18,11 @@
 namespace bemsurg {
 
 template <class Operator = DenseOperator, class Preconditioner = IdentityPreconditioner>
-class BiCgStab : public KrylovSolverBase<Operator, Preconditioner> {
-  using Base = KrylovSolverBase<Operator, Preconditioner>;
+class BiCgStab : public KrylovSolverBase<BiCgStab<Operator, Preconditioner>, Operator, Preconditioner> {
+  using Base = KrylovSolverBase<BiCgStab<Operator, Preconditioner>, Operator, Preconditioner>;
 
  public:
   using Base::Base;
-
-  BiCgStab& compute(const Operator& A, const Preconditioner& M) { return this->set_operator(A, M), *this; }
-  BiCgStab& compute(const Operator& A) { return this->set_operator(A), *this; }
 
   /// Solves A x = b. On entry x is the initial guess (empty: zero), on exit the last iterate,
   /// whatever the status. One iteration = one BiCGStab step = two products with A.
@@ -39,11 +36,8 @@ class BiCgStab : public KrylovSolverBase<Operator, Preconditioner> {
     const Eigen::Index n = A.rows();
     if (r_.size() != n) r_.resize(n), r0_.resize(n), p_.resize(n), v_.resize(n), p_hat_.resize(n), s_hat_.resize(n), t_.resize(n);
 
-    double residual = this->true_residual(b, x, r_);
-    report.initial_residual = report.true_residual = report.estimated_residual = residual;
-    report.residual_history.push_back(residual);
-    if (!std::isfinite(residual)) return this->finish(KrylovStatus::NonFinite, "initial residual b - A x0", start), report;
-    if (residual <= s.tolerance) return this->finish(KrylovStatus::Converged, "", start), report;
+    double residual = 0.0;
+    if (!this->begin_residual(b, x, r_, residual, start)) return report;
 
     double replaced_at = residual;  // true residual when the recurrence last (re)started
     for (;;) {                      // one pass per (re)start of the recurrence from the true residual

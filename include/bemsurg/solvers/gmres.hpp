@@ -23,14 +23,11 @@
 namespace bemsurg {
 
 template <class Operator = DenseOperator, class Preconditioner = IdentityPreconditioner>
-class Gmres : public KrylovSolverBase<Operator, Preconditioner> {
-  using Base = KrylovSolverBase<Operator, Preconditioner>;
+class Gmres : public KrylovSolverBase<Gmres<Operator, Preconditioner>, Operator, Preconditioner> {
+  using Base = KrylovSolverBase<Gmres<Operator, Preconditioner>, Operator, Preconditioner>;
 
  public:
   using Base::Base;
-
-  Gmres& compute(const Operator& A, const Preconditioner& M) { return this->set_operator(A, M), *this; }
-  Gmres& compute(const Operator& A) { return this->set_operator(A), *this; }
 
   /// Solves A x = b. On entry x is the initial guess (empty: zero), on exit the last iterate,
   /// whatever the status. Returns the report (also report()).
@@ -46,11 +43,8 @@ class Gmres : public KrylovSolverBase<Operator, Preconditioner> {
     const Eigen::Index m = std::min<Eigen::Index>(n, s.restart > 0 ? std::min(s.restart, s.max_iterations) : s.max_iterations);
     reserve(n, m);
 
-    double residual = this->true_residual(b, x, r_);
-    report.initial_residual = report.true_residual = report.estimated_residual = residual;
-    report.residual_history.push_back(residual);
-    if (!std::isfinite(residual)) return this->finish(KrylovStatus::NonFinite, "initial residual b - A x0", start), report;
-    if (residual <= s.tolerance) return this->finish(KrylovStatus::Converged, "", start), report;
+    double residual = 0.0;
+    if (!this->begin_residual(b, x, r_, residual, start)) return report;
 
     const double tiny = std::max(s.breakdown_tolerance, 16 * std::numeric_limits<double>::epsilon());
     for (;;) {  // one restart cycle per pass

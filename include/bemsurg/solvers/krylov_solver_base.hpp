@@ -22,16 +22,22 @@
 
 namespace bemsurg {
 
-template <class Operator, class Preconditioner>
+/// CRTP base: Derived is the method (Gmres, BiCgStab, BiCg), so compute() returns it and calls
+/// chain as with Eigen's solvers: `Gmres<> solver; solver.compute(A, M).solve(b, x)`.
+template <class Derived, class Operator, class Preconditioner>
 class KrylovSolverBase {
  public:
   KrylovSolverBase() = default;
   explicit KrylovSolverBase(const KrylovSettings& settings) : settings_(settings) {}
 
+  /// Solves with operator A and preconditioner M (M approximates A; the solvers apply M^-1).
+  Derived& compute(const Operator& A, const Preconditioner& M) { return set_operator(A, M), derived(); }
+  /// Unpreconditioned (only when Preconditioner is IdentityPreconditioner).
+  Derived& compute(const Operator& A) { return set_operator(A), derived(); }
+
   KrylovSettings& settings() { return settings_; }
   const KrylovSettings& settings() const { return settings_; }
 
-  /// Solves with operator A and preconditioner M (M approximates A; the solvers apply M^-1).
   void set_operator(const Operator& A, const Preconditioner& M) {
     if (M.rows() != A.rows())
       throw SolverError("Krylov solver: the preconditioner has " + std::to_string(M.rows()) + " rows, the operator " +
@@ -39,7 +45,6 @@ class KrylovSolverBase {
     A_ = &A;
     M_ = &M;
   }
-  /// Unpreconditioned (only when Preconditioner is IdentityPreconditioner).
   void set_operator(const Operator& A) {
     static_assert(std::is_same<Preconditioner, IdentityPreconditioner>::value,
                   "compute(A) without a preconditioner needs Preconditioner = IdentityPreconditioner");
@@ -54,6 +59,8 @@ class KrylovSolverBase {
 
  protected:
   using Clock = std::chrono::steady_clock;
+
+  Derived& derived() { return static_cast<Derived&>(*this); }
 
   /// Checks sizes and settings, resets the report, cold-starts an empty x. Returns false (with the
   /// report already final) when there is nothing to iterate: non-finite input or b = 0.
@@ -88,6 +95,19 @@ class KrylovSolverBase {
       report_.residual_history.push_back(0.0);
       return finish(KrylovStatus::Converged, "", start), false;
     }
+    return true;
+  }
+
+  /// The opening every method shares once its workspace is sized: r = b - A x0 recorded as the
+  /// initial residual. Returns false (with the report final) when x0 already solves the system or
+  /// the residual is not finite; otherwise `residual` is ||r|| / ||b||.
+  bool begin_residual(const Eigen::VectorXd& b, const Eigen::VectorXd& x, Eigen::VectorXd& r, double& residual,
+                      Clock::time_point start) {
+    residual = true_residual(b, x, r);
+    report_.initial_residual = report_.true_residual = report_.estimated_residual = residual;
+    report_.residual_history.push_back(residual);
+    if (!std::isfinite(residual)) return finish(KrylovStatus::NonFinite, "initial residual b - A x0", start), false;
+    if (residual <= settings_.tolerance) return finish(KrylovStatus::Converged, "", start), false;
     return true;
   }
 

@@ -46,3 +46,6 @@ Eigen::VectorXd solve_linear_system(const Eigen::MatrixXd& A, const Eigen::Vecto
                                     const Eigen::VectorXd& x0 = Eigen::VectorXd());
 
 }  // namespace bemsurg
+
+// Definitions (header-only: the numerical core needs no compiled library, docs/design.md).
+#include "bemsurg/solvers/impl/linear_solve_impl.hpp"

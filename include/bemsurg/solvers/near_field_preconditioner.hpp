@@ -5,8 +5,11 @@
 // (Wang et al. 2007 §5.3 re-solve after a cut); the far field is smooth and left to the iteration.
 // The sparse M is factorised once by UMFPACK (SuiteSparse) and back-substituted every iteration.
 //
-// UMFPACK stays out of this header (the library links SuiteSparse privately); the factor lives
-// behind a pointer. apply() uses workspace owned by the object (umfpack_di_wsolve allocates
+// Compiled, unlike the rest of the numerical core (src/solvers/near_field_preconditioner.cpp):
+// it is the one part that needs SuiteSparse, so UMFPACK stays out of this header and a program
+// that uses the core from headers alone needs no SuiteSparse (it then has no near-field
+// preconditioner: BEMSURG_HAVE_NEAR_FIELD is defined only by the bemsurg::bemsurg target, and
+// solve_linear_system says so when asked for one). The factor lives behind a pointer. apply() uses workspace owned by the object (umfpack_di_wsolve allocates
 // nothing), so it is const but not safe to call from two threads on one object at once.
 #pragma once
 

@@ -1,5 +1,5 @@
 // Generators for boxes (uniform and graded), icospheres, ellipsoids and hollow spheres.
-#include "bemsurg/mesh/mesh_generators.hpp"
+#pragma once
 
 #include <array>
 #include <cmath>
@@ -9,14 +9,14 @@
 
 namespace bemsurg {
 
-namespace {
+namespace detail {
 
-std::string str(double x) {
+inline std::string str(double x) {
   std::string s = std::to_string(x);
   return s;
 }
 
-void check_grid(const std::vector<double>& g, const char* name) {
+inline void check_grid(const std::vector<double>& g, const char* name) {
   if (g.size() < 2)
     throw InvalidMeshError(std::string("box_mesh_from_grid: ") + name + " needs at least two coordinates, got " +
                            std::to_string(g.size()));
@@ -32,7 +32,7 @@ void check_grid(const std::vector<double>& g, const char* name) {
 
 /// Grid lines per side beyond which graded_coordinates refuses: such a grid is a mistake (h_min
 /// in the wrong unit, say), and the dense BEM could never use it.
-constexpr int kMaxLines = 10000000;
+inline constexpr int kMaxLines = 10000000;
 
 [[noreturn]] void too_many_lines(double h_min) {
   throw InvalidMeshError("graded_coordinates: h_min = " + str(h_min) + " would need more than " +
@@ -40,14 +40,14 @@ constexpr int kMaxLines = 10000000;
 }
 
 /// Sum of m graded steps min(h_min q^k, h_max), k = k0 .. k0 + m - 1.
-double graded_sum(int m, int k0, double h_min, double h_max, double q) {
+inline double graded_sum(int m, int k0, double h_min, double h_max, double q) {
   double sum = 0.0, h = h_min * std::pow(q, k0);
   for (int k = 0; k < m; ++k, h *= q) sum += std::min(h, h_max);
   return sum;
 }
 
 /// Offsets (increasing, the last exactly L) of the grid lines on one side of the focus.
-std::vector<double> side_offsets(double L, double h_min, double h_max, double growth, double plateau) {
+inline std::vector<double> side_offsets(double L, double h_min, double h_max, double growth, double plateau) {
   std::vector<double> out;
   if (!(L > 0.0)) return out;
   auto uniform = [&](long n) {
@@ -99,7 +99,7 @@ std::vector<double> side_offsets(double L, double h_min, double h_max, double gr
 }
 
 /// Twelve vertices of the unit icosahedron and its twenty faces, counter-clockwise from outside.
-void icosahedron(std::vector<Vec3>& v, std::vector<std::array<int, 3>>& f) {
+inline void icosahedron(std::vector<Vec3>& v, std::vector<std::array<int, 3>>& f) {
   const double t = (1.0 + std::sqrt(5.0)) / 2.0;
   v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
        {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
@@ -115,7 +115,7 @@ void icosahedron(std::vector<Vec3>& v, std::vector<std::array<int, 3>>& f) {
       std::swap(face[1], face[2]);
 }
 
-TriangleMesh to_mesh(const std::vector<Vec3>& v, const std::vector<std::array<int, 3>>& f) {
+inline TriangleMesh to_mesh(const std::vector<Vec3>& v, const std::vector<std::array<int, 3>>& f) {
   RowMatrixX3d V(static_cast<Index>(v.size()), 3);
   RowMatrixX3i F(static_cast<Index>(f.size()), 3);
   for (std::size_t i = 0; i < v.size(); ++i) V.row(static_cast<Index>(i)) = v[i].transpose();
@@ -125,7 +125,7 @@ TriangleMesh to_mesh(const std::vector<Vec3>& v, const std::vector<std::array<in
 }
 
 /// Unit icosphere (vertices on the unit sphere, centred at the origin).
-void unit_icosphere(int subdivisions, std::vector<Vec3>& v, std::vector<std::array<int, 3>>& f) {
+inline void unit_icosphere(int subdivisions, std::vector<Vec3>& v, std::vector<std::array<int, 3>>& f) {
   if (subdivisions < 0 || subdivisions > 10)
     throw InvalidMeshError("icosphere: subdivisions must be in [0, 10] (20 * 4^s faces), got " +
                            std::to_string(subdivisions));
@@ -156,9 +156,9 @@ void unit_icosphere(int subdivisions, std::vector<Vec3>& v, std::vector<std::arr
   }
 }
 
-}  // namespace
+}  // namespace detail
 
-TriangleMesh box_mesh(const Vec3& lo, const Vec3& hi, int nx, int ny, int nz) {
+inline TriangleMesh box_mesh(const Vec3& lo, const Vec3& hi, int nx, int ny, int nz) {
   const std::array<int, 3> n{{nx, ny, nz}};
   std::array<std::vector<double>, 3> grid;
   for (int a = 0; a < 3; ++a) {
@@ -167,7 +167,7 @@ TriangleMesh box_mesh(const Vec3& lo, const Vec3& hi, int nx, int ny, int nz) {
                              " must be at least 1, got " + std::to_string(n[static_cast<std::size_t>(a)]));
     if (!(lo(a) < hi(a)))
       throw InvalidMeshError("box_mesh: lo must be below hi in every coordinate, but lo." + std::string(1, "xyz"[a]) +
-                             " = " + str(lo(a)) + " >= hi." + std::string(1, "xyz"[a]) + " = " + str(hi(a)));
+                             " = " + detail::str(lo(a)) + " >= hi." + std::string(1, "xyz"[a]) + " = " + detail::str(hi(a)));
     const int m = n[static_cast<std::size_t>(a)];
     for (int i = 0; i <= m; ++i)
       grid[static_cast<std::size_t>(a)].push_back(i == m ? hi(a) : lo(a) + (hi(a) - lo(a)) * i / m);
@@ -175,11 +175,11 @@ TriangleMesh box_mesh(const Vec3& lo, const Vec3& hi, int nx, int ny, int nz) {
   return box_mesh_from_grid(grid[0], grid[1], grid[2]);
 }
 
-TriangleMesh box_mesh_from_grid(const std::vector<double>& xs, const std::vector<double>& ys,
+inline TriangleMesh box_mesh_from_grid(const std::vector<double>& xs, const std::vector<double>& ys,
                                 const std::vector<double>& zs) {
-  check_grid(xs, "xs");
-  check_grid(ys, "ys");
-  check_grid(zs, "zs");
+  detail::check_grid(xs, "xs");
+  detail::check_grid(ys, "ys");
+  detail::check_grid(zs, "zs");
   const std::array<const std::vector<double>*, 3> g{{&xs, &ys, &zs}};
   const std::array<int, 3> n{{static_cast<int>(xs.size()) - 1, static_cast<int>(ys.size()) - 1,
                               static_cast<int>(zs.size()) - 1}};
@@ -229,23 +229,23 @@ TriangleMesh box_mesh_from_grid(const std::vector<double>& xs, const std::vector
         }
     }
   }
-  return to_mesh(vertices, faces);
+  return detail::to_mesh(vertices, faces);
 }
 
-std::vector<double> graded_coordinates(double lo, double hi, double focus, double h_min, double h_max, double growth,
+inline std::vector<double> graded_coordinates(double lo, double hi, double focus, double h_min, double h_max, double growth,
                                        double fine_half_width) {
   if (!(std::isfinite(lo) && std::isfinite(hi) && lo < hi))
-    throw InvalidMeshError("graded_coordinates: need finite lo < hi, got lo = " + str(lo) + ", hi = " + str(hi));
+    throw InvalidMeshError("graded_coordinates: need finite lo < hi, got lo = " + detail::str(lo) + ", hi = " + detail::str(hi));
   if (!(h_min > 0.0 && h_min <= h_max && std::isfinite(h_max)))
-    throw InvalidMeshError("graded_coordinates: need 0 < h_min <= h_max, got h_min = " + str(h_min) +
-                           ", h_max = " + str(h_max));
+    throw InvalidMeshError("graded_coordinates: need 0 < h_min <= h_max, got h_min = " + detail::str(h_min) +
+                           ", h_max = " + detail::str(h_max));
   if (!(growth >= 1.0 && std::isfinite(growth)))
-    throw InvalidMeshError("graded_coordinates: growth must be >= 1, got " + str(growth));
+    throw InvalidMeshError("graded_coordinates: growth must be >= 1, got " + detail::str(growth));
   if (std::isnan(focus)) throw InvalidMeshError("graded_coordinates: focus is NaN");
   focus = std::min(std::max(focus, lo), hi);
 
-  const std::vector<double> left = side_offsets(focus - lo, h_min, h_max, growth, fine_half_width);
-  const std::vector<double> right = side_offsets(hi - focus, h_min, h_max, growth, fine_half_width);
+  const std::vector<double> left = detail::side_offsets(focus - lo, h_min, h_max, growth, fine_half_width);
+  const std::vector<double> right = detail::side_offsets(hi - focus, h_min, h_max, growth, fine_half_width);
   std::vector<double> out;
   out.reserve(left.size() + right.size() + 1);
   for (auto it = left.rbegin(); it != left.rend(); ++it) out.push_back(focus - *it);
@@ -256,33 +256,33 @@ std::vector<double> graded_coordinates(double lo, double hi, double focus, doubl
   return out;
 }
 
-TriangleMesh icosphere_mesh(const Vec3& center, double radius, int subdivisions) {
+inline TriangleMesh icosphere_mesh(const Vec3& center, double radius, int subdivisions) {
   if (!(radius > 0.0 && std::isfinite(radius)))
-    throw InvalidMeshError("icosphere_mesh: radius must be positive, got " + str(radius));
+    throw InvalidMeshError("icosphere_mesh: radius must be positive, got " + detail::str(radius));
   return ellipsoid_mesh(center, Vec3::Constant(radius), subdivisions);
 }
 
-TriangleMesh ellipsoid_mesh(const Vec3& center, const Vec3& semi_axes, int subdivisions) {
+inline TriangleMesh ellipsoid_mesh(const Vec3& center, const Vec3& semi_axes, int subdivisions) {
   if (!((semi_axes.array() > 0.0).all() && semi_axes.allFinite()))
-    throw InvalidMeshError("ellipsoid_mesh: semi-axes must be positive, got (" + str(semi_axes.x()) + ", " +
-                           str(semi_axes.y()) + ", " + str(semi_axes.z()) + ")");
+    throw InvalidMeshError("ellipsoid_mesh: semi-axes must be positive, got (" + detail::str(semi_axes.x()) + ", " +
+                           detail::str(semi_axes.y()) + ", " + detail::str(semi_axes.z()) + ")");
   std::vector<Vec3> v;
   std::vector<std::array<int, 3>> f;
-  unit_icosphere(subdivisions, v, f);
+  detail::unit_icosphere(subdivisions, v, f);
   for (Vec3& p : v) p = center + semi_axes.cwiseProduct(p);
-  return to_mesh(v, f);
+  return detail::to_mesh(v, f);
 }
 
-TriangleMesh hollow_sphere_mesh(const Vec3& center, double inner_radius, double outer_radius, int subdivisions_inner,
+inline TriangleMesh hollow_sphere_mesh(const Vec3& center, double inner_radius, double outer_radius, int subdivisions_inner,
                                 int subdivisions_outer) {
   if (!(inner_radius > 0.0 && inner_radius < outer_radius))
-    throw InvalidMeshError("hollow_sphere_mesh: need 0 < inner_radius < outer_radius, got " + str(inner_radius) +
-                           " and " + str(outer_radius));
+    throw InvalidMeshError("hollow_sphere_mesh: need 0 < inner_radius < outer_radius, got " + detail::str(inner_radius) +
+                           " and " + detail::str(outer_radius));
   return merge_meshes(icosphere_mesh(center, outer_radius, subdivisions_outer),
                       flip_orientation(icosphere_mesh(center, inner_radius, subdivisions_inner)));
 }
 
-TriangleMesh merge_meshes(const TriangleMesh& a, const TriangleMesh& b) {
+inline TriangleMesh merge_meshes(const TriangleMesh& a, const TriangleMesh& b) {
   RowMatrixX3d V(a.num_vertices() + b.num_vertices(), 3);
   V << a.vertices(), b.vertices();
   RowMatrixX3i F(a.num_elements() + b.num_elements(), 3);
@@ -290,7 +290,7 @@ TriangleMesh merge_meshes(const TriangleMesh& a, const TriangleMesh& b) {
   return TriangleMesh(std::move(V), std::move(F));
 }
 
-TriangleMesh flip_orientation(const TriangleMesh& mesh) {
+inline TriangleMesh flip_orientation(const TriangleMesh& mesh) {
   RowMatrixX3i F = mesh.faces();
   F.col(1).swap(F.col(2));
   return TriangleMesh(mesh.vertices(), std::move(F));

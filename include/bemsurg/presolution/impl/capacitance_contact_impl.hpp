@@ -2,7 +2,7 @@
 // P = S^{-1} of James & Pai (1999) kept explicitly and bordered / reduced by Schur complements
 // when the contact set changes (DESIGN.md §6). All loops are written out over preallocated
 // buffers so that nothing allocates after construction.
-#include "bemsurg/presolution/capacitance_contact.hpp"
+#pragma once
 
 #include <algorithm>
 #include <cmath>
@@ -12,9 +12,9 @@
 
 namespace bemsurg {
 
-namespace {
+namespace detail {
 // C(m x n) = alpha * A(m x k) B(k x n) + beta * C; column-major with leading dimensions.
-void gemm(Index m, Index n, Index k, double alpha, const double* A, Index lda, const double* B, Index ldb, double beta,
+inline void gemm(Index m, Index n, Index k, double alpha, const double* A, Index lda, const double* B, Index ldb, double beta,
           double* C, Index ldc) {
   for (Index j = 0; j < n; ++j) {
     double* c = C + j * ldc;
@@ -30,14 +30,14 @@ void gemm(Index m, Index n, Index k, double alpha, const double* A, Index lda, c
     }
   }
 }
-}  // namespace
+}  // namespace detail
 
-CapacitanceContact::CapacitanceContact(const TriangleMesh& mesh, const GreensTable& table, Index capacity)
+inline CapacitanceContact::CapacitanceContact(const TriangleMesh& mesh, const GreensTable& table, Index capacity)
     : mesh_(mesh), table_(table), capacity_(capacity) {
-  if (table.empty()) throw Error("CapacitanceContact: the Green's-function table is empty");
+  if (table.empty()) throw ContactError("CapacitanceContact: the Green's-function table is empty");
   if (mesh.num_elements() != table.num_elements() || hash_mesh(mesh) != table.key().mesh_hash)
-    throw Error("CapacitanceContact: the mesh is not the one the table was computed for");
-  if (capacity < 1) throw Error("CapacitanceContact: capacity must be at least 1 row");
+    throw ContactError("CapacitanceContact: the mesh is not the one the table was computed for");
+  if (capacity < 1) throw ContactError("CapacitanceContact: capacity must be at least 1 row");
   const auto cap = static_cast<std::size_t>(capacity);
   rows_.resize(cap);
   rows_of_.assign(static_cast<std::size_t>(mesh.num_elements()), 0);
@@ -56,7 +56,7 @@ CapacitanceContact::CapacitanceContact(const TriangleMesh& mesh, const GreensTab
   traction_scratch_.assign(3 * cap, 0.0);
 }
 
-void CapacitanceContact::clear() {
+inline void CapacitanceContact::clear() {
   for (Index a = 0; a < k_; ++a) rows_of_[static_cast<std::size_t>(rows_[static_cast<std::size_t>(a)].element)] = 0;
   k_ = 0;
   num_elements_ = 0;
@@ -64,7 +64,7 @@ void CapacitanceContact::clear() {
   base_force_.setZero();
 }
 
-double CapacitanceContact::s_entry(const ContactRow& a, const ContactRow& b) const {
+inline double CapacitanceContact::s_entry(const ContactRow& a, const ContactRow& b) const {
   const Index ld = table_.columns().rows();
   const double* col = table_.column_data(b.element);
   const Index r = 3 * a.element;
@@ -76,12 +76,12 @@ double CapacitanceContact::s_entry(const ContactRow& a, const ContactRow& b) con
   return s;
 }
 
-double CapacitanceContact::base_target(Index a) const {
+inline double CapacitanceContact::base_target(Index a) const {
   const ContactRow& r = rows_[static_cast<std::size_t>(a)];
   return r.direction.dot(table_.base_displacement().segment<3>(3 * r.element));
 }
 
-void CapacitanceContact::invert_into(double* M, double* inv, Index m) {
+inline void CapacitanceContact::invert_into(double* M, double* inv, Index m) {
   const Index ld = capacity_;
   double scale = 0.0;
   for (Index j = 0; j < m; ++j)
@@ -127,26 +127,26 @@ void CapacitanceContact::invert_into(double* M, double* inv, Index m) {
   }
 }
 
-void CapacitanceContact::add_rows(const ContactRow* rows, Index m) {
+inline void CapacitanceContact::add_rows(const ContactRow* rows, Index m) {
   if (m <= 0) return;
   if (k_ + m > capacity_)
-    throw Error("CapacitanceContact: " + std::to_string(k_ + m) + " contact rows exceed the capacity of " +
+    throw CapacityError("CapacitanceContact: " + std::to_string(k_ + m) + " contact rows exceed the capacity of " +
                 std::to_string(capacity_) + " (construct with a larger capacity)");
   // Validate first: a throw must leave the set as it was.
   for (Index i = 0; i < m; ++i) {
     const Index e = rows[i].element;
     if (e < 0 || e >= mesh_.num_elements())
-      throw Error("CapacitanceContact: element " + std::to_string(e) + " is out of range");
+      throw ContactError("CapacitanceContact: element " + std::to_string(e) + " is out of range");
     if (table_.region_slot(e) < 0)
-      throw Error("CapacitanceContact: element " + std::to_string(e) +
+      throw ContactError("CapacitanceContact: element " + std::to_string(e) +
                   " is outside the table's region (no column was precomputed for it)");
     if (rows_of_[static_cast<std::size_t>(e)] > 0)
-      throw Error("CapacitanceContact: element " + std::to_string(e) + " is already in the contact set");
+      throw ContactError("CapacitanceContact: element " + std::to_string(e) + " is already in the contact set");
     for (Index j = 0; j < i; ++j)
       if (rows[j].element == e && std::abs(rows[j].direction.dot(rows[i].direction)) > 1.0 - 1e-12)
-        throw Error("CapacitanceContact: element " + std::to_string(e) + " is given the same direction twice");
+        throw ContactError("CapacitanceContact: element " + std::to_string(e) + " is given the same direction twice");
     const double len = rows[i].direction.norm();
-    if (!(std::abs(len - 1.0) < 1e-9)) throw Error("CapacitanceContact: a row direction is not a unit vector");
+    if (!(std::abs(len - 1.0) < 1e-9)) throw ContactError("CapacitanceContact: a row direction is not a unit vector");
   }
   const Index k = k_, ld = capacity_;
   double* X = work_a_.data();  // P b      (k x m)
@@ -169,20 +169,20 @@ void CapacitanceContact::add_rows(const ContactRow* rows, Index m) {
     }
   }
   // Y = C P (m x k)
-  gemm(m, k, k, 1.0, C, ld, P_.data(), ld, 0.0, Y, ld);
+  detail::gemm(m, k, k, 1.0, C, ld, P_.data(), ld, 0.0, Y, ld);
   // Z = d - C X (m x m), d(i, j) = S(N_i, N_j)
   for (Index j = 0; j < m; ++j)
     for (Index i = 0; i < m; ++i) Z[i + j * ld] = s_entry(rows[i], rows[j]);
-  gemm(m, m, k, -1.0, C, ld, X, ld, 1.0, Z, ld);
+  detail::gemm(m, m, k, -1.0, C, ld, X, ld, 1.0, Z, ld);
   invert_into(Z, Zi, m);  // overwrites C; throws before anything is committed
   // W = X Zi (k x m) into Z's buffer (Z no longer needed).
   double* W = Z;
-  gemm(k, m, m, 1.0, X, ld, Zi, ld, 0.0, W, ld);
+  detail::gemm(k, m, m, 1.0, X, ld, Zi, ld, 0.0, W, ld);
   // P_KK += W Y;  P_KN = -W;  P_NK = -Zi Y;  P_NN = Zi.
-  gemm(k, k, m, 1.0, W, ld, Y, ld, 1.0, P_.data(), ld);
+  detail::gemm(k, k, m, 1.0, W, ld, Y, ld, 1.0, P_.data(), ld);
   for (Index j = 0; j < m; ++j)
     for (Index i = 0; i < k; ++i) P_[static_cast<std::size_t>(i + (k + j) * ld)] = -W[i + j * ld];
-  gemm(m, k, m, -1.0, Zi, ld, Y, ld, 0.0, P_.data() + k, ld);
+  detail::gemm(m, k, m, -1.0, Zi, ld, Y, ld, 0.0, P_.data() + k, ld);
   for (Index j = 0; j < m; ++j)
     for (Index i = 0; i < m; ++i) P_[static_cast<std::size_t>(k + i + (k + j) * ld)] = Zi[i + j * ld];
   for (Index i = 0; i < m; ++i) {
@@ -203,20 +203,20 @@ void CapacitanceContact::add_rows(const ContactRow* rows, Index m) {
   update_force_operator();
 }
 
-void CapacitanceContact::add_bonded(Index element, int tag) {
+inline void CapacitanceContact::add_bonded(Index element, int tag) {
   const ContactRow r[3] = {{element, Eigen::Vector3d::UnitX(), tag}, {element, Eigen::Vector3d::UnitY(), tag},
                            {element, Eigen::Vector3d::UnitZ(), tag}};
   add_rows(r, 3);
 }
 
-void CapacitanceContact::add_normal(Index element, const Eigen::Vector3d& direction, int tag) {
+inline void CapacitanceContact::add_normal(Index element, const Eigen::Vector3d& direction, int tag) {
   const double len = direction.allFinite() ? direction.stableNorm() : 0.0;  // stable for 1e-200 / 1e200
-  if (!(len > 0.0) || !std::isfinite(len)) throw Error("CapacitanceContact: a contact normal must be a non-zero finite vector");
+  if (!(len > 0.0) || !std::isfinite(len)) throw ContactError("CapacitanceContact: a contact normal must be a non-zero finite vector");
   const ContactRow r{element, direction / len, tag};
   add_rows(&r, 1);
 }
 
-void CapacitanceContact::swap_rows(Index i, Index j) {
+inline void CapacitanceContact::swap_rows(Index i, Index j) {
   if (i == j) return;
   const Index ld = capacity_;
   for (Index c = 0; c < k_; ++c) std::swap(P_[static_cast<std::size_t>(i + c * ld)], P_[static_cast<std::size_t>(j + c * ld)]);
@@ -228,7 +228,7 @@ void CapacitanceContact::swap_rows(Index i, Index j) {
   std::swap(row_base_[static_cast<std::size_t>(i)], row_base_[static_cast<std::size_t>(j)]);
 }
 
-void CapacitanceContact::update_force_operator() {
+inline void CapacitanceContact::update_force_operator() {
   // K(c, b) = -sum_a area(e_a) w_a(c) P(a, b): O(k^2), once per structure change.
   const Index k = k_, ld = capacity_;
   const double* area = mesh_.areas().data();
@@ -253,7 +253,7 @@ void CapacitanceContact::update_force_operator() {
   }
 }
 
-Eigen::Vector3d CapacitanceContact::force_for_targets() const {
+inline Eigen::Vector3d CapacitanceContact::force_for_targets() const {
   const Index k = k_, ld = capacity_;
   const double* __restrict t = target_.data();
   const double* __restrict base = row_base_.data();
@@ -270,7 +270,7 @@ Eigen::Vector3d CapacitanceContact::force_for_targets() const {
   return base_force_ + Eigen::Vector3d(fx, fy, fz);
 }
 
-void CapacitanceContact::remove_element(Index element) {
+inline void CapacitanceContact::remove_element(Index element) {
   if (element < 0 || element >= mesh_.num_elements() || rows_of_[static_cast<std::size_t>(element)] == 0) return;
   // Move the element's rows to the end (a symmetric permutation of S permutes P the same way).
   Index tail = k_;
@@ -284,8 +284,8 @@ void CapacitanceContact::remove_element(Index element) {
   invert_into(PJJ, Qi, m);
   // W = P_KJ Qi (k x m); P_KK -= W P_JK.
   double* W = work_a_.data();
-  gemm(k, m, m, 1.0, P_.data() + k * ld, ld, Qi, ld, 0.0, W, ld);
-  gemm(k, k, m, -1.0, W, ld, P_.data() + k, ld, 1.0, P_.data(), ld);
+  detail::gemm(k, m, m, 1.0, P_.data() + k * ld, ld, Qi, ld, 0.0, W, ld);
+  detail::gemm(k, k, m, -1.0, W, ld, P_.data() + k, ld, 1.0, P_.data(), ld);
   rows_of_[static_cast<std::size_t>(element)] = 0;
   --num_elements_;
   k_ = k;
@@ -293,7 +293,7 @@ void CapacitanceContact::remove_element(Index element) {
   update_force_operator();
 }
 
-void CapacitanceContact::refactor() {
+inline void CapacitanceContact::refactor() {
   const Index k = k_, ld = capacity_;
   double* S = work_c_.data();
   for (Index j = 0; j < k; ++j)
@@ -306,7 +306,7 @@ void CapacitanceContact::refactor() {
   update_force_operator();
 }
 
-void CapacitanceContact::solve() {
+inline void CapacitanceContact::solve() {
   const Index k = k_, ld = capacity_;
   for (Index a = 0; a < k; ++a)
     rhs_[static_cast<std::size_t>(a)] = target_[static_cast<std::size_t>(a)] - row_base_[static_cast<std::size_t>(a)];
@@ -331,7 +331,7 @@ void CapacitanceContact::solve() {
   }
 }
 
-Eigen::Vector3d CapacitanceContact::force_of_tag(int tag) const {
+inline Eigen::Vector3d CapacitanceContact::force_of_tag(int tag) const {
   Eigen::Vector3d f = Eigen::Vector3d::Zero();
   const double* tb = table_.base_traction().data();
   const double* area = mesh_.areas().data();
@@ -351,7 +351,7 @@ Eigen::Vector3d CapacitanceContact::force_of_tag(int tag) const {
   return f;
 }
 
-Eigen::Vector3d CapacitanceContact::traction(Index element) const {
+inline Eigen::Vector3d CapacitanceContact::traction(Index element) const {
   Eigen::Vector3d t = table_.base_traction().segment<3>(3 * element);
   for (Index a = 0; a < k_; ++a) {
     const ContactRow& r = rows_[static_cast<std::size_t>(a)];
@@ -360,7 +360,7 @@ Eigen::Vector3d CapacitanceContact::traction(Index element) const {
   return t;
 }
 
-Eigen::Vector3d CapacitanceContact::displacement_of(Index element) const {
+inline Eigen::Vector3d CapacitanceContact::displacement_of(Index element) const {
   Eigen::Vector3d u = table_.base_displacement().segment<3>(3 * element);
   const Index ld = table_.columns().rows();
   for (Index a = 0; a < k_; ++a) {
@@ -379,7 +379,7 @@ Eigen::Vector3d CapacitanceContact::displacement_of(Index element) const {
   return u;
 }
 
-Index CapacitanceContact::contact_tractions(Index* elements, double* tractions) const {
+inline Index CapacitanceContact::contact_tractions(Index* elements, double* tractions) const {
   Index count = 0;
   for (Index a = 0; a < k_; ++a) {
     const ContactRow& r = rows_[static_cast<std::size_t>(a)];
@@ -400,7 +400,7 @@ Index CapacitanceContact::contact_tractions(Index* elements, double* tractions) 
   return count;
 }
 
-void CapacitanceContact::displacement_field(Eigen::VectorXd& u) const {
+inline void CapacitanceContact::displacement_field(Eigen::VectorXd& u) const {
   const Index count = contact_tractions(element_scratch_.data(), traction_scratch_.data());
   table_.displacement_field(element_scratch_.data(), traction_scratch_.data(), count, u);
 }

@@ -1,5 +1,5 @@
 // Construction of MeshTopology: half-edges sorted into edges, union-find into shells.
-#include "bemsurg/mesh/mesh_topology.hpp"
+#pragma once
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 
 namespace bemsurg {
 
-namespace {
+namespace detail {
 
 struct HalfEdge {
   Index lo, hi;  // sorted vertex pair
@@ -17,7 +17,7 @@ struct HalfEdge {
   bool forward;
 };
 
-Index find_root(std::vector<Index>& parent, Index x) {
+inline Index find_root(std::vector<Index>& parent, Index x) {
   while (parent[static_cast<std::size_t>(x)] != x) {
     // Path halving keeps the trees flat without recursion.
     parent[static_cast<std::size_t>(x)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(x)])];
@@ -26,21 +26,21 @@ Index find_root(std::vector<Index>& parent, Index x) {
   return x;
 }
 
-}  // namespace
+}  // namespace detail
 
-MeshTopology::MeshTopology(const TriangleMesh& mesh) {
+inline MeshTopology::MeshTopology(const TriangleMesh& mesh) {
   const Index nf = mesh.num_elements();
   const auto& F = mesh.faces();
 
   // Sorting the 3F half-edges groups each undirected edge; this gives a deterministic edge
   // numbering and avoids a hash table.
-  std::vector<HalfEdge> half(static_cast<std::size_t>(3 * nf));
+  std::vector<detail::HalfEdge> half(static_cast<std::size_t>(3 * nf));
   for (Index f = 0; f < nf; ++f)
     for (int k = 0; k < 3; ++k) {
       const Index a = F(f, k), b = F(f, (k + 1) % 3);
       half[static_cast<std::size_t>(3 * f + k)] = {std::min(a, b), std::max(a, b), f, k, a <= b};
     }
-  std::sort(half.begin(), half.end(), [](const HalfEdge& x, const HalfEdge& y) {
+  std::sort(half.begin(), half.end(), [](const detail::HalfEdge& x, const detail::HalfEdge& y) {
     return std::tie(x.lo, x.hi, x.face, x.local) < std::tie(y.lo, y.hi, y.face, y.local);
   });
 
@@ -71,13 +71,13 @@ MeshTopology::MeshTopology(const TriangleMesh& mesh) {
   std::iota(parent.begin(), parent.end(), Index{0});
   for (const MeshEdge& e : edges_)
     for (std::size_t k = 1; k < e.faces.size(); ++k) {
-      const Index a = find_root(parent, e.faces[0].face), b = find_root(parent, e.faces[k].face);
+      const Index a = detail::find_root(parent, e.faces[0].face), b = detail::find_root(parent, e.faces[k].face);
       if (a != b) parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
     }
   shell_of_face_.assign(static_cast<std::size_t>(nf), -1);
   std::vector<Index> shell_of_root(static_cast<std::size_t>(nf), -1);
   for (Index f = 0; f < nf; ++f) {
-    const Index r = find_root(parent, f);
+    const Index r = detail::find_root(parent, f);
     Index& s = shell_of_root[static_cast<std::size_t>(r)];
     if (s < 0) {
       s = static_cast<Index>(shells_.size());
@@ -104,51 +104,70 @@ MeshTopology::MeshTopology(const TriangleMesh& mesh) {
   }
 }
 
-Index MeshTopology::find_edge(Index a, Index b) const {
+inline Index MeshTopology::find_edge(Index a, Index b) const {
   const std::array<Index, 2> key{{std::min(a, b), std::max(a, b)}};
   const auto it = std::lower_bound(edges_.begin(), edges_.end(), key,
                                    [](const MeshEdge& e, const std::array<Index, 2>& k) { return e.vertices < k; });
   return (it != edges_.end() && it->vertices == key) ? static_cast<Index>(it - edges_.begin()) : -1;
 }
 
-Index MeshTopology::neighbour(Index f, int k) const {
+inline Index MeshTopology::neighbour(Index f, int k) const {
   const MeshEdge& e = edge(face_edge(f, k));
   if (e.faces.size() != 2) return -1;
   return e.faces[0].face == f && e.faces[0].local == k ? e.faces[1].face : e.faces[0].face;
 }
 
-std::vector<Index> MeshTopology::boundary_edges() const {
+inline std::vector<Index> MeshTopology::boundary_edges() const {
   std::vector<Index> out;
   for (Index e = 0; e < num_edges(); ++e)
     if (edge(e).is_boundary()) out.push_back(e);
   return out;
 }
 
-std::vector<Index> MeshTopology::non_manifold_edges() const {
+inline std::vector<Index> MeshTopology::non_manifold_edges() const {
   std::vector<Index> out;
   for (Index e = 0; e < num_edges(); ++e)
     if (edge(e).is_non_manifold()) out.push_back(e);
   return out;
 }
 
-bool MeshTopology::is_closed_and_oriented() const {
+inline bool MeshTopology::is_closed_and_oriented() const {
   return std::all_of(edges_.begin(), edges_.end(), [](const MeshEdge& e) { return e.is_manifold_oriented(); });
 }
 
-double winding_number(const TriangleMesh& mesh, const std::vector<Index>& faces, const Vec3& p) {
-  // Van Oosterom & Strackee: the solid angle of triangle (a, b, c) seen from the origin is
-  // 2 atan2(a.(b x c), |a||b||c| + (a.b)|c| + (a.c)|b| + (b.c)|a|).
+namespace detail {
+// Van Oosterom & Strackee: the solid angle of triangle (a, b, c) seen from the origin is
+// 2 atan2(a.(b x c), |a||b||c| + (a.b)|c| + (a.c)|b| + (b.c)|a|). A point in a triangle's plane
+// (numerator 0) and inside it (denominator <= 0), or at a corner, is on the surface: there the
+// formula jumps by a whole half-turn.
+template <class ForEachFace>
+double winding_number_over(const TriangleMesh& mesh, const Vec3& p, bool* on_surface, ForEachFace&& for_each_face) {
   double total = 0.0;
-  for (Index f : faces) {
+  if (on_surface) *on_surface = false;
+  for_each_face([&](Index f) {
     const auto c = mesh.corners(f);
     const Vec3 a = c[0] - p, b = c[1] - p, d = c[2] - p;
     const double la = a.norm(), lb = b.norm(), ld = d.norm();
     const double numerator = a.dot(b.cross(d));
     const double denominator = la * lb * ld + a.dot(b) * ld + a.dot(d) * lb + b.dot(d) * la;
+    if (on_surface && std::abs(numerator) <= 1e-12 * la * lb * ld && denominator <= 1e-12 * la * lb * ld) *on_surface = true;
     total += 2.0 * std::atan2(numerator, denominator);
-  }
+  });
   constexpr double pi = 3.14159265358979323846;
   return total / (4.0 * pi);
+}
+}  // namespace detail
+
+inline double winding_number(const TriangleMesh& mesh, const std::vector<Index>& faces, const Vec3& p, bool* on_surface) {
+  return detail::winding_number_over(mesh, p, on_surface, [&](auto&& visit) {
+    for (Index f : faces) visit(f);
+  });
+}
+
+inline double winding_number(const TriangleMesh& mesh, const Vec3& p, bool* on_surface) {
+  return detail::winding_number_over(mesh, p, on_surface, [&](auto&& visit) {
+    for (Index f = 0; f < mesh.num_elements(); ++f) visit(f);
+  });
 }
 
 }  // namespace bemsurg

@@ -30,10 +30,10 @@ namespace {
 
 std::string read_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot open mesh file '" + path + "' for reading: " + std::strerror(errno));
+  if (!in) throw IoError("cannot open mesh file '" + path + "' for reading: " + std::strerror(errno));
   std::ostringstream buffer;
   buffer << in.rdbuf();
-  if (in.bad()) throw Error("error while reading mesh file '" + path + "'");
+  if (in.bad()) throw IoError("error while reading mesh file '" + path + "'");
   return buffer.str();
 }
 
@@ -636,17 +636,17 @@ void put(std::string& out, long long x) {
 
 void write_file(const std::string& path, const std::string& content) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throw Error("cannot open '" + path + "' for writing: " + std::strerror(errno));
+  if (!out) throw IoError("cannot open '" + path + "' for writing: " + std::strerror(errno));
   out.write(content.data(), static_cast<std::streamsize>(content.size()));
   out.close();
-  if (!out) throw Error("error while writing '" + path + "'");
+  if (!out) throw IoError("error while writing '" + path + "'");
 }
 
 void put_field(std::string& out, const MeshField& field, Index rows, const char* where, const std::string& path) {
   if (field.name.empty() || std::any_of(field.name.begin(), field.name.end(), [](char c) { return is_space(c); }))
-    throw Error("write_vtk '" + path + "': field name '" + field.name + "' must be non-empty without whitespace");
+    throw InvalidArgumentError("write_vtk '" + path + "': field name '" + field.name + "' must be non-empty without whitespace");
   if (field.values.rows() != rows || (field.values.cols() != 1 && field.values.cols() != 3))
-    throw Error("write_vtk '" + path + "': " + where + " field '" + field.name + "' is " +
+    throw InvalidArgumentError("write_vtk '" + path + "': " + where + " field '" + field.name + "' is " +
                 std::to_string(field.values.rows()) + " x " + std::to_string(field.values.cols()) + ", expected " +
                 std::to_string(rows) + " x 3 (vectors) or " + std::to_string(rows) + " x 1 (scalars)");
   if (field.values.cols() == 3) {

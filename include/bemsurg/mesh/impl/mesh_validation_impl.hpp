@@ -1,7 +1,7 @@
 // The checks behind validate_mesh, in order from the cheapest and most basic (is there a mesh,
 // are the numbers finite) to the ones that need the others to pass (shell orientation needs
 // closed, oriented shells to have a meaningful volume).
-#include "bemsurg/mesh/mesh_validation.hpp"
+#pragma once
 
 #include <algorithm>
 #include <cmath>
@@ -13,9 +13,9 @@
 
 namespace bemsurg {
 
-namespace {
+namespace detail {
 
-const char* kind_name(MeshIssueKind kind) {
+inline const char* kind_name(MeshIssueKind kind) {
   switch (kind) {
     case MeshIssueKind::EmptyMesh: return "empty mesh";
     case MeshIssueKind::NonFiniteVertex: return "non-finite vertices";
@@ -30,18 +30,18 @@ const char* kind_name(MeshIssueKind kind) {
   return "issues";
 }
 
-std::string num(double x) {
+inline std::string num(double x) {
   std::ostringstream s;
   s.precision(6);
   s << x;
   return s.str();
 }
 
-std::string edge_name(const MeshEdge& e) {
+inline std::string edge_name(const MeshEdge& e) {
   return "edge (" + std::to_string(e.vertices[0]) + ", " + std::to_string(e.vertices[1]) + ")";
 }
 
-std::string shell_name(const MeshTopology& topo, Index s) {
+inline std::string shell_name(const MeshTopology& topo, Index s) {
   return "shell " + std::to_string(s) + " (" + std::to_string(topo.shell(s).size()) + " faces, first face " +
          std::to_string(topo.shell(s).front()) + ")";
 }
@@ -70,7 +70,7 @@ struct Box {
   }
 };
 
-void check_shell_orientation(const TriangleMesh& mesh, const MeshTopology& topo, double diag, Collector& out) {
+inline void check_shell_orientation(const TriangleMesh& mesh, const MeshTopology& topo, double diag, Collector& out) {
   std::vector<Index> closed;
   for (Index s = 0; s < topo.num_shells(); ++s)
     if (topo.shell_is_closed_and_oriented(s)) closed.push_back(s);
@@ -126,20 +126,20 @@ void check_shell_orientation(const TriangleMesh& mesh, const MeshTopology& topo,
   }
 }
 
-}  // namespace
+}  // namespace detail
 
-std::size_t MeshValidationReport::num_errors() const {
+inline std::size_t MeshValidationReport::num_errors() const {
   std::size_t n = 0;
   for (std::size_t k = 0; k < counts.size(); ++k)
     if (static_cast<MeshIssueKind>(k) != MeshIssueKind::UnreferencedVertex) n += counts[k];
   return n;
 }
 
-std::size_t MeshValidationReport::num_warnings() const {
+inline std::size_t MeshValidationReport::num_warnings() const {
   return count(MeshIssueKind::UnreferencedVertex);
 }
 
-std::string MeshValidationReport::summary() const {
+inline std::string MeshValidationReport::summary() const {
   std::ostringstream s;
   for (auto severity : {MeshIssueSeverity::Error, MeshIssueSeverity::Warning})
     for (const MeshIssue& issue : issues)
@@ -149,14 +149,14 @@ std::string MeshValidationReport::summary() const {
   for (const MeshIssue& issue : issues) ++stored[static_cast<std::size_t>(issue.kind)];
   for (std::size_t k = 0; k < kNumMeshIssueKinds; ++k)
     if (counts[k] > stored[k])
-      s << "... and " << counts[k] - stored[k] << " more " << kind_name(static_cast<MeshIssueKind>(k)) << '\n';
+      s << "... and " << counts[k] - stored[k] << " more " << detail::kind_name(static_cast<MeshIssueKind>(k)) << '\n';
   return s.str();
 }
 
-MeshValidationReport validate_mesh(const TriangleMesh& mesh, const MeshValidationOptions& options) {
+inline MeshValidationReport validate_mesh(const TriangleMesh& mesh, const MeshValidationOptions& options) {
   MeshValidationReport report;
   report.counts.assign(kNumMeshIssueKinds, 0);
-  Collector out(report, options.max_issues_per_kind);
+  detail::Collector out(report, options.max_issues_per_kind);
   const Index nv = mesh.num_vertices(), nf = mesh.num_elements();
   const auto& V = mesh.vertices();
   const auto& F = mesh.faces();
@@ -172,8 +172,8 @@ MeshValidationReport validate_mesh(const TriangleMesh& mesh, const MeshValidatio
     if (!V.row(v).allFinite()) {
       all_finite = false;
       out.error(MeshIssueKind::NonFiniteVertex, v,
-                "vertex " + std::to_string(v) + " has a non-finite coordinate (" + num(V(v, 0)) + ", " + num(V(v, 1)) +
-                    ", " + num(V(v, 2)) + ")");
+                "vertex " + std::to_string(v) + " has a non-finite coordinate (" + detail::num(V(v, 0)) + ", " + detail::num(V(v, 1)) +
+                    ", " + detail::num(V(v, 2)) + ")");
     }
 
   // Degenerate faces: relative to the mean area, so the test does not depend on units.
@@ -194,8 +194,8 @@ MeshValidationReport validate_mesh(const TriangleMesh& mesh, const MeshValidatio
                 "face " + std::to_string(f) + " " + corners + " repeats a vertex: the triangle is degenerate");
     } else if (std::isfinite(mesh.area(f)) && !(mesh.area(f) > options.degenerate_area_tolerance * mean_area)) {
       out.error(MeshIssueKind::DegenerateFace, f,
-                "face " + std::to_string(f) + " " + corners + " has near-zero area " + num(mesh.area(f)) +
-                    " (mean face area " + num(mean_area) + "): the triangle is degenerate");
+                "face " + std::to_string(f) + " " + corners + " has near-zero area " + detail::num(mesh.area(f)) +
+                    " (mean face area " + detail::num(mean_area) + "): the triangle is degenerate");
     }
   }
 
@@ -221,8 +221,8 @@ MeshValidationReport validate_mesh(const TriangleMesh& mesh, const MeshValidatio
     if (rep[i] != static_cast<Index>(i)) {
       const Index a = used_list[static_cast<std::size_t>(rep[i])], b = used_list[i];
       out.error(MeshIssueKind::DuplicateVertex, b,
-                "vertices " + std::to_string(a) + " and " + std::to_string(b) + " coincide at (" + num(V(b, 0)) + ", " +
-                    num(V(b, 1)) + ", " + num(V(b, 2)) + "): the mesh is probably not welded");
+                "vertices " + std::to_string(a) + " and " + std::to_string(b) + " coincide at (" + detail::num(V(b, 0)) + ", " +
+                    detail::num(V(b, 1)) + ", " + detail::num(V(b, 2)) + "): the mesh is probably not welded");
     }
 
   const MeshTopology topo(mesh);
@@ -232,24 +232,24 @@ MeshValidationReport validate_mesh(const TriangleMesh& mesh, const MeshValidatio
     const std::string first = "face " + std::to_string(edge.faces.front().face);
     if (edge.is_boundary()) {
       out.error(MeshIssueKind::BoundaryEdge, e,
-                first + ": " + edge_name(edge) + " belongs to this face only: the mesh is not closed");
+                first + ": " + detail::edge_name(edge) + " belongs to this face only: the mesh is not closed");
     } else if (edge.is_non_manifold()) {
       out.error(MeshIssueKind::NonManifoldEdge, e,
-                first + ": " + edge_name(edge) + " is shared by " + std::to_string(edge.faces.size()) +
+                first + ": " + detail::edge_name(edge) + " is shared by " + std::to_string(edge.faces.size()) +
                     " faces: the mesh is not 2-manifold");
     } else if (edge.faces[0].forward == edge.faces[1].forward) {
       out.error(MeshIssueKind::InconsistentOrientation, e,
                 "faces " + std::to_string(edge.faces[0].face) + " and " + std::to_string(edge.faces[1].face) +
-                    " traverse " + edge_name(edge) +
+                    " traverse " + detail::edge_name(edge) +
                     " in the same direction: the orientation is inconsistent (one of them is flipped)");
     }
   }
 
-  if (options.check_shell_orientation && all_finite) check_shell_orientation(mesh, topo, diag, out);
+  if (options.check_shell_orientation && all_finite) detail::check_shell_orientation(mesh, topo, diag, out);
   return report;
 }
 
-void require_valid_mesh(const TriangleMesh& mesh, const MeshValidationOptions& options) {
+inline void require_valid_mesh(const TriangleMesh& mesh, const MeshValidationOptions& options) {
   const MeshValidationReport report = validate_mesh(mesh, options);
   if (report.valid()) return;
   const auto first = std::find_if(report.issues.begin(), report.issues.end(),

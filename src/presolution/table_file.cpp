@@ -37,7 +37,7 @@ class Reader {
  public:
   Reader(const std::vector<char>& b, std::size_t end, const std::string& path) : b_(b), end_(end), path_(path) {}
   void raw(void* p, std::size_t n) {
-    if (n > end_ - pos_) throw ResourceError("table file " + path_ + " is corrupt: it ends early (truncated)");
+    if (n > end_ - pos_) throw IoError("table file " + path_ + " is corrupt: it ends early (truncated)");
     std::memcpy(p, b_.data() + pos_, n);
     pos_ += n;
   }
@@ -49,7 +49,7 @@ class Reader {
   }
   std::string str() {
     const auto n = pod<std::uint32_t>();
-    if (n > 4096) throw ResourceError("table file " + path_ + " is corrupt: a string field is too long");
+    if (n > 4096) throw IoError("table file " + path_ + " is corrupt: a string field is too long");
     std::string s(n, '\0');
     raw(s.data(), n);
     return s;
@@ -65,7 +65,7 @@ class Reader {
 }  // namespace
 
 void save_greens_table(const std::string& path, const GreensTable& table) {
-  if (table.empty()) throw ResourceError("save_greens_table: the table is empty");
+  if (table.empty()) throw InvalidArgumentError("save_greens_table: the table is empty");
   Writer w;
   w.raw(kMagic, 8);
   w.pod(kFormat);
@@ -88,34 +88,34 @@ void save_greens_table(const std::string& path, const GreensTable& table) {
   const std::size_t col_bytes = static_cast<std::size_t>(table.columns().size()) * sizeof(double);
   const std::uint64_t sum = fnv1a64(table.columns().data(), col_bytes, head);
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throw ResourceError("cannot write table file " + path);
+  if (!out) throw IoError("cannot write table file " + path);
   out.write(w.bytes_.data(), static_cast<std::streamsize>(w.bytes_.size()));
   out.write(reinterpret_cast<const char*>(table.columns().data()), static_cast<std::streamsize>(col_bytes));
   out.write(reinterpret_cast<const char*>(&sum), sizeof(sum));
-  if (!out) throw ResourceError("writing table file " + path + " failed (disk full?)");
+  if (!out) throw IoError("writing table file " + path + " failed (disk full?)");
 }
 
 GreensTable load_greens_table(const std::string& path, const GreensTableKey& expected) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw ResourceError("cannot open table file " + path);
+  if (!in) throw IoError("cannot open table file " + path);
   std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (bytes.size() < 8 + sizeof(std::uint64_t) || std::memcmp(bytes.data(), kMagic, 8) != 0)
-    throw ResourceError("file " + path + " is not a bemsurg table file (bad magic)");
+    throw IoError("file " + path + " is not a bemsurg table file (bad magic)");
   const std::size_t end = bytes.size() - sizeof(std::uint64_t);
   std::uint64_t stored = 0;
   std::memcpy(&stored, bytes.data() + end, sizeof(stored));
   if (fnv1a64(bytes.data(), end) != stored)
-    throw ResourceError("table file " + path + " is corrupt: its checksum does not match (recompute the table)");
+    throw IoError("table file " + path + " is corrupt: its checksum does not match (recompute the table)");
   Reader r(bytes, end, path);
   char magic[8];
   r.raw(magic, 8);
   const auto format = r.pod<std::uint32_t>();
   if (format != kFormat)
-    throw ResourceError("table file " + path + " has format " + std::to_string(format) + ", this library reads " +
+    throw IoError("table file " + path + " has format " + std::to_string(format) + ", this library reads " +
                         std::to_string(kFormat));
   const std::string version = r.str();
   if (version != version_string())
-    throw ResourceError("table file " + path + " is stale: written by bemsurg " + version + ", this is " + version_string());
+    throw IoError("table file " + path + " is stale: written by bemsurg " + version + ", this is " + version_string());
   GreensTableKey k;
   k.mesh_hash = r.pod<std::uint64_t>();
   k.conditions_hash = r.pod<std::uint64_t>();
@@ -127,26 +127,26 @@ GreensTable load_greens_table(const std::string& path, const GreensTableKey& exp
   r.raw(k.gravity.data(), 3 * sizeof(double));
   const std::string stale = "table file " + path + " is stale: it was computed for ";
   if (k.mesh_hash != expected.mesh_hash || k.num_elements != expected.num_elements)
-    throw ResourceError(stale + "a different mesh (" + std::to_string(k.num_elements) + " elements, hash " +
+    throw IoError(stale + "a different mesh (" + std::to_string(k.num_elements) + " elements, hash " +
                         std::to_string(k.mesh_hash) + "; expected " + std::to_string(expected.num_elements) + ", hash " +
                         std::to_string(expected.mesh_hash) + ")");
   if (k.material.young_modulus != expected.material.young_modulus || k.material.poisson_ratio != expected.material.poisson_ratio ||
       k.material.density != expected.material.density)
-    throw ResourceError(stale + "a different material (E = " + std::to_string(k.material.young_modulus) +
+    throw IoError(stale + "a different material (E = " + std::to_string(k.material.young_modulus) +
                         ", nu = " + std::to_string(k.material.poisson_ratio) + ", rho = " + std::to_string(k.material.density) + ")");
   if (k.conditions_hash != expected.conditions_hash)
-    throw ResourceError(stale + "different supports / boundary conditions");
-  if (k.gravity != expected.gravity) throw ResourceError(stale + "a different gravity");
-  if (k.quadrature_hash != expected.quadrature_hash) throw ResourceError(stale + "different quadrature options");
+    throw IoError(stale + "different supports / boundary conditions");
+  if (k.gravity != expected.gravity) throw IoError(stale + "a different gravity");
+  if (k.quadrature_hash != expected.quadrature_hash) throw IoError(stale + "different quadrature options");
   const auto R = r.pod<std::int64_t>();
-  if (R < 0 || R > k.num_elements) throw ResourceError("table file " + path + " is corrupt: bad region size");
+  if (R < 0 || R > k.num_elements) throw IoError("table file " + path + " is corrupt: bad region size");
   std::vector<Index> region(static_cast<std::size_t>(R));
   for (auto& e : region) e = static_cast<Index>(r.pod<std::int64_t>());
   const Index n = 3 * k.num_elements;
   std::vector<BcKind> kinds(static_cast<std::size_t>(n));
   for (auto& kind : kinds) {
     const auto v = r.pod<std::uint8_t>();
-    if (v > 1) throw ResourceError("table file " + path + " is corrupt: bad boundary-condition kind");
+    if (v > 1) throw IoError("table file " + path + " is corrupt: bad boundary-condition kind");
     kind = static_cast<BcKind>(v);
   }
   Eigen::VectorXd ug(n), tg(n);
@@ -154,7 +154,7 @@ GreensTable load_greens_table(const std::string& path, const GreensTableKey& exp
   r.raw(tg.data(), static_cast<std::size_t>(n) * sizeof(double));
   Eigen::MatrixXd columns(n, 3 * R);
   r.raw(columns.data(), static_cast<std::size_t>(columns.size()) * sizeof(double));
-  if (r.pos() != end) throw ResourceError("table file " + path + " is corrupt: unexpected trailing bytes");
+  if (r.pos() != end) throw IoError("table file " + path + " is corrupt: unexpected trailing bytes");
   return GreensTable(k, std::move(region), std::move(ug), std::move(tg), std::move(kinds), std::move(columns));
 }
 

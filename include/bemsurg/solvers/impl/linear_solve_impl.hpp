@@ -2,7 +2,7 @@
 // "lu" by DenseLU, "gmres" / "bicgstab" / "bicg" by bemsurg's Krylov solvers with the preconditioner
 // the scene names (Wang et al. 2007 eq. 6 for the system, §5.3 and Table 1 for the methods). Every
 // path fills the summary before it returns or throws, so a failed solve is still reported.
-#include "bemsurg/solvers/linear_solve.hpp"
+#pragma once
 
 #include <chrono>
 #include <cmath>
@@ -10,6 +10,7 @@
 #include <string>
 
 #include "bemsurg/error.hpp"
+#include "bemsurg/timing.hpp"
 #include "bemsurg/solvers/bicg.hpp"
 #include "bemsurg/solvers/bicgstab.hpp"
 #include "bemsurg/solvers/block_jacobi_preconditioner.hpp"
@@ -20,20 +21,16 @@
 #include "bemsurg/solvers/near_field_preconditioner.hpp"
 
 namespace bemsurg {
-namespace {
+namespace detail {
 
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
-
-std::string scientific(double v) {
+inline std::string scientific(double v) {
   char buffer[32];
   std::snprintf(buffer, sizeof buffer, "%.3e", v);
   return buffer;
 }
 
 template <template <class, class> class Solver, class Preconditioner>
-Eigen::VectorXd run_krylov(const DenseOperator& A, const Preconditioner& M, const Eigen::VectorXd& b, const KrylovSettings& ks,
+inline Eigen::VectorXd run_krylov(const DenseOperator& A, const Preconditioner& M, const Eigen::VectorXd& b, const KrylovSettings& ks,
                            const Eigen::VectorXd& x0, LinearSolveSummary& summary) {
   Solver<DenseOperator, Preconditioner> solver(ks);
   solver.compute(A, M);
@@ -54,11 +51,11 @@ Eigen::VectorXd run_krylov(const DenseOperator& A, const Preconditioner& M, cons
 }
 
 template <template <class, class> class Solver>
-Eigen::VectorXd run_with_preconditioner(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const LinearSolverSettings& settings,
+inline Eigen::VectorXd run_with_preconditioner(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const LinearSolverSettings& settings,
                                         const KrylovSettings& ks, LinearSolveSummary& summary, const TriangleMesh* mesh,
                                         const Eigen::VectorXd& x0) {
   const DenseOperator op(A);
-  const auto setup_start = Clock::now();
+  const auto setup_start = SteadyClock::now();
   if (settings.preconditioner == "none") {
     const IdentityPreconditioner M(A.rows());
     return run_krylov<Solver>(op, M, b, ks, x0, summary);
@@ -71,18 +68,24 @@ Eigen::VectorXd run_with_preconditioner(const Eigen::MatrixXd& A, const Eigen::V
     return run_krylov<Solver>(op, M, b, ks, x0, summary);
   }
   if (settings.preconditioner == "near_field") {
+#ifndef BEMSURG_HAVE_NEAR_FIELD
+    (void)mesh;
+    throw SolverError("the near_field preconditioner is compiled into bemsurg::bemsurg (it needs SuiteSparse); "
+                      "this program uses the header-only core: link bemsurg::bemsurg or choose block_jacobi");
+#else
     if (!mesh) throw SolverError("the near_field preconditioner needs the mesh (element centroids and diameters); none was given");
     const NearFieldPreconditioner M(A, *mesh, settings.near_field_radius);
     summary.setup_seconds = M.statistics().build_seconds;
     summary.preconditioner_nonzeros = M.statistics().nonzeros;
     summary.preconditioner_fill = M.statistics().fill;
     return run_krylov<Solver>(op, M, b, ks, x0, summary);
+#endif
   }
   throw SolverError("unknown preconditioner '" + settings.preconditioner + "' (expected none, block_jacobi or near_field)");
 }
 
-Eigen::VectorXd solve_lu(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, LinearSolveSummary& summary) {
-  const auto start = Clock::now();
+inline Eigen::VectorXd solve_lu(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, LinearSolveSummary& summary) {
+  const auto start = SteadyClock::now();
   const DenseLU lu(A);
   summary.setup_seconds = seconds_since(start);
   if (lu.info() != Eigen::Success) {
@@ -90,7 +93,7 @@ Eigen::VectorXd solve_lu(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, Lin
     summary.breakdown = "LU pivot: the matrix is singular to working precision";
     throw SolverError("lu: the system matrix is singular to working precision (is the body supported?)");
   }
-  const auto solve_start = Clock::now();
+  const auto solve_start = SteadyClock::now();
   Eigen::VectorXd x = lu.solve(b);
   summary.solve_seconds = seconds_since(solve_start);
   const double b_norm = b.norm();
@@ -106,9 +109,9 @@ Eigen::VectorXd solve_lu(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, Lin
   return x;
 }
 
-}  // namespace
+}  // namespace detail
 
-Eigen::VectorXd solve_linear_system(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const LinearSolverSettings& settings,
+inline Eigen::VectorXd solve_linear_system(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const LinearSolverSettings& settings,
                                     LinearSolveSummary& summary, const TriangleMesh* mesh, const Eigen::VectorXd& x0) {
   summary = LinearSolveSummary();
   summary.method = settings.method;
@@ -123,16 +126,16 @@ Eigen::VectorXd solve_linear_system(const Eigen::MatrixXd& A, const Eigen::Vecto
   if (x0.size() != 0 && x0.size() != A.rows())
     throw SolverError("solve_linear_system: the initial guess has " + std::to_string(x0.size()) + " entries, the matrix " +
                       std::to_string(A.rows()) + " rows");
-  if (settings.method == "lu") return solve_lu(A, b, summary);
+  if (settings.method == "lu") return detail::solve_lu(A, b, summary);
 
   KrylovSettings ks;
   ks.tolerance = settings.tolerance;
   ks.max_iterations = settings.max_iterations;
   ks.restart = settings.restart;
   ks.validate();
-  if (settings.method == "gmres") return run_with_preconditioner<Gmres>(A, b, settings, ks, summary, mesh, x0);
-  if (settings.method == "bicgstab") return run_with_preconditioner<BiCgStab>(A, b, settings, ks, summary, mesh, x0);
-  if (settings.method == "bicg") return run_with_preconditioner<BiCg>(A, b, settings, ks, summary, mesh, x0);
+  if (settings.method == "gmres") return detail::run_with_preconditioner<Gmres>(A, b, settings, ks, summary, mesh, x0);
+  if (settings.method == "bicgstab") return detail::run_with_preconditioner<BiCgStab>(A, b, settings, ks, summary, mesh, x0);
+  if (settings.method == "bicg") return detail::run_with_preconditioner<BiCg>(A, b, settings, ks, summary, mesh, x0);
   throw SolverError("unknown solver method '" + settings.method + "' (expected lu, gmres, bicgstab or bicg)");
 }
 

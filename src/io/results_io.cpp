@@ -38,10 +38,10 @@ void append_row(std::string& out, const double* values, int count) {
 
 void write_text(const std::string& path, const std::string& text) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throw Error("cannot write '" + path + "': " + std::generic_category().message(errno));
+  if (!out) throw IoError("cannot write '" + path + "': " + std::generic_category().message(errno));
   out << text;
   out.close();
-  if (!out) throw Error("cannot write '" + path + "': write failed (disk full?)");
+  if (!out) throw IoError("cannot write '" + path + "': write failed (disk full?)");
 }
 
 }  // namespace
@@ -49,7 +49,7 @@ void write_text(const std::string& path, const std::string& text) {
 void write_elements_csv(const std::string& path, const TriangleMesh& mesh, const BoundarySolution& solution) {
   const Index n = mesh.num_elements();
   if (solution.displacement.rows() != n || solution.traction.rows() != n)
-    throw Error("write_elements_csv: the solution has " + std::to_string(solution.displacement.rows()) +
+    throw InvalidArgumentError("write_elements_csv: the solution has " + std::to_string(solution.displacement.rows()) +
                 " rows, the mesh " + std::to_string(n) + " elements");
   std::string text = kElementsCsvHeader;
   text += '\n';
@@ -74,7 +74,7 @@ void write_interior_csv(const std::string& path, const RowMatrixX3d& points, con
                         const StressRows& stress) {
   const Index n = points.rows();
   if (displacement.rows() != n || stress.rows() != n)
-    throw Error("write_interior_csv: " + std::to_string(n) + " points but " + std::to_string(displacement.rows()) +
+    throw InvalidArgumentError("write_interior_csv: " + std::to_string(n) + " points but " + std::to_string(displacement.rows()) +
                 " displacements and " + std::to_string(stress.rows()) + " stresses");
   std::string text = kInteriorCsvHeader;
   text += '\n';

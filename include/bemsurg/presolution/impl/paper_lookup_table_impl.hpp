@@ -1,6 +1,6 @@
 // Implementation of bemsurg/presolution/paper_lookup_table.hpp: the paper's Up/Tp tables
 // (Wang et al. 2007 eq. 10) derived from the compliance table, Up_j = G_{:,J} G_JJ^{-1}.
-#include "bemsurg/presolution/paper_lookup_table.hpp"
+#pragma once
 
 #include <Eigen/LU>
 #include <string>
@@ -9,9 +9,9 @@
 
 namespace bemsurg {
 
-PaperLookupTable::PaperLookupTable(const TriangleMesh& mesh, const GreensTable& table) : table_(table), area_(mesh.areas()) {
+inline PaperLookupTable::PaperLookupTable(const TriangleMesh& mesh, const GreensTable& table) : table_(table), area_(mesh.areas()) {
   if (table.empty() || mesh.num_elements() != table.num_elements())
-    throw Error("PaperLookupTable: the table is empty or was computed for another mesh");
+    throw ContactError("PaperLookupTable: the table is empty or was computed for another mesh");
   const Index R = static_cast<Index>(table.region().size());
   up_.resize(table.num_dofs(), 3 * R);
   tp_.resize(3, 3 * R);
@@ -26,19 +26,19 @@ PaperLookupTable::PaperLookupTable(const TriangleMesh& mesh, const GreensTable& 
   }
 }
 
-Index PaperLookupTable::slot(Index element) const {
+inline Index PaperLookupTable::slot(Index element) const {
   if (element < 0 || element >= table_.num_elements() || table_.region_slot(element) < 0)
-    throw Error("PaperLookupTable: element " + std::to_string(element) + " has no table entry (outside the region)");
+    throw ContactError("PaperLookupTable: element " + std::to_string(element) + " has no table entry (outside the region)");
   return table_.region_slot(element);
 }
 
-void PaperLookupTable::displacement_field(Index element, const Eigen::Vector3d& push, Eigen::VectorXd& u) const {
-  if (u.size() != table_.num_dofs()) throw Error("PaperLookupTable::displacement_field: u has the wrong size");
+inline void PaperLookupTable::displacement_field(Index element, const Eigen::Vector3d& push, Eigen::VectorXd& u) const {
+  if (u.size() != table_.num_dofs()) throw ContactError("PaperLookupTable::displacement_field: u has the wrong size");
   u = table_.base_displacement();
   u.noalias() += up_.middleCols(3 * slot(element), 3) * push;
 }
 
-Eigen::Vector3d PaperLookupTable::traction(Index element, const Eigen::Vector3d& push) const {
+inline Eigen::Vector3d PaperLookupTable::traction(Index element, const Eigen::Vector3d& push) const {
   return table_.base_traction().segment<3>(3 * element) + tp_.block<3, 3>(0, 3 * slot(element)) * push;
 }
 

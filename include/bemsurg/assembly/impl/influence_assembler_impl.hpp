@@ -1,14 +1,14 @@
 // Implementation of bemsurg/assembly/influence_assembler.hpp: the O(E^2) quadrature loop.
 // Rows are independent, so they run in parallel; each row reads only the shared mesh and writes
 // its own three rows of H and G.
-#include "bemsurg/assembly/influence_assembler.hpp"
+#pragma once
 
 namespace bemsurg {
 
-InfluenceAssembler::InfluenceAssembler(const TriangleMesh& mesh, const Material& material, const QuadratureOptions& options)
+inline InfluenceAssembler::InfluenceAssembler(const TriangleMesh& mesh, const Material& material, const QuadratureOptions& options)
     : mesh_(mesh), material_(material), kernel_((material.validate(), material)), quadrature_(options) {}
 
-void InfluenceAssembler::element_pair(Index i, Index e, Eigen::Matrix3d& H, Eigen::Matrix3d& G) const {
+inline void InfluenceAssembler::element_pair(Index i, Index e, Eigen::Matrix3d& H, Eigen::Matrix3d& G) const {
   const Eigen::Vector3d p = mesh_.centroid(i);
   const auto c = mesh_.corners(e);
   const Eigen::Vector3d n = mesh_.normal(e);
@@ -32,7 +32,7 @@ void InfluenceAssembler::element_pair(Index i, Index e, Eigen::Matrix3d& H, Eige
   });
 }
 
-InfluenceMatrices InfluenceAssembler::assemble() const {
+inline InfluenceMatrices InfluenceAssembler::assemble() const {
   const Index E = mesh_.num_elements();
   InfluenceMatrices m{Eigen::MatrixXd(3 * E, 3 * E), Eigen::MatrixXd(3 * E, 3 * E)};
 #pragma omp parallel for schedule(dynamic, 4)
@@ -47,7 +47,7 @@ InfluenceMatrices InfluenceAssembler::assemble() const {
   return m;
 }
 
-void InfluenceAssembler::assemble_rows(const std::vector<Index>& rows, Eigen::MatrixXd& out_H, Eigen::MatrixXd& out_G) const {
+inline void InfluenceAssembler::assemble_rows(const std::vector<Index>& rows, Eigen::MatrixXd& out_H, Eigen::MatrixXd& out_G) const {
   const Index E = mesh_.num_elements();
   const Index R = static_cast<Index>(rows.size());
   out_H.resize(3 * R, 3 * E);
@@ -63,7 +63,7 @@ void InfluenceAssembler::assemble_rows(const std::vector<Index>& rows, Eigen::Ma
   }
 }
 
-void InfluenceAssembler::assemble_columns(const std::vector<Index>& cols, Eigen::MatrixXd& out_H, Eigen::MatrixXd& out_G) const {
+inline void InfluenceAssembler::assemble_columns(const std::vector<Index>& cols, Eigen::MatrixXd& out_H, Eigen::MatrixXd& out_G) const {
   const Index E = mesh_.num_elements();
   const Index C = static_cast<Index>(cols.size());
   out_H.resize(3 * E, 3 * C);
@@ -79,7 +79,7 @@ void InfluenceAssembler::assemble_columns(const std::vector<Index>& cols, Eigen:
   }
 }
 
-Eigen::Vector3d InfluenceAssembler::gravity_element(const Eigen::Vector3d& p, Index e, const GravityKernel& kernel,
+inline Eigen::Vector3d InfluenceAssembler::gravity_element(const Eigen::Vector3d& p, Index e, const GravityKernel& kernel,
                                                     bool self) const {
   const auto c = mesh_.corners(e);
   const Eigen::Vector3d n = mesh_.normal(e);
@@ -95,7 +95,7 @@ Eigen::Vector3d InfluenceAssembler::gravity_element(const Eigen::Vector3d& p, In
   return sum;
 }
 
-Eigen::VectorXd InfluenceAssembler::gravity_vector(const Eigen::Vector3d& gravity) const {
+inline Eigen::VectorXd InfluenceAssembler::gravity_vector(const Eigen::Vector3d& gravity) const {
   const Index E = mesh_.num_elements();
   Eigen::VectorXd g = Eigen::VectorXd::Zero(3 * E);
   const Eigen::Vector3d body_force = material_.density * gravity;

@@ -1,28 +1,23 @@
 // Implementation of bemsurg/elastostatic_solver.hpp: validate, check memory, assemble, swap
 // columns, solve.
-#include "bemsurg/elastostatic_solver.hpp"
+#pragma once
 
 #include <chrono>
 #include <string>
 
 #include "bemsurg/memory_budget.hpp"
+#include "bemsurg/timing.hpp"
 
 namespace bemsurg {
 
-namespace {
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-}  // namespace
-
-double estimate_elastostatic_bytes(Index num_elements) {
+inline double estimate_elastostatic_bytes(Index num_elements) {
   const double n = 3.0 * double(num_elements);
   // Peak: H, G and A* together while the system is built (H and G are released before the
   // solve, so the LU copy or the Krylov workspace then fits in their place), plus O(n) vectors.
   return 8.0 * (3.0 * n * n + 8.0 * n);
 }
 
-ElastostaticSolution solve_elastostatic(const ElastostaticProblem& problem, const LinearSolverSettings& solver) {
+inline ElastostaticSolution solve_elastostatic(const ElastostaticProblem& problem, const LinearSolverSettings& solver) {
   problem.material.validate();
   if (!problem.gravity.allFinite()) throw BoundaryConditionError("gravity must be finite");
   problem.boundary_conditions.require_supported(problem.mesh);

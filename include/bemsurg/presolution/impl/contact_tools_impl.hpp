@@ -1,6 +1,6 @@
 // Implementation of bemsurg/presolution/contact_tools.hpp: tool geometry -> contact rows ->
 // capacitance solve, with the unilateral active set (DESIGN.md §6; Hertz / Boussinesq checks).
-#include "bemsurg/presolution/contact_tools.hpp"
+#pragma once
 
 #include <algorithm>
 #include <cmath>
@@ -11,17 +11,17 @@
 
 namespace bemsurg {
 
-namespace {
-Eigen::Vector3d unit_or_throw(const Eigen::Vector3d& v, const char* what) {
+namespace detail {
+inline Eigen::Vector3d unit_or_throw(const Eigen::Vector3d& v, const char* what) {
   // stableNorm: components like 1e-200 or 1e200 would underflow / overflow in norm().
-  if (!v.allFinite()) throw Error(std::string("contact tool: ") + what + " must be a non-zero finite vector");
+  if (!v.allFinite()) throw ContactError(std::string("contact tool: ") + what + " must be a non-zero finite vector");
   const double n = v.stableNorm();
-  if (!(n > 0.0) || !std::isfinite(n)) throw Error(std::string("contact tool: ") + what + " must be a non-zero finite vector");
+  if (!(n > 0.0) || !std::isfinite(n)) throw ContactError(std::string("contact tool: ") + what + " must be a non-zero finite vector");
   return v / n;
 }
 
 // Point in polygon (projected onto the plane with normal m) by the winding/crossing rule.
-bool inside_polygon(const std::vector<Eigen::Vector3d>& poly, const Eigen::Vector3d& m, const Eigen::Vector3d& x) {
+inline bool inside_polygon(const std::vector<Eigen::Vector3d>& poly, const Eigen::Vector3d& m, const Eigen::Vector3d& x) {
   Eigen::Vector3d e1 = (std::abs(m.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY()).cross(m).normalized();
   const Eigen::Vector3d e2 = m.cross(e1);
   const double px = x.dot(e1), py = x.dot(e2);
@@ -32,9 +32,9 @@ bool inside_polygon(const std::vector<Eigen::Vector3d>& poly, const Eigen::Vecto
   }
   return in;
 }
-}  // namespace
+}  // namespace detail
 
-ToolContactSolver::ToolContactSolver(const TriangleMesh& mesh, const GreensTable& table, Index capacity_rows)
+inline ToolContactSolver::ToolContactSolver(const TriangleMesh& mesh, const GreensTable& table, Index capacity_rows)
     : mesh_(mesh),
       table_(table),
       contact_(mesh, table, capacity_rows),
@@ -43,44 +43,44 @@ ToolContactSolver::ToolContactSolver(const TriangleMesh& mesh, const GreensTable
   add_buffer_.reserve(static_cast<std::size_t>(capacity_rows));
 }
 
-int ToolContactSolver::add_tool(const ToolSpec& spec) {
+inline int ToolContactSolver::add_tool(const ToolSpec& spec) {
   if ((spec.shape == ToolShape::FlatPunch || spec.shape == ToolShape::Sphere) && !(spec.radius > 0.0 && std::isfinite(spec.radius)))
-    throw Error("contact tool: a flat punch or sphere needs a finite positive radius");
+    throw ContactError("contact tool: a flat punch or sphere needs a finite positive radius");
   if (spec.shape == ToolShape::Pinch && !(spec.radius >= 0.0 && std::isfinite(spec.radius)))
-    throw Error("contact tool: the pinch jaw radius must be finite and non-negative");
+    throw ContactError("contact tool: the pinch jaw radius must be finite and non-negative");
   if (spec.shape == ToolShape::Plate && (spec.polygon.size() < 3 || !(spec.plate_tolerance > 0.0)))
-    throw Error("contact tool: a plate needs a polygon of at least 3 vertices and a positive plate_tolerance");
+    throw ContactError("contact tool: a plate needs a polygon of at least 3 vertices and a positive plate_tolerance");
   if (spec.shape == ToolShape::Pinch && spec.mode != ContactMode::Bonded)
-    throw Error("contact tool: a pinch holds the tissue, so it is bonded");
+    throw ContactError("contact tool: a pinch holds the tissue, so it is bonded");
   Tool t;
   t.spec = spec;
   tools_.push_back(std::move(t));
   return static_cast<int>(tools_.size()) - 1;
 }
 
-void ToolContactSolver::set_translation(int tool, const Eigen::Vector3d& delta) {
+inline void ToolContactSolver::set_translation(int tool, const Eigen::Vector3d& delta) {
   Tool& t = tools_.at(static_cast<std::size_t>(tool));
-  if (!delta.allFinite()) throw Error("contact tool: set_translation: the translation `delta` is not finite");
+  if (!delta.allFinite()) throw ContactError("contact tool: set_translation: the translation `delta` is not finite");
   t.delta = delta;
 }
 
-void ToolContactSolver::set_rotation(int tool, const Eigen::Vector3d& rotation) {
+inline void ToolContactSolver::set_rotation(int tool, const Eigen::Vector3d& rotation) {
   Tool& t = tools_.at(static_cast<std::size_t>(tool));
-  if (!rotation.allFinite()) throw Error("contact tool: set_rotation: the rotation vector `rotation` is not finite");
+  if (!rotation.allFinite()) throw ContactError("contact tool: set_rotation: the rotation vector `rotation` is not finite");
   t.rotation = rotation;
 }
 
-void ToolContactSolver::set_depth(int tool, double depth) {
+inline void ToolContactSolver::set_depth(int tool, double depth) {
   Tool& t = tools_.at(static_cast<std::size_t>(tool));
-  if (!std::isfinite(depth)) throw Error("contact tool: set_depth: the depth `depth` is not finite");
+  if (!std::isfinite(depth)) throw ContactError("contact tool: set_depth: the depth `depth` is not finite");
   t.delta = depth * t.direction;
 }
 
-void ToolContactSolver::collect_candidates(Tool& t) {
+inline void ToolContactSolver::collect_candidates(Tool& t) {
   t.candidates.clear();
   const Eigen::Matrix<double, 3, 2> box = mesh_.bounding_box();
   const double L = 2.0 * (box.col(1) - box.col(0)).norm() + (t.origin - box.col(0)).norm();
-  const double r = t.spec.shape == ToolShape::Pinch ? t.spec.radius : t.spec.radius;
+  const double r = t.spec.radius;  // the tip, punch or sphere radius; the pinch jaw's too
   const Eigen::Vector3d a = t.origin - L * t.direction, b = t.origin + L * t.direction;
   const Eigen::Vector3d lo = a.cwiseMin(b).array() - r, hi = a.cwiseMax(b).array() + r;
   std::vector<Index> found;
@@ -94,11 +94,11 @@ void ToolContactSolver::collect_candidates(Tool& t) {
   }
 }
 
-bool ToolContactSolver::engage(int tool, const Eigen::Vector3d& at, const Eigen::Vector3d& direction) {
+inline bool ToolContactSolver::engage(int tool, const Eigen::Vector3d& at, const Eigen::Vector3d& direction) {
   Tool& t = tools_.at(static_cast<std::size_t>(tool));
   release(tool);
-  t.direction = unit_or_throw(direction, "the approach direction");
-  if (!at.allFinite()) throw Error("contact tool: the approach point is not finite");
+  t.direction = detail::unit_or_throw(direction, "the approach direction");
+  if (!at.allFinite()) throw ContactError("contact tool: the approach point is not finite");
   t.delta.setZero();
   t.rotation.setZero();
   t.candidates.clear();
@@ -111,7 +111,7 @@ bool ToolContactSolver::engage(int tool, const Eigen::Vector3d& at, const Eigen:
       RayHit hit;
       if (!bvh_.intersect_ray(at - L * t.direction, t.direction, hit, 2.0 * L, true)) return false;
       if (table_.region_slot(hit.element) < 0)
-        throw Error("contact tool: the tool touches element " + std::to_string(hit.element) +
+        throw ContactError("contact tool: the tool touches element " + std::to_string(hit.element) +
                     ", outside the table's region");
       t.origin = hit.point;
       t.candidates.push_back(hit.element);
@@ -178,7 +178,7 @@ bool ToolContactSolver::engage(int tool, const Eigen::Vector3d& at, const Eigen:
         const Eigen::Vector3d x = base_position(e);
         if (table_.region_slot(e) < 0) continue;
         if (std::abs((x - c).dot(t.direction)) > t.spec.plate_tolerance) continue;
-        if (!inside_polygon(t.spec.polygon, t.direction, x)) continue;
+        if (!detail::inside_polygon(t.spec.polygon, t.direction, x)) continue;
         t.candidates.push_back(e);
       }
       if (t.candidates.empty()) return false;
@@ -191,16 +191,16 @@ bool ToolContactSolver::engage(int tool, const Eigen::Vector3d& at, const Eigen:
   return true;
 }
 
-void ToolContactSolver::place(int tool, const Eigen::Vector3d& position, const Eigen::Vector3d& direction) {
+inline void ToolContactSolver::place(int tool, const Eigen::Vector3d& position, const Eigen::Vector3d& direction) {
   Tool& t = tools_.at(static_cast<std::size_t>(tool));
   if (t.spec.shape != ToolShape::FlatPunch && t.spec.shape != ToolShape::Sphere) {
     if (!engage(tool, position, direction))
-      throw Error("contact tool: the tool placed at the given position does not touch the body");
+      throw ContactError("contact tool: the tool placed at the given position does not touch the body");
     return;
   }
-  if (!position.allFinite()) throw Error("contact tool: place: the position is not finite");
+  if (!position.allFinite()) throw ContactError("contact tool: place: the position is not finite");
   release(tool);
-  t.direction = unit_or_throw(direction, "the tool direction");
+  t.direction = detail::unit_or_throw(direction, "the tool direction");
   t.origin = position;
   t.reach = t.spec.radius;
   t.delta.setZero();
@@ -211,7 +211,7 @@ void ToolContactSolver::place(int tool, const Eigen::Vector3d& position, const E
   t.engaged = true;
 }
 
-void ToolContactSolver::release(int tool) {
+inline void ToolContactSolver::release(int tool) {
   Tool& t = tools_.at(static_cast<std::size_t>(tool));
   for (Index e : t.candidates)
     if (owner_[static_cast<std::size_t>(e)] == tool) {
@@ -221,7 +221,7 @@ void ToolContactSolver::release(int tool) {
   t.engaged = false;
 }
 
-bool ToolContactSolver::geometric_contact(const Tool& t, Index e, Eigen::Vector3d& push, Eigen::Vector3d& w) const {
+inline bool ToolContactSolver::geometric_contact(const Tool& t, Index e, Eigen::Vector3d& push, Eigen::Vector3d& w) const {
   const Eigen::Vector3d n = mesh_.normal(e);
   switch (t.spec.shape) {
     case ToolShape::Point: {
@@ -266,7 +266,7 @@ bool ToolContactSolver::geometric_contact(const Tool& t, Index e, Eigen::Vector3
   return false;
 }
 
-void ToolContactSolver::set_targets(int /*unused*/) {
+inline void ToolContactSolver::set_targets(int /*unused*/) {
   const Index k = contact_.num_rows();
   const double* ug = table_.base_displacement().data();
   for (Index a = 0; a < k; ++a) {
@@ -279,7 +279,7 @@ void ToolContactSolver::set_targets(int /*unused*/) {
   }
 }
 
-void ToolContactSolver::add_element_rows(const Tool& t, int tag, Index e, const Eigen::Vector3d& w) {
+inline void ToolContactSolver::add_element_rows(const Tool& t, int tag, Index e, const Eigen::Vector3d& w) {
   if (t.spec.mode == ContactMode::Bonded) {
     add_buffer_.push_back({e, Eigen::Vector3d::UnitX(), tag});
     add_buffer_.push_back({e, Eigen::Vector3d::UnitY(), tag});
@@ -289,12 +289,12 @@ void ToolContactSolver::add_element_rows(const Tool& t, int tag, Index e, const 
   }
 }
 
-void ToolContactSolver::rollback_additions() {
+inline void ToolContactSolver::rollback_additions() {
   for (const ContactRow& r : add_buffer_) owner_[static_cast<std::size_t>(r.element)] = -1;
   add_buffer_.clear();
 }
 
-ContactUpdateReport ToolContactSolver::update(int max_iterations) {
+inline ContactUpdateReport ToolContactSolver::update(int max_iterations) {
   ContactUpdateReport report;
   report.consistent = false;
   for (int iter = 0; iter < std::max(1, max_iterations); ++iter) {
@@ -336,7 +336,7 @@ ContactUpdateReport ToolContactSolver::update(int max_iterations) {
         if (static_cast<Index>(add_buffer_.size()) + need > free_rows) {
           const Index wanted_rows = static_cast<Index>(add_buffer_.size()) + need;
           rollback_additions();
-          throw Error("contact tools: the contact set needs at least " +
+          throw CapacityError("contact tools: the contact set needs at least " +
                       std::to_string(contact_.num_rows() + wanted_rows) + " constraint rows, more than the capacity of " +
                       std::to_string(contact_.capacity()) +
                       " (construct the ToolContactSolver with a larger capacity_rows); the contact set is unchanged");
@@ -404,14 +404,14 @@ ContactUpdateReport ToolContactSolver::update(int max_iterations) {
   return report;
 }
 
-Index ToolContactSolver::contact_elements(int tool) const {
+inline Index ToolContactSolver::contact_elements(int tool) const {
   Index count = 0;
   for (Index e : tools_.at(static_cast<std::size_t>(tool)).candidates)
     if (owner_[static_cast<std::size_t>(e)] == tool) ++count;
   return count;
 }
 
-void ToolContactSolver::contact_element_list(int tool, std::vector<Index>& out) const {
+inline void ToolContactSolver::contact_element_list(int tool, std::vector<Index>& out) const {
   for (Index e : tools_.at(static_cast<std::size_t>(tool)).candidates)
     if (owner_[static_cast<std::size_t>(e)] == tool) out.push_back(e);
 }

@@ -21,6 +21,7 @@
 #include "bemsurg/io/element_selector.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/mesh/mesh_io.hpp"
+#include "bemsurg/mesh/mesh_topology.hpp"
 #include "bemsurg/mesh/mesh_validation.hpp"
 
 namespace bemsurg {
@@ -590,26 +591,6 @@ BoundaryConditions load_boundary_conditions(const json& b, const std::string& di
 
 // ---- interior points -------------------------------------------------------------------------
 
-/// Winding number of the closed, outward-oriented surface about p: the sum of the signed solid
-/// angles of the triangles over 4 pi (Van Oosterom & Strackee's formula). 1 inside the material,
-/// 0 outside and inside a cavity (whose shell faces the other way). A point on a triangle (where
-/// the formula jumps by a whole half-turn) is reported through `on_surface` instead.
-double winding_number(const TriangleMesh& mesh, const Vec3& p, bool& on_surface) {
-  double total = 0.0;
-  on_surface = false;
-  for (Index e = 0; e < mesh.num_elements(); ++e) {
-    const auto c = mesh.corners(e);
-    const Vec3 a = c[0] - p, b = c[1] - p, d = c[2] - p;
-    const double la = a.norm(), lb = b.norm(), ld = d.norm();
-    const double num = a.dot(b.cross(d));
-    const double den = la * lb * ld + a.dot(b) * ld + a.dot(d) * lb + b.dot(d) * la;
-    // In the triangle's plane (num = 0) and inside it (den <= 0), or at a corner.
-    if (std::abs(num) <= 1e-12 * la * lb * ld && den <= 1e-12 * la * lb * ld) on_surface = true;
-    total += 2.0 * std::atan2(num, den);
-  }
-  return total / (4.0 * M_PI);
-}
-
 RowMatrixX3d load_interior_points(const json& ip, const std::string& directory, const TriangleMesh& mesh,
                                   std::vector<std::string>& warnings) {
   const std::string key = "interior_points";
@@ -645,7 +626,7 @@ RowMatrixX3d load_interior_points(const json& ip, const std::string& directory, 
     // Somigliana's identity with c = I holds only inside; outside it returns zero-ish garbage and
     // on the surface it is singular, so such points are refused rather than evaluated.
     bool on_surface = false;
-    const double w = winding_number(mesh, points[i], on_surface);
+    const double w = winding_number(mesh, points[i], &on_surface);
     if (on_surface || std::abs(w - 1.0) > 0.25) {
       const Vec3& p = points[i];
       fail(where[i], "point (" + json(p.x()).dump() + ", " + json(p.y()).dump() + ", " + json(p.z()).dump() +

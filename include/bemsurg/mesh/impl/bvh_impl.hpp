@@ -1,6 +1,6 @@
 // Implementation of bemsurg/mesh/bvh.hpp: median-split BVH with refit, ray / segment / box
 // queries (picking on the deformed surface, Wang et al. 2007 §6).
-#include "bemsurg/mesh/bvh.hpp"
+#pragma once
 
 #include <algorithm>
 #include <cmath>
@@ -10,12 +10,12 @@
 
 namespace bemsurg {
 
-namespace {
-thread_local Index g_nodes_visited = 0;
-constexpr int kLeafSize = 4;
-constexpr int kStackSize = 128;
+namespace detail {
+inline thread_local Index g_nodes_visited = 0;
+inline constexpr int kLeafSize = 4;
+inline constexpr int kStackSize = 128;
 
-bool ray_box(const Eigen::Vector3d& o, const Eigen::Vector3d& inv_d, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+inline bool ray_box(const Eigen::Vector3d& o, const Eigen::Vector3d& inv_d, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
              double t_min, double t_max) {
   for (int a = 0; a < 3; ++a) {
     double t0 = (lo(a) - o(a)) * inv_d(a);
@@ -28,11 +28,11 @@ bool ray_box(const Eigen::Vector3d& o, const Eigen::Vector3d& inv_d, const Eigen
   }
   return true;
 }
-}  // namespace
+}  // namespace detail
 
-Index TriangleBvh::last_nodes_visited() { return g_nodes_visited; }
+inline Index TriangleBvh::last_nodes_visited() { return detail::g_nodes_visited; }
 
-TriangleBvh::TriangleBvh(const RowMatrixX3d& vertices, const RowMatrixX3i& faces) : vertices_(vertices), faces_(faces) {
+inline TriangleBvh::TriangleBvh(const RowMatrixX3d& vertices, const RowMatrixX3i& faces) : vertices_(vertices), faces_(faces) {
   const Index E = faces.rows();
   if (E == 0) throw InvalidMeshError("TriangleBvh: the mesh has no faces");
   if (!vertices.allFinite()) throw InvalidMeshError("TriangleBvh: a vertex is not finite");
@@ -47,11 +47,11 @@ TriangleBvh::TriangleBvh(const RowMatrixX3d& vertices, const RowMatrixX3i& faces
     centers[static_cast<std::size_t>(f)] =
         (vertices.row(faces(f, 0)) + vertices.row(faces(f, 1)) + vertices.row(faces(f, 2))).transpose() / 3.0;
   }
-  nodes_.reserve(static_cast<std::size_t>(2 * E / kLeafSize + 2));
+  nodes_.reserve(static_cast<std::size_t>(2 * E / detail::kLeafSize + 2));
   build(0, static_cast<int>(E), centers);
 }
 
-void TriangleBvh::triangle_box(Index f, Eigen::Vector3d& lo, Eigen::Vector3d& hi) const {
+inline void TriangleBvh::triangle_box(Index f, Eigen::Vector3d& lo, Eigen::Vector3d& hi) const {
   const Eigen::Vector3d a = vertices_.row(faces_(f, 0)).transpose();
   const Eigen::Vector3d b = vertices_.row(faces_(f, 1)).transpose();
   const Eigen::Vector3d c = vertices_.row(faces_(f, 2)).transpose();
@@ -59,7 +59,7 @@ void TriangleBvh::triangle_box(Index f, Eigen::Vector3d& lo, Eigen::Vector3d& hi
   hi = a.cwiseMax(b).cwiseMax(c);
 }
 
-int TriangleBvh::build(int begin, int end, std::vector<Eigen::Vector3d>& centers) {
+inline int TriangleBvh::build(int begin, int end, std::vector<Eigen::Vector3d>& centers) {
   const int index = static_cast<int>(nodes_.size());
   nodes_.emplace_back();
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
@@ -75,7 +75,7 @@ int TriangleBvh::build(int begin, int end, std::vector<Eigen::Vector3d>& centers
   }
   nodes_[static_cast<std::size_t>(index)].lo = lo;
   nodes_[static_cast<std::size_t>(index)].hi = hi;
-  if (end - begin <= kLeafSize) {
+  if (end - begin <= detail::kLeafSize) {
     nodes_[static_cast<std::size_t>(index)].first = begin;
     nodes_[static_cast<std::size_t>(index)].count = end - begin;
     return index;
@@ -93,7 +93,7 @@ int TriangleBvh::build(int begin, int end, std::vector<Eigen::Vector3d>& centers
   return index;
 }
 
-void TriangleBvh::refit(const RowMatrixX3d& vertices) {
+inline void TriangleBvh::refit(const RowMatrixX3d& vertices) {
   if (vertices.rows() != vertices_.rows())
     throw InvalidMeshError("TriangleBvh::refit: " + std::to_string(vertices.rows()) + " vertices given, the hierarchy has " +
                            std::to_string(vertices_.rows()));
@@ -118,23 +118,23 @@ void TriangleBvh::refit(const RowMatrixX3d& vertices) {
   }
 }
 
-bool TriangleBvh::intersect_ray(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, RayHit& hit, double t_max,
+inline bool TriangleBvh::intersect_ray(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, RayHit& hit, double t_max,
                                 bool front_only) const {
-  g_nodes_visited = 0;
+  detail::g_nodes_visited = 0;
   hit = RayHit();
   if (nodes_.empty() || !(direction.squaredNorm() > 0.0) || !direction.allFinite() || !origin.allFinite()) return false;
   const Eigen::Vector3d inv_d = direction.cwiseInverse();
-  int stack[kStackSize];
+  int stack[detail::kStackSize];
   int top = 0;
   stack[top++] = 0;
   double best = t_max;
   const double t_min = 0.0;
   while (top > 0) {
     const Node& n = nodes_[static_cast<std::size_t>(stack[--top])];
-    ++g_nodes_visited;
-    if (!ray_box(origin, inv_d, n.lo, n.hi, t_min, best)) continue;
+    ++detail::g_nodes_visited;
+    if (!detail::ray_box(origin, inv_d, n.lo, n.hi, t_min, best)) continue;
     if (n.left >= 0) {
-      if (top + 2 > kStackSize) continue;  // cannot happen for depth < 64 (median split: log2 E)
+      if (top + 2 > detail::kStackSize) continue;  // cannot happen for depth < 64 (median split: log2 E)
       stack[top++] = n.right;
       stack[top++] = n.left;
       continue;
@@ -172,24 +172,24 @@ bool TriangleBvh::intersect_ray(const Eigen::Vector3d& origin, const Eigen::Vect
   return true;
 }
 
-bool TriangleBvh::intersect_segment(const Eigen::Vector3d& a, const Eigen::Vector3d& b, RayHit& hit, bool front_only) const {
+inline bool TriangleBvh::intersect_segment(const Eigen::Vector3d& a, const Eigen::Vector3d& b, RayHit& hit, bool front_only) const {
   return intersect_ray(a, b - a, hit, 1.0, front_only);
 }
 
-Index TriangleBvh::query_box(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, std::vector<Index>& out,
+inline Index TriangleBvh::query_box(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, std::vector<Index>& out,
                              bool no_grow) const {
-  g_nodes_visited = 0;
+  detail::g_nodes_visited = 0;
   Index found = 0;
   if (nodes_.empty()) return 0;
-  int stack[kStackSize];
+  int stack[detail::kStackSize];
   int top = 0;
   stack[top++] = 0;
   while (top > 0) {
     const Node& n = nodes_[static_cast<std::size_t>(stack[--top])];
-    ++g_nodes_visited;
+    ++detail::g_nodes_visited;
     if ((n.lo.array() > hi.array()).any() || (n.hi.array() < lo.array()).any()) continue;
     if (n.left >= 0) {
-      if (top + 2 > kStackSize) continue;
+      if (top + 2 > detail::kStackSize) continue;
       stack[top++] = n.right;
       stack[top++] = n.left;
       continue;
@@ -207,9 +207,9 @@ Index TriangleBvh::query_box(const Eigen::Vector3d& lo, const Eigen::Vector3d& h
   return found;
 }
 
-RowMatrixX3d deformed_vertices(const TriangleMesh& mesh, const Eigen::VectorXd& element_displacement) {
+inline RowMatrixX3d deformed_vertices(const TriangleMesh& mesh, const Eigen::VectorXd& element_displacement) {
   if (element_displacement.size() != mesh.num_dofs())
-    throw Error("deformed_vertices: " + std::to_string(element_displacement.size()) + " displacement entries, expected " +
+    throw InvalidArgumentError("deformed_vertices: " + std::to_string(element_displacement.size()) + " displacement entries, expected " +
                 std::to_string(mesh.num_dofs()));
   const RowMatrixX3d per_element = Eigen::Map<const RowMatrixX3d>(element_displacement.data(), mesh.num_elements(), 3);
   return mesh.vertices() + mesh.element_to_vertex(per_element);

@@ -1,18 +1,18 @@
 // Implementation of bemsurg/assembly/linear_system.hpp (the paper's eq. 6 column swap).
-#include "bemsurg/assembly/linear_system.hpp"
+#pragma once
 
 namespace bemsurg {
 
-namespace {
-void check_sizes(const InfluenceMatrices& hg, const BoundaryConditions& bc) {
+namespace detail {
+inline void check_sizes(const InfluenceMatrices& hg, const BoundaryConditions& bc) {
   if (hg.H.rows() != bc.num_dofs() || hg.G.rows() != bc.num_dofs())
     throw BoundaryConditionError("boundary conditions have " + std::to_string(bc.num_dofs()) +
                                  " dofs, the influence matrices " + std::to_string(hg.H.rows()));
 }
-}  // namespace
+}  // namespace detail
 
-Eigen::MatrixXd build_system_matrix(const InfluenceMatrices& hg, const BoundaryConditions& bc) {
-  check_sizes(hg, bc);
+inline Eigen::MatrixXd build_system_matrix(const InfluenceMatrices& hg, const BoundaryConditions& bc) {
+  detail::check_sizes(hg, bc);
   const Index n = bc.num_dofs();
   Eigen::MatrixXd A(n, n);
 #pragma omp parallel for schedule(static)
@@ -25,8 +25,8 @@ Eigen::MatrixXd build_system_matrix(const InfluenceMatrices& hg, const BoundaryC
   return A;
 }
 
-Eigen::VectorXd build_right_hand_side(const InfluenceMatrices& hg, const BoundaryConditions& bc, const Eigen::VectorXd& gravity) {
-  check_sizes(hg, bc);
+inline Eigen::VectorXd build_right_hand_side(const InfluenceMatrices& hg, const BoundaryConditions& bc, const Eigen::VectorXd& gravity) {
+  detail::check_sizes(hg, bc);
   const Index n = bc.num_dofs();
   // Split the prescribed values by kind, then two matrix-vector products (BLAS-friendly).
   Eigen::VectorXd known_t = Eigen::VectorXd::Zero(n), known_u = Eigen::VectorXd::Zero(n);
@@ -40,7 +40,7 @@ Eigen::VectorXd build_right_hand_side(const InfluenceMatrices& hg, const Boundar
   return rhs;
 }
 
-BoundarySolution recover_boundary_solution(const BoundaryConditions& bc, const Eigen::VectorXd& x) {
+inline BoundarySolution recover_boundary_solution(const BoundaryConditions& bc, const Eigen::VectorXd& x) {
   const Index E = bc.num_elements();
   if (x.size() != bc.num_dofs())
     throw BoundaryConditionError("solution has " + std::to_string(x.size()) + " entries, expected " +

@@ -1,7 +1,7 @@
 // Implementation of bemsurg/presolution/greens_table.hpp: the one-time precomputation of the
 // compliance table (DESIGN.md §6; Wang et al. 2007 §5.1). One LU of A*, then the base state and
 // the region's unit-traction columns as one multi-right-hand-side back-substitution.
-#include "bemsurg/presolution/greens_table.hpp"
+#pragma once
 
 #include <algorithm>
 #include <chrono>
@@ -13,23 +13,13 @@
 #include "bemsurg/error.hpp"
 #include "bemsurg/memory_budget.hpp"
 #include "bemsurg/solvers/dense_lu.hpp"
+#include "bemsurg/solvers/lu_in_place.hpp"
+#include "bemsurg/timing.hpp"
 
-#ifdef BEMSURG_HAVE_BLAS
-#include <lapacke.h>
-#else
-#include <Eigen/LU>
-#endif
 
 namespace bemsurg {
 
-namespace {
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-std::string gib(double bytes) { return format_gib(bytes); }
-}  // namespace
-
-std::uint64_t fnv1a64(const void* data, std::size_t bytes, std::uint64_t seed) {
+inline std::uint64_t fnv1a64(const void* data, std::size_t bytes, std::uint64_t seed) {
   const auto* p = static_cast<const unsigned char*>(data);
   std::uint64_t h = seed;
   for (std::size_t i = 0; i < bytes; ++i) {
@@ -39,25 +29,25 @@ std::uint64_t fnv1a64(const void* data, std::size_t bytes, std::uint64_t seed) {
   return h;
 }
 
-std::uint64_t hash_mesh(const TriangleMesh& mesh) {
+inline std::uint64_t hash_mesh(const TriangleMesh& mesh) {
   std::uint64_t h = fnv1a64(mesh.vertices().data(), static_cast<std::size_t>(mesh.vertices().size()) * sizeof(double));
   return fnv1a64(mesh.faces().data(), static_cast<std::size_t>(mesh.faces().size()) * sizeof(int), h);
 }
 
-std::uint64_t hash_conditions(const BoundaryConditions& bc) {
+inline std::uint64_t hash_conditions(const BoundaryConditions& bc) {
   std::vector<unsigned char> kinds(bc.kinds().size());
   for (std::size_t i = 0; i < kinds.size(); ++i) kinds[i] = static_cast<unsigned char>(bc.kinds()[i]);
   std::uint64_t h = fnv1a64(kinds.data(), kinds.size());
   return fnv1a64(bc.values().data(), static_cast<std::size_t>(bc.values().size()) * sizeof(double), h);
 }
 
-std::uint64_t hash_quadrature(const QuadratureOptions& q) {
+inline std::uint64_t hash_quadrature(const QuadratureOptions& q) {
   const double v[6] = {q.far_ratio, q.mid_ratio, double(q.mid_order), double(q.max_depth), double(q.polar_order),
                        q.polar_max_angle};
   return fnv1a64(v, sizeof(v));
 }
 
-GreensTableKey make_greens_table_key(const TriangleMesh& mesh, const Material& material, const BoundaryConditions& base,
+inline GreensTableKey make_greens_table_key(const TriangleMesh& mesh, const Material& material, const BoundaryConditions& base,
                                      const Eigen::Vector3d& gravity, const QuadratureOptions& quadrature) {
   GreensTableKey key;
   key.mesh_hash = hash_mesh(mesh);
@@ -69,57 +59,21 @@ GreensTableKey make_greens_table_key(const TriangleMesh& mesh, const Material& m
   return key;
 }
 
-BoundaryConditions supported_base_conditions(Index num_elements, const std::vector<Index>& supported) {
+inline BoundaryConditions supported_base_conditions(Index num_elements, const std::vector<Index>& supported) {
   BoundaryConditions bc(num_elements);
   for (Index e : supported) bc.prescribe_displacement(e, Eigen::Vector3d::Zero());
   return bc;
 }
 
-double GreensTable::estimate_bytes(Index num_elements, Index region_elements) {
+inline double GreensTable::estimate_bytes(Index num_elements, Index region_elements) {
   const double n = 3.0 * double(num_elements);
   // Peak: H and G (assembly) and A* live together briefly; then A* and the right-hand sides.
   return 8.0 * (3.0 * n * n + n * (3.0 * double(region_elements) + 1.0) + 4.0 * n);
 }
 
-double GreensTable::default_memory_limit_bytes() { return bemsurg::default_memory_limit_bytes(); }
+inline double GreensTable::default_memory_limit_bytes() { return bemsurg::default_memory_limit_bytes(); }
 
-void lu_factor_and_solve_in_place(Eigen::MatrixXd& A, Eigen::MatrixXd& B, double* factor_seconds, double* solve_seconds) {
-  const Index n = A.rows();
-  if (A.cols() != n || B.rows() != n) throw SolverError("lu_factor_and_solve_in_place: sizes do not agree");
-  if (n == 0) throw SolverError("lu_factor_and_solve_in_place: empty system");
-  // Pivots are judged on the column-equilibrated matrix (scale-invariant; see DenseLU::compute).
-  const Eigen::VectorXd column_max = DenseLU::column_maxima(A);
-  if (!column_max.allFinite()) throw SolverError("the system matrix A* has non-finite entries");
-  auto t0 = std::chrono::steady_clock::now();
-#ifdef BEMSURG_HAVE_BLAS
-  std::vector<lapack_int> pivots(static_cast<std::size_t>(n));
-  const lapack_int info = LAPACKE_dgetrf(LAPACK_COL_MAJOR, lapack_int(n), lapack_int(n), A.data(), lapack_int(n), pivots.data());
-  if (info < 0) throw SolverError("LAPACK dgetrf: invalid argument " + std::to_string(-info));
-  if (info > 0 || !DenseLU::equilibrated_pivots_ok(A.diagonal(), column_max))
-    throw SolverError("the system matrix A* is singular to working precision (is the body supported?)");
-  if (factor_seconds) *factor_seconds = seconds_since(t0);
-  t0 = std::chrono::steady_clock::now();
-  if (B.cols() > 0) {
-    const lapack_int s = LAPACKE_dgetrs(LAPACK_COL_MAJOR, 'N', lapack_int(n), lapack_int(B.cols()), A.data(), lapack_int(n),
-                                        pivots.data(), B.data(), lapack_int(n));
-    if (s != 0) throw SolverError("LAPACK dgetrs failed with info " + std::to_string(s));
-  }
-  if (solve_seconds) *solve_seconds = seconds_since(t0);
-#else
-  Eigen::PartialPivLU<Eigen::Ref<Eigen::MatrixXd>> lu(A);
-  if (!DenseLU::equilibrated_pivots_ok(A.diagonal(), column_max))
-    throw SolverError("the system matrix A* is singular to working precision (is the body supported?)");
-  if (factor_seconds) *factor_seconds = seconds_since(t0);
-  t0 = std::chrono::steady_clock::now();
-  if (B.cols() > 0) {
-    Eigen::MatrixXd X = lu.solve(B);
-    B.swap(X);
-  }
-  if (solve_seconds) *solve_seconds = seconds_since(t0);
-#endif
-}
-
-GreensTable GreensTable::compute(const TriangleMesh& mesh, const Material& material, const BoundaryConditions& base,
+inline GreensTable GreensTable::compute(const TriangleMesh& mesh, const Material& material, const BoundaryConditions& base,
                                  const GreensTableOptions& options) {
   material.validate();
   if (mesh.num_elements() == 0) throw InvalidMeshError("GreensTable: the mesh has no elements");
@@ -131,20 +85,16 @@ GreensTable GreensTable::compute(const TriangleMesh& mesh, const Material& mater
   GreensTable table;
   table.key_ = make_greens_table_key(mesh, material, base, options.gravity, options.quadrature);
   table.base_kinds_ = base.kinds();
-  auto free_element = [&](Index e) {
-    return base.kind(3 * e) == BcKind::Traction && base.kind(3 * e + 1) == BcKind::Traction &&
-           base.kind(3 * e + 2) == BcKind::Traction;
-  };
   if (options.region.empty()) {
     for (Index e = 0; e < E; ++e)
-      if (free_element(e)) table.region_.push_back(e);
+      if (base.is_free(e)) table.region_.push_back(e);
   } else {
     std::vector<char> seen(static_cast<std::size_t>(E), 0);
     for (Index e : options.region) {
       if (e < 0 || e >= E)
         throw BoundaryConditionError("GreensTable: region element " + std::to_string(e) + " is out of range (the mesh has " +
                                      std::to_string(E) + " elements)");
-      if (!free_element(e))
+      if (!base.is_free(e))
         throw BoundaryConditionError("GreensTable: region element " + std::to_string(e) +
                                      " is not free (a displacement is prescribed on it); tools act on free elements only");
       if (seen[static_cast<std::size_t>(e)]) continue;
@@ -159,9 +109,9 @@ GreensTable GreensTable::compute(const TriangleMesh& mesh, const Material& mater
   const double limit = options.memory_limit_bytes > 0.0 ? options.memory_limit_bytes : default_memory_limit_bytes();
   if (need > limit)
     throw ResourceError("GreensTable: the precomputation for " + std::to_string(E) + " elements (" + std::to_string(n) +
-                        " equations) with a region of " + std::to_string(R) + " elements needs about " + gib(need) +
-                        " (A*, H and G: " + gib(8.0 * 3.0 * double(n) * double(n)) + "; table: " +
-                        gib(8.0 * double(n) * 3.0 * double(R)) + "), more than the limit of " + gib(limit) +
+                        " equations) with a region of " + std::to_string(R) + " elements needs about " + format_gib(need) +
+                        " (A*, H and G: " + format_gib(8.0 * 3.0 * double(n) * double(n)) + "; table: " +
+                        format_gib(8.0 * double(n) * 3.0 * double(R)) + "), more than the limit of " + format_gib(limit) +
                         "; restrict the region to where tools act, or coarsen the mesh away from it");
 
   auto t0 = std::chrono::steady_clock::now();
@@ -197,7 +147,7 @@ GreensTable GreensTable::compute(const TriangleMesh& mesh, const Material& mater
   return table;
 }
 
-GreensTable::GreensTable(GreensTableKey key, std::vector<Index> region, Eigen::VectorXd base_displacement,
+inline GreensTable::GreensTable(GreensTableKey key, std::vector<Index> region, Eigen::VectorXd base_displacement,
                          Eigen::VectorXd base_traction, std::vector<BcKind> base_kinds, Eigen::MatrixXd columns)
     : key_(key),
       region_(std::move(region)),
@@ -214,7 +164,7 @@ GreensTable::GreensTable(GreensTableKey key, std::vector<Index> region, Eigen::V
   build_slots();
 }
 
-void GreensTable::build_slots() {
+inline void GreensTable::build_slots() {
   slot_.assign(static_cast<std::size_t>(key_.num_elements), -1);
   for (std::size_t s = 0; s < region_.size(); ++s) {
     if (slot_[static_cast<std::size_t>(region_[s])] != -1)
@@ -223,9 +173,9 @@ void GreensTable::build_slots() {
   }
 }
 
-void GreensTable::displacement_field(const Index* elements, const double* tractions, Index count, Eigen::VectorXd& u) const {
+inline void GreensTable::displacement_field(const Index* elements, const double* tractions, Index count, Eigen::VectorXd& u) const {
   const Index n = num_dofs();
-  if (u.size() != n) throw Error("GreensTable::displacement_field: u must have " + std::to_string(n) + " entries");
+  if (u.size() != n) throw InvalidArgumentError("GreensTable::displacement_field: u must have " + std::to_string(n) + " entries");
   u = base_displacement_;
   // One thread, on purpose: the work streams contiguous columns (memory bound, ~0.4 ms for 50
   // elements at n = 15,000), and an OpenMP team here would wait for cores that the BLAS threads
