@@ -122,7 +122,7 @@ TEST_CASE("BiCG breakdown is reported with the vanished quantity", "[krylov][bre
   CHECK(report.true_residual == Approx(1.0));
 }
 
-TEST_CASE("GMRES(m) stagnation on a cyclic shift is reported; full GMRES solves it in n steps", "[krylov][stagnation]") {
+TEST_CASE("GMRES(m) stagnation on a cyclic shift is reported, and full GMRES solves it in n steps", "[krylov][stagnation]") {
   const int n = 8;
   const Eigen::MatrixXd A = cyclic_shift(n);
   const Eigen::VectorXd b = Eigen::VectorXd::Unit(n, 0);
@@ -221,7 +221,7 @@ TEST_CASE("non-finite values are reported as non_finite", "[krylov]") {
   }
 }
 
-TEST_CASE("b = 0 gives x = 0 at once; a converged warm start takes no iteration", "[krylov]") {
+TEST_CASE("b = 0 gives x = 0 at once, and a converged warm start takes no iteration", "[krylov]") {
   const Eigen::MatrixXd A = well_conditioned(20);
   const DenseOperator op(A);
   BiCg<> solver;

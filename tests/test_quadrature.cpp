@@ -54,7 +54,7 @@ TEST_CASE("triangle rules integrate polynomials of their degree exactly") {
   }
 }
 
-TEST_CASE("Gauss-Legendre integrates degree 2n-1 exactly on [0,1]") {
+TEST_CASE("Gauss-Legendre integrates degree 2n-1 exactly on the unit interval") {
   for (int n : {1, 2, 5, 12}) {
     const LineRule g = gauss_legendre(n);
     for (int d = 0; d <= 2 * n - 1; ++d) {
