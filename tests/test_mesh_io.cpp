@@ -341,7 +341,7 @@ TEST_CASE("PLY round trips: ASCII, little and big endian, several types", "[mesh
   }
 }
 
-TEST_CASE("PLY polygons are fan-triangulated; errors are reported", "[mesh][io]") {
+TEST_CASE("PLY polygons are fan-triangulated, and errors are reported", "[mesh][io]") {
   TempDir dir;
   const std::string header =
       "ply\nformat ascii 1.0\nelement vertex 8\nproperty float x\nproperty float y\nproperty float z\n"

@@ -139,7 +139,7 @@ TEST_CASE("values of the wrong type are named with their path", "[scene][errors]
   CHECK_THAT(scene_error("{\"mesh\": "), Catch::Contains("test.json: not valid JSON"));
 }
 
-TEST_CASE("solver limits: near_field_radius in (0, 100], max_iterations at most a million", "[scene][errors]") {
+TEST_CASE("solver limits: near_field_radius above 0 and at most 100, max_iterations at most a million", "[scene][errors]") {
   for (const char* bad : {"0", "-1", "100.5", "1e300"})
     CHECK_THAT(scene_error(scene(kCube, kMaterial, kFixBottom, std::string(R"("solver": {"near_field_radius": )") + bad + "}")),
                Catch::Contains("solver.near_field_radius: must lie in (0, 100]"));
