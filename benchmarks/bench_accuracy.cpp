@@ -1,4 +1,4 @@
-// bench_accuracy: accuracy of the BEM core against closed-form solutions (DESIGN.md §8), at several
+// bench_accuracy: accuracy of the BEM core against closed-form solutions (docs/design.md §8), at several
 // mesh levels, with the observed order and the time per phase. Writes the table that
 // docs/accuracy.md quotes (--markdown PATH), a CSV (--csv PATH) and JSON (--json PATH).
 //   bench_accuracy [--quick] [--json PATH] [--csv PATH] [--markdown PATH]

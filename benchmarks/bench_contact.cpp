@@ -1,4 +1,4 @@
-// bench_contact: the haptic path of DESIGN.md §6 (Wang et al. 2007 §5.1-5.2) measured.
+// bench_contact: the haptic path of docs/design.md §6 (Wang et al. 2007 §5.1-5.2) measured.
 //  1. Precompute (GreensTable::compute) split into assembly, factorisation and table, against size,
 //     beside the bare baseline measured in the same process at the same size: one dense LU plus
 //     the same multi-right-hand-side solve through the same BLAS/LAPACK back end.
@@ -8,7 +8,7 @@
 //     force only (targets and the 3 x k force operator); also one contact-set change (remove + add
 //     one element, Schur updates of P).
 //  3. Full-field update u = u_g + G_{:,C} t_C (graphics rate), median.
-// Targets (issue 5): precompute <= 1.5x the baseline; force update p99.9 <= 20 us with 7 and
+// Targets (docs/contact.md): precompute <= 1.5x the baseline; force update p99.9 <= 20 us with 7 and
 // <= 50 us with 50 contact elements at 15,000 equations; full field <= 2 ms at 15,000 equations.
 //
 // usage: bench_contact [--quick] [--json PATH] [--csv PATH] [--sizes N1,N2,...]  (N: box cells per edge)

@@ -1,4 +1,4 @@
-// bench_krylov: bemsurg's Krylov solvers against Eigen's on the same BEM systems (issue 4; the
+// bench_krylov: bemsurg's Krylov solvers against Eigen's on the same BEM systems (the
 // re-solve after a cut of Wang et al. 2007 §5.3, Table 1: GMRES without restart, BiCGStab, BiCG).
 // For each soft block on its base under gravity (A* x = b, eq. 6) it times
 //   cold: x0 = 0, every method x preconditioner of ours, Eigen::BiCGSTAB (identity and its default

@@ -1,4 +1,4 @@
-// Self-weight moved to the surface (kernel P, DESIGN.md §3): a bar hanging under its own weight,
+// Self-weight moved to the surface (kernel P, docs/design.md §3): a bar hanging under its own weight,
 // and a solid under uniform pressure (no gravity), both against closed forms, with error bounds
 // (~1.3x the measured error on the finer mesh) and observed orders of convergence (bounds ~0.75x
 // the measured order), asserted separately for the row of elements along the box's edges and the

@@ -1,4 +1,4 @@
-// Kelvin point force outside a box (DESIGN.md §8): the exact field's traces are prescribed on the
+// Kelvin point force outside a box (docs/design.md §8): the exact field's traces are prescribed on the
 // box (u at centroids, sigma(centroid) . n), the BEM solves for the rest; Dirichlet, Neumann and
 // mixed problems, each with error bounds and observed orders of convergence between two meshes
 // (h = 0.3 and 0.2), asserted separately for the row of elements along the box's edges and for

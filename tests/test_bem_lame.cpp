@@ -1,4 +1,4 @@
-// Lamé's thick hollow sphere under inner and outer pressure (DESIGN.md §8): two closed shells,
+// Lamé's thick hollow sphere under inner and outer pressure (docs/design.md §8): two closed shells,
 // the cavity's normals pointing into the cavity (out of the material). No edges: the observed order
 // between subdivision levels 1 and 2 (h halves) is asserted (bound ~0.75x the measured order), and
 // the finer error (bound ~1.3x measured).

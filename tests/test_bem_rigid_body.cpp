@@ -1,5 +1,5 @@
 // Rigid-body identity: a rigid translation gives zero traction, so the blocks of every row of H
-// sum to zero (DESIGN.md §4). H's diagonal is computed directly (1/2 I + principal value), so the
+// sum to zero (docs/design.md §4). H's diagonal is computed directly (1/2 I + principal value), so the
 // residual is an honest measure of the whole quadrature (far, near and self rules together).
 #include <catch2/catch.hpp>
 

@@ -78,8 +78,8 @@ TEST_CASE("uniform pressure: steel on a 1 mm cube matches E = 1 on a unit cube (
 TEST_CASE("uniform pressure with rollers: scale-invariant by LU and by block-Jacobi GMRES", "[bem][scaling]") {
   LinearSolverSettings lu;
   LinearSolverSettings gmres;
-  gmres.method = "gmres";
-  gmres.preconditioner = "block_jacobi";
+  gmres.method = SolverMethod::Gmres;
+  gmres.preconditioner = PreconditionerKind::BlockJacobi;
   gmres.tolerance = 1e-13;
   RelativeErrors by_lu[2], by_gmres[2];
   int k = 0;

@@ -1,5 +1,5 @@
 // The `bemsurg` program (docs/cli.md): exit codes, the exact output headers, one row per element,
-// a solved field that matches a closed form (a solid under uniform pressure, DESIGN.md §8:
+// a solved field that matches a closed form (a solid under uniform pressure, docs/design.md §8:
 // sigma = -p I, u = -p (1 - 2 nu) x / E), and bad scenes that fail with the key named.
 #include <catch2/catch.hpp>
 

@@ -1,4 +1,4 @@
-// Tests for exact capacitance-matrix contact (presolution/capacitance_contact.hpp, DESIGN.md §6)
+// Tests for exact capacitance-matrix contact (presolution/capacitance_contact.hpp, docs/design.md §6)
 // and the paper's look-up tables (presolution/paper_lookup_table.hpp, Wang et al. 2007 eq. 10):
 // against a full re-solve of the BEM system with the contacted elements' displacements prescribed.
 #include <algorithm>

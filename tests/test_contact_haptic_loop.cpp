@@ -1,4 +1,4 @@
-// Tests for the haptic hand-over (haptics/triple_buffer.hpp, haptics/haptic_device.hpp; DESIGN.md
+// Tests for the haptic hand-over (haptics/triple_buffer.hpp, haptics/haptic_device.hpp; docs/design.md
 // §6): snapshots cross threads whole and in order without locks, and the null device works.
 #include <array>
 #include <atomic>

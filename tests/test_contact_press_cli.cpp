@@ -1,4 +1,4 @@
-// Tests for `bemsurg press` (src/cli/press_command.cpp, DESIGN.md §6): the outputs' format and the
+// Tests for `bemsurg press` (src/cli/press_command.cpp, docs/design.md §6): the outputs' format and the
 // physics they carry (force against the tractions in elements.csv), and clear refusals.
 #include <catch2/catch.hpp>
 

@@ -1,4 +1,4 @@
-// Tests for the surgical tools on exact contact (presolution/contact_tools.hpp, DESIGN.md §6):
+// Tests for the surgical tools on exact contact (presolution/contact_tools.hpp, docs/design.md §6):
 // Boussinesq's flat punch and Hertz's sphere on a large graded block (closed-form forces),
 // pinch sign reversal, plate retractor, two tools at once, unilateral release.
 #include <catch2/catch.hpp>

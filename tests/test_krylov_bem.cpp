@@ -187,8 +187,9 @@ TEST_CASE("block-Jacobi inverts the 3x3 diagonal blocks and names a singular one
 
 TEST_CASE("solve_linear_system dispatches to every method and reports", "[krylov][bem][dispatch]") {
   const BemSystem& s = base_system();
-  for (const std::string method : {"lu", "gmres", "bicgstab", "bicg"})
-    for (const std::string preconditioner : {"none", "block_jacobi", "near_field"}) {
+  for (const SolverMethod method : {SolverMethod::Lu, SolverMethod::Gmres, SolverMethod::BiCgStab, SolverMethod::BiCg})
+    for (const PreconditionerKind preconditioner :
+         {PreconditionerKind::None, PreconditionerKind::BlockJacobi, PreconditionerKind::NearField}) {
       LinearSolverSettings settings;
       settings.method = method;
       settings.preconditioner = preconditioner;
@@ -198,22 +199,22 @@ TEST_CASE("solve_linear_system dispatches to every method and reports", "[krylov
       const auto started = std::chrono::steady_clock::now();
       const Eigen::VectorXd x = solve_linear_system(s.A, s.b, settings, summary, &s.mesh);
       const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-      INFO(method << " / " << preconditioner << ": " << summary.status << ", " << summary.iterations << " iterations");
+      INFO(to_string(method) << " / " << to_string(preconditioner) << ": " << to_string(summary.status) << ", " << summary.iterations << " iterations");
       CHECK(summary.method == method);
       // Setup (factorisation or preconditioner) and solve follow each other inside the call.
       CHECK(summary.solve_seconds > 0.0);
       CHECK(summary.setup_seconds + summary.solve_seconds <= wall);
-      CHECK(summary.status == "converged");
+      CHECK(summary.status == KrylovStatus::Converged);
       CHECK(summary.relative_residual == Approx((s.b - s.A * x).norm() / s.b.norm()).epsilon(1e-6));
-      CHECK(summary.relative_residual <= (method == "lu" ? 1e-12 : settings.tolerance));
+      CHECK(summary.relative_residual <= (method == SolverMethod::Lu ? 1e-12 : settings.tolerance));
       CHECK(error_vs_lu(s, x) <= s.lu_condition * settings.tolerance);
-      if (method == "lu") {
+      if (method == SolverMethod::Lu) {
         CHECK(summary.iterations == 0);
         break;  // the preconditioner does not apply to LU
       }
       CHECK(summary.iterations > 0);
       CHECK(summary.residual_history.size() >= 2);
-      if (preconditioner == "near_field") {
+      if (preconditioner == PreconditionerKind::NearField) {
         CHECK(summary.preconditioner_fill >= 1.0 - 1e-12);
         CHECK(summary.preconditioner_nonzeros > 0);
         CHECK(summary.setup_seconds > 0.0);
@@ -224,24 +225,29 @@ TEST_CASE("solve_linear_system dispatches to every method and reports", "[krylov
 TEST_CASE("solve_linear_system throws on failure after filling the summary", "[krylov][dispatch]") {
   const BemSystem& s = base_system();
   LinearSolverSettings settings;
-  settings.method = "gmres";
+  settings.method = SolverMethod::Gmres;
   settings.max_iterations = 3;
   LinearSolveSummary summary;
   CHECK_THROWS_WITH(solve_linear_system(s.A, s.b, settings, summary),
                     Catch::Contains("iteration_limit") && Catch::Contains("3 iterations") && Catch::Contains("residual"));
-  CHECK(summary.status == "iteration_limit");
+  CHECK(summary.status == KrylovStatus::IterationLimit);
   CHECK(summary.iterations == 3);
   CHECK(summary.relative_residual > settings.tolerance);
 
   settings.max_iterations = 100;
-  settings.method = "cg";
-  CHECK_THROWS_WITH(solve_linear_system(s.A, s.b, settings, summary), Catch::Contains("unknown solver method 'cg'"));
-  settings.method = "bicg";
-  settings.preconditioner = "ilu";
-  CHECK_THROWS_WITH(solve_linear_system(s.A, s.b, settings, summary), Catch::Contains("unknown preconditioner 'ilu'"));
-  settings.preconditioner = "near_field";
+  // Names are parsed at the edges (scene files); an out-of-range enum value is still refused.
+  CHECK_THROWS_WITH(parse_solver_method("cg"), Catch::Contains("unknown solver method 'cg'"));
+  CHECK_THROWS_WITH(parse_preconditioner("ilu"), Catch::Contains("unknown preconditioner 'ilu'"));
+  CHECK(parse_solver_method("bicgstab") == SolverMethod::BiCgStab);
+  CHECK(parse_preconditioner("near_field") == PreconditionerKind::NearField);
+  settings.method = static_cast<SolverMethod>(42);
+  CHECK_THROWS_WITH(solve_linear_system(s.A, s.b, settings, summary), Catch::Contains("unknown solver method 42"));
+  settings.method = SolverMethod::BiCg;
+  settings.preconditioner = static_cast<PreconditionerKind>(7);
+  CHECK_THROWS_WITH(solve_linear_system(s.A, s.b, settings, summary), Catch::Contains("unknown preconditioner value 7"));
+  settings.preconditioner = PreconditionerKind::NearField;
   CHECK_THROWS_WITH(solve_linear_system(s.A, s.b, settings, summary), Catch::Contains("needs the mesh"));
-  settings.preconditioner = "none";
+  settings.preconditioner = PreconditionerKind::None;
   settings.restart = -1;
   CHECK_THROWS_WITH(solve_linear_system(s.A, s.b, settings, summary), Catch::Contains("restart"));
   settings.restart = 0;
@@ -252,5 +258,5 @@ TEST_CASE("solve_linear_system throws on failure after filling the summary", "[k
   Eigen::MatrixXd singular = s.A;
   singular.col(7).setZero();
   CHECK_THROWS_WITH(solve_linear_system(singular, s.b, lu, summary), Catch::Contains("singular"));
-  CHECK(summary.status == "breakdown");
+  CHECK(summary.status == KrylovStatus::Breakdown);
 }

@@ -1,4 +1,4 @@
-// test_krylov_workspace.cpp: the Krylov iteration loops allocate nothing (issue 4, item 5): once
+// test_krylov_workspace.cpp: the Krylov iteration loops allocate nothing: once
 // a solver object has solved a system of one size, solving it again (a new right-hand side or a
 // warm start, as after each cut in Wang et al. 2007 §5.3) makes no heap allocation at all, with any
 // preconditioner. Counted by tests/support/allocation_counter.hpp, which

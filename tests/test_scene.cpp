@@ -73,11 +73,11 @@ TEST_CASE("a well-formed scene loads with the values it states", "[scene]") {
   CHECK(s.problem.material.poisson_ratio == 0.3);
   CHECK(s.problem.material.density == 1000.0);
   CHECK(s.problem.gravity.isApprox(Eigen::Vector3d(0, 0, -9.81)));
-  CHECK(s.solver.method == "gmres");
+  CHECK(s.solver.method == SolverMethod::Gmres);
   CHECK(s.solver.tolerance == 1e-8);
   CHECK(s.solver.max_iterations == 77);
   CHECK(s.solver.restart == 30);
-  CHECK(s.solver.preconditioner == "block_jacobi");
+  CHECK(s.solver.preconditioner == PreconditionerKind::BlockJacobi);
   REQUIRE(s.has_interior_points);
   REQUIRE(s.interior_points.rows() == 2);
   CHECK(s.interior_points(1, 2) == 0.75);
@@ -96,8 +96,8 @@ TEST_CASE("a well-formed scene loads with the values it states", "[scene]") {
 
 TEST_CASE("defaults: traction-free elements, LU solver, no gravity, no interior points", "[scene]") {
   const Scene s = load_scene_from_string(scene(kCube, kMaterial, kFixBottom), ".");
-  CHECK(s.solver.method == "lu");
-  CHECK(s.solver.preconditioner == "block_jacobi");
+  CHECK(s.solver.method == SolverMethod::Lu);
+  CHECK(s.solver.preconditioner == PreconditionerKind::BlockJacobi);
   CHECK(s.problem.gravity.isZero(0.0));
   CHECK_FALSE(s.has_interior_points);
   CHECK(s.interior_points.rows() == 0);

@@ -1,4 +1,4 @@
-// Tests for saving and loading Green's-function tables (presolution/table_file.hpp, DESIGN.md §6):
+// Tests for saving and loading Green's-function tables (presolution/table_file.hpp, docs/design.md §6):
 // exact round trip; stale (other mesh, material, supports) and corrupt files are rejected.
 #include <catch2/catch.hpp>
 #include <cstdio>
@@ -62,7 +62,7 @@ TEST_CASE("table files round-trip exactly and reject stale or corrupt files", "[
   CHECK_THROWS_WITH(load_greens_table(path, key), Catch::Contains("corrupt") && Catch::Contains("checksum"));
   save_greens_table(path, table);
   std::filesystem::resize_file(path, std::filesystem::file_size(path) - 100);
-  CHECK_THROWS_AS(load_greens_table(path, key), ResourceError);
+  CHECK_THROWS_AS(load_greens_table(path, key), IoError);
   {
     std::ofstream junk(path, std::ios::binary | std::ios::trunc);
     junk << "not a table at all";

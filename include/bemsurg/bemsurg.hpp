@@ -1,8 +1,11 @@
 // bemsurg/bemsurg.hpp: everything in one include. Module headers (bemsurg/mesh/..., kernels/...,
-// assembly/..., solvers/..., post/...) can be included on their own for faster builds.
+// assembly/..., solvers/..., post/...) can be included on their own for faster builds. The test
+// oracles (bemsurg/verification/reference_solutions.hpp) are not part of it: include them yourself.
 #pragma once
 
 #include "bemsurg/version.hpp"
+#include "bemsurg/types.hpp"
+#include "bemsurg/timing.hpp"
 #include "bemsurg/error.hpp"
 #include "bemsurg/material.hpp"
 #include "bemsurg/mesh/triangle_mesh.hpp"
@@ -18,10 +21,10 @@
 #include "bemsurg/assembly/influence_assembler.hpp"
 #include "bemsurg/assembly/linear_system.hpp"
 #include "bemsurg/solvers/dense_lu.hpp"
+#include "bemsurg/solvers/lu_in_place.hpp"
 #include "bemsurg/solvers/linear_solve.hpp"
 #include "bemsurg/elastostatic_solver.hpp"
 #include "bemsurg/post/interior_evaluator.hpp"
-#include "bemsurg/verification/reference_solutions.hpp"
 #include "bemsurg/mesh/bvh.hpp"
 #include "bemsurg/presolution/greens_table.hpp"
 #include "bemsurg/presolution/capacitance_contact.hpp"

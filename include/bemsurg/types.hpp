@@ -9,7 +9,6 @@ namespace bemsurg {
 
 using Index = Eigen::Index;
 using Vec3 = Eigen::Vector3d;
-using Mat3 = Eigen::Matrix3d;
 /// One row per vertex or per element, columns x, y, z.
 using RowMatrixX3d = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
 using RowMatrixX3i = Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>;

@@ -1,6 +1,6 @@
 // `bemsurg press SCENE.json --tool point|flat:RADIUS|sphere:RADIUS --at X,Y,Z --direction DX,DY,DZ
 // --depth D [--frictionless] -o OUTDIR`: one tool pressed into a scene through the pre-solution
-// table and exact capacitance contact (DESIGN.md §6; Wang et al. 2007 §5.1-5.2). The tool comes
+// table and exact capacitance contact (docs/design.md §6; Wang et al. 2007 §5.1-5.2). The tool comes
 // down along the direction onto the self-weight surface near X,Y,Z and pushes D beyond first
 // contact. Writes OUTDIR/elements.csv (as `bemsurg solve`) and OUTDIR/force.json.
 #include <algorithm>
@@ -20,12 +20,13 @@
 #include "bemsurg/presolution/contact_tools.hpp"
 #include "bemsurg/presolution/greens_table.hpp"
 #include "bemsurg/presolution/table_file.hpp"
+#include "bemsurg/timing.hpp"
 #include "commands.hpp"
 
 namespace {
 
 using bemsurg::cli::UsageError;
-using Clock = std::chrono::steady_clock;
+using bemsurg::SteadyClock;
 
 constexpr const char* kPressUsage =
     "usage: bemsurg press SCENE.json --tool point|flat:RADIUS|sphere:RADIUS --at X,Y,Z\n"
@@ -158,7 +159,7 @@ int run_press(int argc, char** argv) {
     std::cout << kPressUsage;
     return 0;
   }
-  const auto t_start = Clock::now();
+  const auto t_start = SteadyClock::now();
   const bemsurg::Scene scene = bemsurg::load_scene(o.scene);
   if (!o.quiet)
     for (const auto& w : scene.warnings) std::cerr << "bemsurg: warning: " << w << "\n";
@@ -206,10 +207,10 @@ int run_press(int argc, char** argv) {
   us.reserve(reps);
   volatile double sink = 0.0;
   for (int r = 0; r < reps; ++r) {
-    const auto t0 = Clock::now();
+    const auto t0 = SteadyClock::now();
     for (bemsurg::Index a = 0; a < contact.num_rows(); ++a) contact.set_target(a, targets[static_cast<std::size_t>(a)]);
     sink = sink + contact.force_for_targets()(2);
-    us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count());
+    us.push_back(std::chrono::duration<double, std::micro>(SteadyClock::now() - t0).count());
   }
   std::nth_element(us.begin(), us.begin() + reps / 2, us.end());
   const double force_update_us = us[reps / 2];
@@ -240,7 +241,7 @@ int run_press(int argc, char** argv) {
                 {"assembly_seconds", table.timings().assembly_seconds},
                 {"factorization_seconds", table.timings().factorization_seconds},
                 {"table_seconds", table.timings().table_seconds}};
-  j["total_seconds"] = std::chrono::duration<double>(Clock::now() - t_start).count();
+  j["total_seconds"] = bemsurg::seconds_since(t_start);
   const std::string json_path = (std::filesystem::path(o.output) / "force.json").string();
   std::ofstream js(json_path);
   if (!js) throw bemsurg::IoError("cannot write " + json_path);

@@ -1,5 +1,5 @@
 // `bemsurg solve SCENE.json -o OUTDIR`: load a scene, solve the elastostatic boundary value
-// problem (Wang et al. 2007 eq. 6; DESIGN.md §5), evaluate interior points (eqs. 7-9) and write
+// problem (Wang et al. 2007 eq. 6; docs/design.md §5), evaluate interior points (eqs. 7-9) and write
 // elements.csv, interior.csv, surface.vtk and report.json (docs/cli.md, docs/scene-format.md).
 #include <chrono>
 #include <filesystem>
@@ -11,12 +11,11 @@
 #include "bemsurg/io/results_io.hpp"
 #include "bemsurg/io/scene.hpp"
 #include "bemsurg/post/interior_evaluator.hpp"
+#include "bemsurg/timing.hpp"
 #include "commands.hpp"
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double seconds_between(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); }
 
 constexpr const char* kSolveUsage =
     "usage: bemsurg solve SCENE.json -o OUTDIR [--quiet]\n"
@@ -78,11 +77,11 @@ int run_solve(int argc, char** argv) {
     std::cout << kSolveUsage;
     return 0;
   }
-  const Clock::time_point start = Clock::now();
+  const SteadyClock::time_point start = SteadyClock::now();
 
   const Scene scene = load_scene(options.scene);
   for (const std::string& w : scene.warnings) std::cerr << "bemsurg: warning: " << options.scene << ": " << w << "\n";
-  const Clock::time_point loaded = Clock::now();
+  const SteadyClock::time_point loaded = SteadyClock::now();
 
   // Create the output directory before the (possibly long) solve, so a bad path fails at once.
   namespace fs = std::filesystem;
@@ -95,10 +94,10 @@ int run_solve(int argc, char** argv) {
   if (!options.quiet)
     std::cout << "bemsurg solve: " << scene.problem.mesh.num_elements() << " elements, "
               << scene.problem.mesh.num_dofs() << " equations, mesh " << scene.mesh_source << ", solver "
-              << scene.solver.method << std::endl;
+              << to_string(scene.solver.method) << std::endl;
 
   const ElastostaticSolution solution = solve_elastostatic(scene.problem, scene.solver);
-  const Clock::time_point solved = Clock::now();
+  const SteadyClock::time_point solved = SteadyClock::now();
 
   const fs::path out(options.output);
   if (scene.has_interior_points) {
@@ -110,7 +109,7 @@ int run_solve(int argc, char** argv) {
   }
   write_elements_csv((out / "elements.csv").string(), scene.problem.mesh, solution.boundary);
   write_solution_vtk((out / "surface.vtk").string(), scene.problem.mesh, solution.boundary);
-  const Clock::time_point finished = Clock::now();
+  const SteadyClock::time_point finished = SteadyClock::now();
 
   RunReport report;
   report.scene = options.scene;
@@ -130,7 +129,7 @@ int run_solve(int argc, char** argv) {
 
   if (!options.quiet) {
     const LinearSolveSummary& s = solution.report.solver;
-    std::cout << std::setprecision(3) << "  solver " << s.method << " (" << s.preconditioner << "): " << s.status << ", "
+    std::cout << std::setprecision(3) << "  solver " << to_string(s.method) << " (" << to_string(s.preconditioner) << "): " << to_string(s.status) << ", "
               << s.iterations << " iterations, relative residual " << s.relative_residual << "\n"
               << "  time: load " << report.timings.load << " s, assembly " << report.timings.assembly << " s, system "
               << report.timings.system << " s, solve " << report.timings.solve << " s, post " << report.timings.post

@@ -118,10 +118,10 @@ void write_report_json(const std::string& path, const RunReport& report) {
                   {"system", number(report.timings.system)},   {"solve", number(report.timings.solve)},
                   {"post", number(report.timings.post)},       {"total", number(report.timings.total)}};
   j["peak_memory_mb"] = number(report.peak_memory_mb);
-  j["solver"] = {{"method", report.solver.method},
-                 {"preconditioner", report.solver.preconditioner},
+  j["solver"] = {{"method", to_string(report.solver.method)},
+                 {"preconditioner", to_string(report.solver.preconditioner)},
                  {"iterations", report.solver.iterations},
-                 {"status", report.solver.status},
+                 {"status", to_string(report.solver.status)},
                  {"relative_residual", number(report.solver.relative_residual)},
                  {"setup_seconds", number(report.solver.setup_seconds)},
                  {"solve_seconds", number(report.solver.solve_seconds)}};

@@ -1,5 +1,5 @@
 // Scene files (bemsurg/io/scene.hpp, docs/scene-format.md): JSON and CSV in, a checked
-// ElastostaticProblem out. Boundary conditions follow DESIGN.md §5 (per element and component,
+// ElastostaticProblem out. Boundary conditions follow docs/design.md §5 (per element and component,
 // u or t prescribed; pressure p means t = -p n). Every check throws SceneError whose message starts
 // with the key path ("boundary_conditions.rules[1].select.plane.normal") or the file and line.
 #include "bemsurg/io/scene.hpp"
@@ -379,9 +379,12 @@ LinearSolverSettings load_solver(const json& s, std::vector<std::string>& warnin
                     {"method", "tolerance", "max_iterations", "restart", "preconditioner", "near_field_radius"}, warnings);
   LinearSolverSettings out;
   if (const json* v = optional(s, "method")) {
-    out.method = as_string(*v, "solver.method");
-    if (out.method != "lu" && out.method != "gmres" && out.method != "bicgstab" && out.method != "bicg")
-      fail("solver.method", "unknown method '" + out.method + "' (expected lu, gmres, bicgstab or bicg)");
+    const std::string name = as_string(*v, "solver.method");
+    try {
+      out.method = parse_solver_method(name);
+    } catch (const SolverError&) {
+      fail("solver.method", "unknown method '" + name + "' (expected lu, gmres, bicgstab or bicg)");
+    }
   }
   if (const json* v = optional(s, "tolerance")) {
     out.tolerance = as_number(*v, "solver.tolerance");
@@ -393,10 +396,12 @@ LinearSolverSettings load_solver(const json& s, std::vector<std::string>& warnin
   if (const json* v = optional(s, "max_iterations")) out.max_iterations = as_int_in(*v, "solver.max_iterations", 1, 1000000);
   if (const json* v = optional(s, "restart")) out.restart = as_int_in(*v, "solver.restart", 0, 100000000);
   if (const json* v = optional(s, "preconditioner")) {
-    out.preconditioner = as_string(*v, "solver.preconditioner");
-    if (out.preconditioner != "none" && out.preconditioner != "block_jacobi" && out.preconditioner != "near_field")
-      fail("solver.preconditioner",
-           "unknown preconditioner '" + out.preconditioner + "' (expected none, block_jacobi or near_field)");
+    const std::string name = as_string(*v, "solver.preconditioner");
+    try {
+      out.preconditioner = parse_preconditioner(name);
+    } catch (const SolverError&) {
+      fail("solver.preconditioner", "unknown preconditioner '" + name + "' (expected none, block_jacobi or near_field)");
+    }
   }
   if (const json* v = optional(s, "near_field_radius")) {
     // In element diameters: a few is typical; beyond 100 every pair of a practical mesh is near,

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "bemsurg/error.hpp"
+#include "bemsurg/timing.hpp"
 
 namespace bemsurg {
 
@@ -58,8 +59,7 @@ Eigen::Index NearFieldPreconditioner::rows() const { return factor_ ? factor_->n
 const NearFieldStatistics& NearFieldPreconditioner::statistics() const { return statistics_; }
 
 NearFieldPreconditioner& NearFieldPreconditioner::compute(const Eigen::MatrixXd& A, const TriangleMesh& mesh, double radius) {
-  using Clock = std::chrono::steady_clock;
-  const auto start = Clock::now();
+  const auto start = SteadyClock::now();
   const Index E = mesh.num_elements();
   if (A.rows() != A.cols() || A.rows() != 3 * E)
     throw SolverError("near-field preconditioner: the matrix is " + std::to_string(A.rows()) + " x " +
@@ -117,7 +117,7 @@ NearFieldPreconditioner& NearFieldPreconditioner::compute(const Eigen::MatrixXd&
         }
     }
   f->column_starts[static_cast<std::size_t>(f->n)] = static_cast<int>(k);
-  const auto selected = Clock::now();
+  const auto selected = SteadyClock::now();
 
   f->control[UMFPACK_IRSTEP] = 0;  // refining against the near-field matrix would not bring M^-1 closer to A^-1
   double info[UMFPACK_INFO];
@@ -138,7 +138,7 @@ NearFieldPreconditioner& NearFieldPreconditioner::compute(const Eigen::MatrixXd&
   umfpack_di_get_lunz(&lnz, &unz, &n_row, &n_col, &nz_udiag, f->numeric);
   f->wi.resize(static_cast<std::size_t>(f->n));
   f->w.resize(5 * static_cast<std::size_t>(f->n));
-  const auto factored = Clock::now();
+  const auto factored = SteadyClock::now();
 
   NearFieldStatistics s;
   s.radius = radius;
@@ -148,9 +148,9 @@ NearFieldPreconditioner& NearFieldPreconditioner::compute(const Eigen::MatrixXd&
   // L has a unit diagonal that UMFPACK counts in lnz and U's diagonal is in unz: count it once.
   s.factor_nonzeros = static_cast<Index>(lnz) + unz - f->n;
   s.fill = static_cast<double>(s.factor_nonzeros) / static_cast<double>(k);
-  s.selection_seconds = std::chrono::duration<double>(selected - start).count();
-  s.factor_seconds = std::chrono::duration<double>(factored - selected).count();
-  s.build_seconds = std::chrono::duration<double>(factored - start).count();
+  s.selection_seconds = seconds_between(start, selected);
+  s.factor_seconds = seconds_between(selected, factored);
+  s.build_seconds = seconds_between(start, factored);
   factor_ = std::move(f);
   statistics_ = s;
   return *this;

@@ -9,7 +9,8 @@
 #
 # Inputs (-D): PROGRAMS_FILE (lines "prefix<TAB>program path", written by tests/CMakeLists.txt),
 # CTEST_COMMAND, BUILD_DIR (where ctest lists the tests), SELF (this check's own ctest name).
-# Benchmark smoke tests (label "smoke") and this check with its self-test (label "test_count") are
+# Benchmark smoke tests (label "smoke"), examples run as tests (label "example") and this check
+# with its self-test (label "test_count") are
 # not Catch2 cases and are left out (ctest -LE).
 cmake_minimum_required(VERSION 3.20)
 
@@ -76,7 +77,7 @@ foreach(line IN LISTS program_lines)
 endforeach()
 
 # 2. What ctest runs (benchmark smoke tests and the test_count checks left out).
-execute_process(COMMAND "${CTEST_COMMAND}" -N -LE "^(smoke|test_count)$" WORKING_DIRECTORY "${BUILD_DIR}"
+execute_process(COMMAND "${CTEST_COMMAND}" -N -LE "^(smoke|example|test_count)$" WORKING_DIRECTORY "${BUILD_DIR}"
                 OUTPUT_VARIABLE ctest_text RESULT_VARIABLE rc ERROR_VARIABLE err)
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "check_test_count.cmake: 'ctest -N' failed (${rc}):\n${err}")

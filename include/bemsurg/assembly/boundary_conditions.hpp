@@ -1,4 +1,4 @@
-// bemsurg/assembly/boundary_conditions.hpp: what is prescribed on each element (DESIGN.md §5).
+// bemsurg/assembly/boundary_conditions.hpp: what is prescribed on each element (docs/design.md §5).
 // Per element and per global component x, y, z either the displacement or the traction is given;
 // the other one is the unknown. Degree of freedom k = 3 e + c (element e, component c).
 #pragma once

@@ -1,5 +1,5 @@
 // bemsurg/haptics/haptic_device.hpp: the one abstract haptic device the simulation talks to
-// (Wang et al. 2007 §6 used a PHANToM at about 1 kHz; DESIGN.md §1 "haptics" module), and a
+// (Wang et al. 2007 §6 used a PHANToM at about 1 kHz; docs/design.md §1 "haptics" module), and a
 // NullDevice so every program runs without hardware (CHAI3D's habit). A missing device is
 // reported with the reason, never as a silent "zero devices".
 #pragma once

@@ -1,5 +1,5 @@
 // bemsurg/haptics/triple_buffer.hpp: lock-free single-producer / single-consumer hand-over of a
-// snapshot between threads running at different rates (DESIGN.md §6: the haptic path reads
+// snapshot between threads running at different rates (docs/design.md §6: the haptic path reads
 // immutable snapshots; SOFA publishes its contact operator the same way).
 //
 // Three slots: the writer fills its back slot and publish()es it (one atomic exchange); the reader

@@ -1,9 +1,9 @@
 // bemsurg/io/element_selector.hpp: pick boundary elements by geometry instead of by index, so a
 // scene can say "fix the bottom face" without listing face numbers that change with the mesh
-// (DESIGN.md §5: boundary conditions are prescribed per element; docs/scene-format.md, selectors).
+// (docs/design.md §5: boundary conditions are prescribed per element; docs/scene-format.md, selectors).
 //
 // Every test is made on the element's centroid and unit normal (constant elements have one
-// collocation node, at the centroid, DESIGN.md §2), so "on the plane" means "centroid within
+// collocation node, at the centroid, docs/design.md §2), so "on the plane" means "centroid within
 // `tolerance` of the plane" and a selector never splits an element.
 #pragma once
 

@@ -1,5 +1,5 @@
 // bemsurg/io/results_io.hpp: what `bemsurg solve` writes (docs/scene-format.md, "Outputs"):
-// elements.csv (per element geometry with prescribed and solved boundary values, DESIGN.md §2 and
+// elements.csv (per element geometry with prescribed and solved boundary values, docs/design.md §2 and
 // §5), interior.csv (Somigliana displacement and stress at interior points, Wang et al. 2007 eqs.
 // 7-9), surface.vtk (the same fields for a viewer) and report.json (size, timings, memory, solver).
 //

@@ -1,7 +1,7 @@
 // bemsurg/io/scene.hpp: a scene file (JSON) read into a ready-to-solve elastostatic problem:
 // mesh (file or generator), material, gravity, boundary conditions (rules and/or a CSV file),
 // linear-solver settings and optional interior points. The format is specified key by key in
-// docs/scene-format.md; the physics it feeds is DESIGN.md §2-§5 (Wang et al. 2007, eq. 6).
+// docs/scene-format.md; the physics it feeds is docs/design.md §2-§5 (Wang et al. 2007, eq. 6).
 //
 // Every error is a SceneError whose message starts with the JSON key path or the file and line
 // that is wrong, e.g. "material.poisson_ratio: expected a number, got a string" or

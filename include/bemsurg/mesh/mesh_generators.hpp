@@ -1,6 +1,6 @@
 // bemsurg/mesh/mesh_generators.hpp: closed, outward-oriented meshes of simple solids.
 //
-// The closed-form test problems (DESIGN.md §8) need boxes, spheres, ellipsoids and hollow
+// The closed-form test problems (docs/design.md §8) need boxes, spheres, ellipsoids and hollow
 // spheres whose refinement is controlled, and the contact problems need a block that is fine
 // under the tool and coarse elsewhere. Every generator returns a mesh that validate_mesh accepts:
 // closed, 2-manifold, normals out of the material, welded (shared vertices along box edges).
@@ -49,7 +49,7 @@ TriangleMesh ellipsoid_mesh(const Vec3& center, const Vec3& semi_axes, int subdi
 
 /// Hollow sphere (material between inner_radius and outer_radius): an outward outer shell
 /// (faces first) and an inner shell with reversed faces, whose normals point into the cavity,
-/// i.e. out of the material (DESIGN.md §2). Two shells; the Lamé test problem of DESIGN.md §8.
+/// i.e. out of the material (docs/design.md §2). Two shells; the Lamé test problem of docs/design.md §8.
 TriangleMesh hollow_sphere_mesh(const Vec3& center, double inner_radius, double outer_radius, int subdivisions_inner,
                                 int subdivisions_outer);
 

@@ -1,4 +1,4 @@
-// bemsurg/mesh/mesh_validation.hpp: is this surface a usable BEM boundary (DESIGN.md §2)?
+// bemsurg/mesh/mesh_validation.hpp: is this surface a usable BEM boundary (docs/design.md §2)?
 //
 // The BEM needs closed, 2-manifold, consistently oriented shells with normals out of the
 // material and no degenerate elements; anything else gives a singular or silently wrong

@@ -1,4 +1,4 @@
-// bemsurg/mesh/triangle_mesh.hpp: the surface of the body as flat triangles (DESIGN.md §2).
+// bemsurg/mesh/triangle_mesh.hpp: the surface of the body as flat triangles (docs/design.md §2).
 //
 // Conventions: faces list vertex indices counter-clockwise seen from outside the material, so the
 // right-hand-rule normal points out of the material. Each face is one constant boundary element
@@ -81,7 +81,7 @@ class TriangleMesh {
   }
 
   /// Vertex values for drawing from per-element values: area-weighted average of the elements
-  /// that share each vertex (DESIGN.md §2).
+  /// that share each vertex (docs/design.md §2).
   RowMatrixX3d element_to_vertex(const RowMatrixX3d& element_values) const {
     RowMatrixX3d out = RowMatrixX3d::Zero(num_vertices(), 3);
     Eigen::VectorXd weight = Eigen::VectorXd::Zero(num_vertices());

@@ -1,5 +1,5 @@
 // bemsurg/presolution/capacitance_contact.hpp: exact contact on any set of elements at once by the
-// capacitance-matrix method (James & Pai, ArtDefo, SIGGRAPH 1999; DESIGN.md §6), on top of the
+// capacitance-matrix method (James & Pai, ArtDefo, SIGGRAPH 1999; docs/design.md §6), on top of the
 // compliance table of greens_table.hpp. It replaces the paper's superposition of single-node
 // tables (Wang et al. 2007 eq. 10), which is exact for one touched node only.
 //

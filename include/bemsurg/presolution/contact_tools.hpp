@@ -1,5 +1,5 @@
 // bemsurg/presolution/contact_tools.hpp: surgical tools as contact constraints on the compliance
-// table (DESIGN.md §6; Wang et al. 2007 §5.1-5.2: prodding, pinching, retraction), solved exactly
+// table (docs/design.md §6; Wang et al. 2007 §5.1-5.2: prodding, pinching, retraction), solved exactly
 // and together by capacitance_contact.hpp, several tools at once (two hands).
 //
 // Every tool is engaged at first contact with the base-state (self-weight) surface and then moved
@@ -143,7 +143,7 @@ class ToolContactSolver {
   bool geometric_contact(const Tool& t, Index e, Eigen::Vector3d& push, Eigen::Vector3d& row_direction) const;
   void collect_candidates(Tool& t);
   void add_element_rows(const Tool& t, int tag, Index e, const Eigen::Vector3d& row_direction);
-  void set_targets(int unused);
+  void set_targets();
   void rollback_additions();  // after a failed addition: unclaim the elements in add_buffer_
 
   const TriangleMesh& mesh_;

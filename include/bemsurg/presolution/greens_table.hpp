@@ -1,5 +1,5 @@
 // bemsurg/presolution/greens_table.hpp: the compliance Green's-function table of a supported body
-// (DESIGN.md §6; Wang et al. 2007 §5.1, the pre-solutions that make BEM real-time).
+// (docs/design.md §6; Wang et al. 2007 §5.1, the pre-solutions that make BEM real-time).
 //
 // Base state: the scene's boundary conditions (typically supported elements S with u = 0 and free
 // elements F with t = 0) plus gravity, solved once: u_g, t_g. With the one factorisation of A*
@@ -9,7 +9,8 @@
 // so its memory is n x 3|region| (n = 3E): "model no more than a scene needs".
 //
 // Storage is column-major with one column per region dof: a contact lookup reads whole columns,
-// which is contiguous (BUILD-NOTES.md: reading rows of a column-major table is 100x slower).
+// which is contiguous (measured here: three columns ~1 us, three rows of a column-major
+// n = 4752 table ~100 us).
 // Rows of displacement-prescribed dofs hold the prescribed change, zero.
 #pragma once
 
@@ -62,7 +63,7 @@ std::uint64_t hash_quadrature(const QuadratureOptions& q);
 GreensTableKey make_greens_table_key(const TriangleMesh& mesh, const Material& material, const BoundaryConditions& base,
                                      const Eigen::Vector3d& gravity, const QuadratureOptions& quadrature);
 
-/// Base boundary conditions of DESIGN.md §6: `supported` elements held (u = 0), the rest free.
+/// Base boundary conditions of docs/design.md §6: `supported` elements held (u = 0), the rest free.
 BoundaryConditions supported_base_conditions(Index num_elements, const std::vector<Index>& supported);
 
 class GreensTable {

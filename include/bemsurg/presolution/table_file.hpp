@@ -1,4 +1,4 @@
-// bemsurg/presolution/table_file.hpp: saving and loading a Green's-function table (DESIGN.md §6),
+// bemsurg/presolution/table_file.hpp: saving and loading a Green's-function table (docs/design.md §6),
 // so the one-time precomputation (minutes at large n) is paid once per scene.
 //
 // Binary, little-endian as written by this machine. Header: magic "BEMSGTBL", format version,

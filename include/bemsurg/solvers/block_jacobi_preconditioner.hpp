@@ -1,5 +1,5 @@
 // bemsurg/solvers/block_jacobi_preconditioner.hpp: M = the 3x3 diagonal blocks of A* (one block
-// per constant element, DESIGN.md §2). In the swapped BEM system (Wang et al. 2007 eq. 6) a column
+// per constant element, docs/design.md §2). In the swapped BEM system (Wang et al. 2007 eq. 6) a column
 // is H's (dimensionless, ~1/2 on the diagonal) or -G's (~ size / shear modulus), so the scales of
 // the unknowns differ by orders of magnitude; inverting each element's own block undoes that and
 // the self-coupling, at O(n) cost per application.

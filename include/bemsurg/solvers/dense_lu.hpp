@@ -1,6 +1,6 @@
 // bemsurg/solvers/dense_lu.hpp: the direct solver, LU with partial pivoting of the dense A*.
 // With BEMSURG_HAVE_BLAS Eigen routes the factorisation to LAPACK's dgetrf (OpenBLAS, threaded),
-// about twice as fast on 2 cores (BUILD-NOTES.md). Shape as Eigen's solvers: compute, solve, info.
+// about twice as fast on 2 cores (docs/benchmarks.md). Shape as Eigen's solvers: compute, solve, info.
 #pragma once
 
 #include <Eigen/Core>

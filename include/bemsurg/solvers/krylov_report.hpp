@@ -1,4 +1,4 @@
-// bemsurg/solvers/krylov_report.hpp: what a Krylov solve says about itself (issue 4; the paper's
+// bemsurg/solvers/krylov_report.hpp: what a Krylov solve says about itself (the paper's
 // Table 1 reports iterations and CPU time of GMRES, BiCGStab and BiCG after a cut). A solver never
 // calls a wrong answer converged: "converged" means the residual b - A x, recomputed from x at the
 // end (not the recurrence's running estimate), met the tolerance.

@@ -19,6 +19,7 @@
 #include "bemsurg/solvers/identity_preconditioner.hpp"
 #include "bemsurg/solvers/krylov_report.hpp"
 #include "bemsurg/solvers/krylov_settings.hpp"
+#include "bemsurg/timing.hpp"
 
 namespace bemsurg {
 
@@ -58,7 +59,7 @@ class KrylovSolverBase {
   double error() const { return report_.true_residual; }
 
  protected:
-  using Clock = std::chrono::steady_clock;
+  using Clock = SteadyClock;
 
   Derived& derived() { return static_cast<Derived&>(*this); }
 
@@ -121,7 +122,7 @@ class KrylovSolverBase {
   void finish(KrylovStatus status, const char* quantity, Clock::time_point start) {
     report_.status = status;
     report_.breakdown = quantity;
-    report_.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    report_.seconds = seconds_since(start);
   }
 
   /// A scalar that is to be divided by has vanished: |value| <= tol * scale (or scale is zero).

@@ -7,25 +7,63 @@
 #include <string>
 #include <vector>
 
+#include "bemsurg/error.hpp"
 #include "bemsurg/mesh/triangle_mesh.hpp"
+#include "bemsurg/solvers/krylov_report.hpp"
 
 namespace bemsurg {
 
+/// The method for A* x = b: direct LU, or a Krylov method (the paper's Table 1 re-solves).
+enum class SolverMethod { Lu, Gmres, BiCgStab, BiCg };
+/// The preconditioner of a Krylov method (docs/solvers.md).
+enum class PreconditionerKind { None, BlockJacobi, NearField };
+
+/// Names as scene files and report.json write them: "lu", "gmres", "bicgstab", "bicg".
+inline const char* to_string(SolverMethod method) {
+  switch (method) {
+    case SolverMethod::Lu: return "lu";
+    case SolverMethod::Gmres: return "gmres";
+    case SolverMethod::BiCgStab: return "bicgstab";
+    case SolverMethod::BiCg: return "bicg";
+  }
+  return "unknown";
+}
+/// "none", "block_jacobi", "near_field".
+inline const char* to_string(PreconditionerKind kind) {
+  switch (kind) {
+    case PreconditionerKind::None: return "none";
+    case PreconditionerKind::BlockJacobi: return "block_jacobi";
+    case PreconditionerKind::NearField: return "near_field";
+  }
+  return "unknown";
+}
+/// The inverse of to_string; throws SolverError naming the name and the accepted ones.
+inline SolverMethod parse_solver_method(const std::string& name) {
+  for (SolverMethod m : {SolverMethod::Lu, SolverMethod::Gmres, SolverMethod::BiCgStab, SolverMethod::BiCg})
+    if (name == to_string(m)) return m;
+  throw SolverError("unknown solver method '" + name + "' (expected lu, gmres, bicgstab or bicg)");
+}
+inline PreconditionerKind parse_preconditioner(const std::string& name) {
+  for (PreconditionerKind k : {PreconditionerKind::None, PreconditionerKind::BlockJacobi, PreconditionerKind::NearField})
+    if (name == to_string(k)) return k;
+  throw SolverError("unknown preconditioner '" + name + "' (expected none, block_jacobi or near_field)");
+}
+
 struct LinearSolverSettings {
-  std::string method = "lu";            // "lu" | "gmres" | "bicgstab" | "bicg"
+  SolverMethod method = SolverMethod::Lu;
   double tolerance = 1e-10;             // relative residual ||b - A x|| / ||b|| for Krylov methods
   int max_iterations = 1000;
   int restart = 0;                      // GMRES(m) restart length; 0 = full GMRES
   // block_jacobi by default: A* mixes O(1) H columns with O(1/mu) G columns, and unpreconditioned
   // Krylov methods stall on that scaling (bench_krylov: GMRES(30) does not converge without it).
-  std::string preconditioner = "block_jacobi";  // "none" | "block_jacobi" | "near_field"
+  PreconditionerKind preconditioner = PreconditionerKind::BlockJacobi;
   double near_field_radius = 2.0;       // near-field preconditioner: element diameters
 };
 
 struct LinearSolveSummary {
-  std::string method;
-  std::string preconditioner;
-  std::string status = "converged";  // converged | iteration_limit | breakdown | stagnation | non_finite
+  SolverMethod method = SolverMethod::Lu;
+  PreconditionerKind preconditioner = PreconditionerKind::None;  // None for LU
+  KrylovStatus status = KrylovStatus::NotComputed;  // LU too: Converged, Breakdown (singular) or NonFinite
   int iterations = 0;                // 0 for LU
   double relative_residual = 0.0;    // true residual ||b - A x|| / ||b||, recomputed
   double setup_seconds = 0.0;        // factorisation or preconditioner build

@@ -1,4 +1,4 @@
-// bemsurg/verification/reference_solutions.hpp: closed-form elasticity fields (DESIGN.md §8) that
+// bemsurg/verification/reference_solutions.hpp: closed-form elasticity fields (docs/design.md §8) that
 // the tests and benchmarks/bench_accuracy compare the BEM against, and the helpers that turn a
 // field into boundary conditions ("exact traces": u at centroids, sigma(centroid) . n_facet) so
 // that only the BEM discretisation error is measured.
@@ -28,13 +28,6 @@ struct ElasticField {
   std::function<Eigen::Matrix3d(const Eigen::Vector3d&)> stress;
 };
 
-inline Eigen::Matrix3d hooke(const Material& m, const Eigen::Matrix3d& displacement_gradient) {
-  const Eigen::Matrix3d eps = 0.5 * (displacement_gradient + displacement_gradient.transpose());
-  Eigen::Matrix3d s = 2.0 * m.shear_modulus() * eps;
-  s.diagonal().array() += m.lame_lambda() * eps.trace();
-  return s;
-}
-
 /// Kelvin's point force f at x0 in an infinite body: u_j(x) = f_i U_ij(x - x0).
 inline ElasticField kelvin_field(const Material& m, const Eigen::Vector3d& x0, const Eigen::Vector3d& f) {
   const KelvinKernel k(m);
@@ -44,7 +37,7 @@ inline ElasticField kelvin_field(const Material& m, const Eigen::Vector3d& x0, c
             const KernelGradient gU = g.displacement(x - x0);  // d U_ij / d x0_b = -d U_ij / d x_b
             Eigen::Matrix3d grad;                              // grad(j, b) = d u_j / d x_b
             for (int b = 0; b < 3; ++b) grad.col(b) = -(gU[static_cast<std::size_t>(b)].transpose() * f);
-            return hooke(m, grad);
+            return m.stress(grad);
           }};
 }
 
@@ -64,7 +57,7 @@ inline ElasticField lame_field(const Material& m, const Eigen::Vector3d& c, doub
             const double r = y.norm();
             Eigen::Matrix3d grad = (-3.0 * C2 / std::pow(r, 5)) * (y * y.transpose());
             grad.diagonal().array() += C1 + C2 / (r * r * r);
-            return hooke(m, grad);
+            return m.stress(grad);
           }};
 }
 
@@ -194,7 +187,7 @@ inline InteriorErrors interior_relative_errors(const TriangleMesh& mesh, const M
   return {std::sqrt(du / nu), std::sqrt(ds / ns)};
 }
 
-/// Rigid-body identity residual (DESIGN.md §4): a rigid translation gives zero traction, so the
+/// Rigid-body identity residual (docs/design.md §4): a rigid translation gives zero traction, so the
 /// 3x3 blocks of every block row of H sum to zero. Returns max_i |sum_e H_ie| / |H_ii| (Frobenius).
 inline double rigid_body_row_sum_ratio(const InfluenceMatrices& hg) {
   const Index n = hg.H.rows() / 3;

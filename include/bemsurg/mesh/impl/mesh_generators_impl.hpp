@@ -34,7 +34,7 @@ inline void check_grid(const std::vector<double>& g, const char* name) {
 /// in the wrong unit, say), and the dense BEM could never use it.
 inline constexpr int kMaxLines = 10000000;
 
-[[noreturn]] void too_many_lines(double h_min) {
+[[noreturn]] inline void too_many_lines(double h_min) {
   throw InvalidMeshError("graded_coordinates: h_min = " + str(h_min) + " would need more than " +
                          std::to_string(kMaxLines) + " grid lines");
 }

@@ -1,6 +1,6 @@
 // Implementation of bemsurg/presolution/capacitance_contact.hpp: the capacitance matrix
 // P = S^{-1} of James & Pai (1999) kept explicitly and bordered / reduced by Schur complements
-// when the contact set changes (DESIGN.md §6). All loops are written out over preallocated
+// when the contact set changes (docs/design.md §6). All loops are written out over preallocated
 // buffers so that nothing allocates after construction.
 #pragma once
 

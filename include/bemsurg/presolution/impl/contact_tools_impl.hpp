@@ -1,5 +1,5 @@
 // Implementation of bemsurg/presolution/contact_tools.hpp: tool geometry -> contact rows ->
-// capacitance solve, with the unilateral active set (DESIGN.md §6; Hertz / Boussinesq checks).
+// capacitance solve, with the unilateral active set (docs/design.md §6; Hertz / Boussinesq checks).
 #pragma once
 
 #include <algorithm>
@@ -266,7 +266,7 @@ inline bool ToolContactSolver::geometric_contact(const Tool& t, Index e, Eigen::
   return false;
 }
 
-inline void ToolContactSolver::set_targets(int /*unused*/) {
+inline void ToolContactSolver::set_targets() {
   const Index k = contact_.num_rows();
   const double* ug = table_.base_displacement().data();
   for (Index a = 0; a < k; ++a) {
@@ -354,7 +354,7 @@ inline ContactUpdateReport ToolContactSolver::update(int max_iterations) {
       throw;
     }
     // 2. Targets from the poses, then the small solve.
-    set_targets(0);
+    set_targets();
     contact_.solve();
     // 3. Active set of unilateral tools: release tension; re-admit released elements that would
     //    penetrate. One kind of change per iteration, so the two cannot undo each other at once.

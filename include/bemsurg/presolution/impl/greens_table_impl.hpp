@@ -1,5 +1,5 @@
 // Implementation of bemsurg/presolution/greens_table.hpp: the one-time precomputation of the
-// compliance table (DESIGN.md §6; Wang et al. 2007 §5.1). One LU of A*, then the base state and
+// compliance table (docs/design.md §6; Wang et al. 2007 §5.1). One LU of A*, then the base state and
 // the region's unit-traction columns as one multi-right-hand-side back-substitution.
 #pragma once
 

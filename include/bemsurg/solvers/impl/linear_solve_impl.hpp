@@ -36,7 +36,7 @@ inline Eigen::VectorXd run_krylov(const DenseOperator& A, const Preconditioner& 
   solver.compute(A, M);
   Eigen::VectorXd x = x0;
   const KrylovReport& report = solver.solve(b, x);
-  summary.status = to_string(report.status);
+  summary.status = report.status;
   summary.breakdown = report.breakdown;
   summary.iterations = report.iterations;
   summary.restarts = report.restarts;
@@ -45,7 +45,7 @@ inline Eigen::VectorXd run_krylov(const DenseOperator& A, const Preconditioner& 
   summary.residual_history = report.residual_history;
   summary.solve_seconds = report.seconds;
   if (!report.converged())
-    throw SolverError(summary.method + " (preconditioner " + summary.preconditioner + ") did not converge to relative residual " +
+    throw SolverError(std::string(to_string(summary.method)) + " (preconditioner " + to_string(summary.preconditioner) + ") did not converge to relative residual " +
                       scientific(ks.tolerance) + ": " + report.summary());
   return x;
 }
@@ -56,18 +56,18 @@ inline Eigen::VectorXd run_with_preconditioner(const Eigen::MatrixXd& A, const E
                                         const Eigen::VectorXd& x0) {
   const DenseOperator op(A);
   const auto setup_start = SteadyClock::now();
-  if (settings.preconditioner == "none") {
+  if (settings.preconditioner == PreconditionerKind::None) {
     const IdentityPreconditioner M(A.rows());
     return run_krylov<Solver>(op, M, b, ks, x0, summary);
   }
-  if (settings.preconditioner == "block_jacobi") {
+  if (settings.preconditioner == PreconditionerKind::BlockJacobi) {
     const BlockJacobiPreconditioner M(A);
     summary.setup_seconds = seconds_since(setup_start);
     summary.preconditioner_nonzeros = 3 * A.rows();
     summary.preconditioner_fill = 1.0;
     return run_krylov<Solver>(op, M, b, ks, x0, summary);
   }
-  if (settings.preconditioner == "near_field") {
+  if (settings.preconditioner == PreconditionerKind::NearField) {
 #ifndef BEMSURG_HAVE_NEAR_FIELD
     (void)mesh;
     throw SolverError("the near_field preconditioner is compiled into bemsurg::bemsurg (it needs SuiteSparse); "
@@ -81,7 +81,7 @@ inline Eigen::VectorXd run_with_preconditioner(const Eigen::MatrixXd& A, const E
     return run_krylov<Solver>(op, M, b, ks, x0, summary);
 #endif
   }
-  throw SolverError("unknown preconditioner '" + settings.preconditioner + "' (expected none, block_jacobi or near_field)");
+  throw SolverError("solve_linear_system: unknown preconditioner value " + std::to_string(static_cast<int>(settings.preconditioner)));
 }
 
 inline Eigen::VectorXd solve_lu(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, LinearSolveSummary& summary) {
@@ -89,7 +89,7 @@ inline Eigen::VectorXd solve_lu(const Eigen::MatrixXd& A, const Eigen::VectorXd&
   const DenseLU lu(A);
   summary.setup_seconds = seconds_since(start);
   if (lu.info() != Eigen::Success) {
-    summary.status = "breakdown";
+    summary.status = KrylovStatus::Breakdown;
     summary.breakdown = "LU pivot: the matrix is singular to working precision";
     throw SolverError("lu: the system matrix is singular to working precision (is the body supported?)");
   }
@@ -101,11 +101,11 @@ inline Eigen::VectorXd solve_lu(const Eigen::MatrixXd& A, const Eigen::VectorXd&
   summary.relative_residual = b_norm > 0.0 ? residual / b_norm : residual;
   summary.initial_residual = 1.0;
   if (!std::isfinite(summary.relative_residual) || !x.allFinite()) {
-    summary.status = "non_finite";
+    summary.status = KrylovStatus::NonFinite;
     summary.breakdown = "LU solution";
     throw SolverError("lu: the solution is not finite (NaN or infinity in the matrix or the right-hand side)");
   }
-  summary.status = "converged";
+  summary.status = KrylovStatus::Converged;
   return x;
 }
 
@@ -115,8 +115,8 @@ inline Eigen::VectorXd solve_linear_system(const Eigen::MatrixXd& A, const Eigen
                                     LinearSolveSummary& summary, const TriangleMesh* mesh, const Eigen::VectorXd& x0) {
   summary = LinearSolveSummary();
   summary.method = settings.method;
-  summary.preconditioner = settings.method == "lu" ? "none" : settings.preconditioner;
-  summary.status = "not_computed";
+  summary.preconditioner = settings.method == SolverMethod::Lu ? PreconditionerKind::None : settings.preconditioner;
+  summary.status = KrylovStatus::NotComputed;
   if (A.rows() != A.cols())
     throw SolverError("solve_linear_system: the matrix is " + std::to_string(A.rows()) + " x " + std::to_string(A.cols()) +
                       ", not square");
@@ -126,17 +126,20 @@ inline Eigen::VectorXd solve_linear_system(const Eigen::MatrixXd& A, const Eigen
   if (x0.size() != 0 && x0.size() != A.rows())
     throw SolverError("solve_linear_system: the initial guess has " + std::to_string(x0.size()) + " entries, the matrix " +
                       std::to_string(A.rows()) + " rows");
-  if (settings.method == "lu") return detail::solve_lu(A, b, summary);
+  if (settings.method == SolverMethod::Lu) return detail::solve_lu(A, b, summary);
 
   KrylovSettings ks;
   ks.tolerance = settings.tolerance;
   ks.max_iterations = settings.max_iterations;
   ks.restart = settings.restart;
   ks.validate();
-  if (settings.method == "gmres") return detail::run_with_preconditioner<Gmres>(A, b, settings, ks, summary, mesh, x0);
-  if (settings.method == "bicgstab") return detail::run_with_preconditioner<BiCgStab>(A, b, settings, ks, summary, mesh, x0);
-  if (settings.method == "bicg") return detail::run_with_preconditioner<BiCg>(A, b, settings, ks, summary, mesh, x0);
-  throw SolverError("unknown solver method '" + settings.method + "' (expected lu, gmres, bicgstab or bicg)");
+  switch (settings.method) {
+    case SolverMethod::Gmres: return detail::run_with_preconditioner<Gmres>(A, b, settings, ks, summary, mesh, x0);
+    case SolverMethod::BiCgStab: return detail::run_with_preconditioner<BiCgStab>(A, b, settings, ks, summary, mesh, x0);
+    case SolverMethod::BiCg: return detail::run_with_preconditioner<BiCg>(A, b, settings, ks, summary, mesh, x0);
+    case SolverMethod::Lu: break;
+  }
+  throw SolverError("solve_linear_system: unknown solver method " + std::to_string(static_cast<int>(settings.method)));
 }
 
 }  // namespace bemsurg
