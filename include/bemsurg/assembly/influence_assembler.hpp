@@ -13,11 +13,12 @@
 // a time, evaluates the far-field rule (Radon's 7 points, the quadrature policy's choice when
 // distance / diameter >= far_ratio) for all the tile's source points at once: plain loops over
 // structure-of-arrays data that the compiler vectorises at -O2/-O3 without -march=native. Pairs
-// the policy does not call far (mid, near, self: a few per cent) go through element_pair(), the
-// adaptive / polar path of ElementQuadrature, unchanged. The far-field points and weights are
-// exactly those ElementQuadrature would use (precomputed once per element with the same
-// expressions), so the result differs from a pair-by-pair evaluation only in the order of the
-// arithmetic (tests/test_assembly_fast_vs_reference.cpp: 1e-12 relative).
+// the policy does not call far (mid and near, a few per cent) keep ElementQuadrature's rules and
+// points (collapsed Gauss, adaptive subdivision); their points are evaluated in batches by the same
+// kernel loop. The self pair keeps the polar rule. The far-field points and weights are exactly
+// those ElementQuadrature would use (precomputed once per element with the same expressions), so
+// the result differs from a pair-by-pair evaluation only in the order of the arithmetic
+// (tests/test_assembly_fast_vs_reference.cpp: 1e-12 relative; measured: below 1e-15).
 #pragma once
 
 #include <Eigen/Core>
@@ -58,29 +59,17 @@ class InfluenceAssembler {
   const ElementQuadrature& quadrature() const { return quadrature_; }
 
   /// The 3x3 blocks for collocation element i and element e (H includes 1/2 I when i == e), one
-  /// pair at a time through ElementQuadrature: the path for mid, near and self pairs.
+  /// pair at a time: the path assemble_block() takes for the pairs the policy does not call far.
+  /// Bit for bit the blocks that assemble() writes for such pairs.
   void element_pair(Index i, Index e, Eigen::Matrix3d& H, Eigen::Matrix3d& G) const {
-    const Eigen::Vector3d p = mesh_.centroid(i);
-    const auto c = mesh_.corners(e);
-    const Eigen::Vector3d n = mesh_.normal(e);
-    H.setZero();
-    G.setZero();
-    if (i == e) {
-      // Polar about the centroid: int U dS = sum w (U r)(d) R; PV int T dS = sum w T_t(d) ln R
-      // (the ln(eps) part vanishes because the directions d integrate to zero around the circle).
-      quadrature_.polar(p, c[0], c[1], c[2], [&](const Eigen::Vector3d& d, double R, double w) {
-        G.noalias() += (w * R) * kernel_.displacement_times_r(d);
-        H.noalias() += (w * std::log(R)) * kernel_.traction_tangential_part(d, n);
-      });
-      H.diagonal().array() += 0.5;
-      return;
-    }
-    Eigen::Matrix3d u, t;
-    quadrature_.integrate(p, c[0], c[1], c[2], [&](const Eigen::Vector3d& x, double w) {
-      kernel_.displacement_and_traction(x - p, n, u, t);
-      G.noalias() += w * u;
-      H.noalias() += w * t;
-    });
+    if (i == e) return self_pair(e, H, G);
+    double total[kSums];
+    regular_pair<true, false>(mesh_.centroid(i), e, total);
+    for (int b = 0; b < 3; ++b)
+      for (int a = 0; a < 3; ++a) {
+        H(a, b) = total[kHIndex[a][b]];
+        G(a, b) = total[kGIndex[a][b]];
+      }
   }
 
   /// Both full matrices (OpenMP over tiles of rows).
@@ -138,18 +127,19 @@ class InfluenceAssembler {
   /// Contribution of element e to the gravity term at a source point p (p may be any point;
   /// p equal to e's centroid uses the polar rule).
   Eigen::Vector3d gravity_element(const Eigen::Vector3d& p, Index e, const GravityKernel& kernel, bool self) const {
-    const auto c = mesh_.corners(e);
     const Eigen::Vector3d n = mesh_.normal(e);
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
     if (self) {
+      const auto c = mesh_.corners(e);
+      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
       // P depends on the direction only when dr/dn = 0: int_0^R P r dr = P(d) R^2 / 2.
       quadrature_.polar(p, c[0], c[1], c[2], [&](const Eigen::Vector3d& d, double R, double w) {
         sum += (0.5 * w * R * R) * kernel.tangential_part(d, n);
       });
-    } else {
-      quadrature_.integrate(p, c[0], c[1], c[2], [&](const Eigen::Vector3d& x, double w) { sum += w * kernel(x - p, n); });
+      return sum;
     }
-    return sum;
+    double total[kSums];
+    regular_pair<false, true>(p, e, total);
+    return kernel.from_integrals(total[kPn], Eigen::Vector3d(total[kPx], total[kPy], total[kPz]), n);
   }
 
   /// The one block routine behind assemble(), assemble_rows(), assemble_columns() and
@@ -187,14 +177,18 @@ class InfluenceAssembler {
 
  private:
   static constexpr int kTileRows = 64;   // source points evaluated together (fits L1 with the sums)
+  static constexpr int kBatch = 64;      // quadrature points of one mid / near pair evaluated together
   static constexpr int kFarPoints = 7;   // Radon's rule
-  // Per-pair sums of the far-field loop, one array each over the tile's source points.
+  // Per-pair sums of the kernel loop, one array each over the source points (far field) or the
+  // quadrature points (mid / near pairs).
   enum : int {
     kGxx, kGyy, kGzz, kGxy, kGxz, kGyz,                    // G is symmetric: 6
     kHxx, kHyy, kHzz, kHxy, kHyx, kHxz, kHzx, kHyz, kHzy,  // H: 9
     kPn, kPx, kPy, kPz,                                    // gravity: sum w dr/dn, sum w r,i
     kSums
   };
+  static constexpr int kGIndex[3][3] = {{kGxx, kGxy, kGxz}, {kGxy, kGyy, kGyz}, {kGxz, kGyz, kGzz}};
+  static constexpr int kHIndex[3][3] = {{kHxx, kHxy, kHxz}, {kHyx, kHyy, kHyz}, {kHzx, kHzy, kHzz}};
 
   // Element geometry in structure-of-arrays form, read in the order the loops need it.
   struct Geometry {
@@ -249,12 +243,57 @@ class InfluenceAssembler {
     }
   }
 
+  /// The self pair (source = e's own centroid): polar coordinates about the centroid.
+  /// int U dS = sum w (U r)(d) R; PV int T dS = sum w T_t(d) ln R (the ln(eps) part vanishes
+  /// because the directions d integrate to zero around the circle); H gets the free term 1/2 I.
+  void self_pair(Index e, Eigen::Matrix3d& H, Eigen::Matrix3d& G) const {
+    const Eigen::Vector3d p = mesh_.centroid(e);
+    const auto c = mesh_.corners(e);
+    const Eigen::Vector3d n = mesh_.normal(e);
+    H.setZero();
+    G.setZero();
+    quadrature_.polar(p, c[0], c[1], c[2], [&](const Eigen::Vector3d& d, double R, double w) {
+      G.noalias() += (w * R) * kernel_.displacement_times_r(d);
+      H.noalias() += (w * std::log(R)) * kernel_.traction_tangential_part(d, n);
+    });
+    H.diagonal().array() += 0.5;
+  }
+
+  /// A pair that is not the self pair, by ElementQuadrature's regular rule (far, mid or adaptive
+  /// near): its points are collected kBatch at a time and evaluated by kelvin_terms. total[] gets
+  /// the H, G (HG) and gravity (Gravity) sums of the enum above.
+  template <bool HG, bool Gravity>
+  void regular_pair(const Eigen::Vector3d& p, Index e, double* total) const {
+    alignas(64) double rx[kBatch], ry[kBatch], rz[kBatch], inv[kBatch], w[kBatch];
+    alignas(64) double terms[kSums][kBatch];
+    const int first = HG ? 0 : kPn, last = Gravity ? kSums : kPn;
+    for (int a = 0; a < kSums; ++a) total[a] = 0.0;
+    const std::size_t s = static_cast<std::size_t>(e);
+    const double nx = geo_.nx[s], ny = geo_.ny[s], nz = geo_.nz[s];
+    Index count = 0;
+    auto flush = [&] {
+      kelvin_terms<HG, Gravity, false>(count, w, nx, ny, nz, rx, ry, rz, inv, terms);
+      for (int a = first; a < last; ++a)
+        for (Index j = 0; j < count; ++j) total[a] += terms[a][j];
+      count = 0;
+    };
+    const auto c = mesh_.corners(e);
+    quadrature_.integrate(p, c[0], c[1], c[2], [&](const Eigen::Vector3d& x, double weight) {
+      rx[count] = x.x() - p.x();  // r = x_Q - p
+      ry[count] = x.y() - p.y();
+      rz[count] = x.z() - p.z();
+      w[count] = weight;
+      if (++count == kBatch) flush();
+    });
+    if (count > 0) flush();
+  }
+
   /// One tile: source rows r0 .. r0+m-1 (positions in the row list) against columns c0 .. c1-1.
   template <bool HG, bool Gravity>
   void tile(const Index* rows, Index R, Index r0, Index m, const Index* cols, Index c0, Index c1, double* H, double* G,
             double* g, const Eigen::Vector3d& body_force) const {
     alignas(64) double px[kTileRows], py[kTileRows], pz[kTileRows];
-    alignas(64) double rx[kTileRows], ry[kTileRows], rz[kTileRows], inv[kTileRows];
+    alignas(64) double rx[kTileRows], ry[kTileRows], rz[kTileRows], inv[kTileRows], wq[kTileRows];
     alignas(64) double sum[kSums][kTileRows];
     alignas(64) double gsum[3][kTileRows];
     Index id[kTileRows];
@@ -267,17 +306,18 @@ class InfluenceAssembler {
       pz[j] = geo_.cz[s];
       gsum[0][j] = gsum[1][j] = gsum[2][j] = 0.0;
     }
-    const KelvinConstants& k = constants_;
-    const GravityKernel gravity_kernel(k, body_force);
+    const GravityKernel gravity_kernel(constants_, body_force);
     const Index ld = 3 * R;
     Eigen::Matrix3d hb, gb;
+    double total[kSums];
     for (Index c = c0; c < c1; ++c) {
       const Index e = cols ? cols[c] : c;
       const std::size_t s = static_cast<std::size_t>(e);
       const double ex = geo_.cx[s], ey = geo_.cy[s], ez = geo_.cz[s], far2 = geo_.far2[s];
       const double nx = geo_.nx[s], ny = geo_.ny[s], nz = geo_.nz[s];
+      const Eigen::Vector3d n(nx, ny, nz);
       // The policy's test, dist >= far_ratio * diameter, on squares. Pairs within 1e-12 of the
-      // threshold go to element_pair, which decides exactly as ElementQuadrature does.
+      // threshold take regular_pair, where ElementQuadrature decides exactly as it always does.
       int nfar = 0;
       for (Index j = 0; j < m; ++j) {
         const double dx = px[j] - ex, dy = py[j] - ey, dz = pz[j] - ez;
@@ -294,58 +334,60 @@ class InfluenceAssembler {
             rx[j] = xq - px[j];
             ry[j] = yq - py[j];
             rz[j] = zq - pz[j];
-            inv[j] = rx[j] * rx[j] + ry[j] * ry[j] + rz[j] * rz[j];
+            wq[j] = w;
           }
-          // 1/r through Eigen's packet sqrt: the plain loop would not vectorise while std::sqrt
-          // may set errno (GCC without -fno-math-errno). Correctly rounded, as std::sqrt is.
-          Eigen::Map<Eigen::ArrayXd> r2(inv, m);
-          r2 = r2.sqrt().inverse();
-          far_point<HG, Gravity>(m, w, nx, ny, nz, rx, ry, rz, inv, sum);
+          kelvin_terms<HG, Gravity, true>(m, wq, nx, ny, nz, rx, ry, rz, inv, sum);
         }
       }
-      if (HG) {
+      if (HG && nfar > 0) {
         // Column-major writes: the tile's 3m rows of columns 3c, 3c+1, 3c+2 are contiguous.
-        static constexpr int gi[3][3] = {{kGxx, kGxy, kGxz}, {kGxy, kGyy, kGyz}, {kGxz, kGyz, kGzz}};
-        static constexpr int hi[3][3] = {{kHxx, kHxy, kHxz}, {kHyx, kHyy, kHyz}, {kHzx, kHzy, kHzz}};
         for (int b = 0; b < 3; ++b) {
           double* hcol = H + (3 * c + b) * ld + 3 * r0;
           double* gcol = G + (3 * c + b) * ld + 3 * r0;
-          if (nfar > 0)
-            for (Index j = 0; j < m; ++j)
-              for (int a = 0; a < 3; ++a) {
-                hcol[3 * j + a] = sum[hi[a][b]][j];
-                gcol[3 * j + a] = sum[gi[a][b]][j];
-              }
+          for (Index j = 0; j < m; ++j)
+            for (int a = 0; a < 3; ++a) {
+              hcol[3 * j + a] = sum[kHIndex[a][b]][j];
+              gcol[3 * j + a] = sum[kGIndex[a][b]][j];
+            }
         }
-        if (nfar < m)
-          for (Index j = 0; j < m; ++j) {
-            if (far[j]) continue;
-            element_pair(id[j], e, hb, gb);
+      }
+      if (Gravity && nfar > 0)
+        for (Index j = 0; j < m; ++j) {
+          if (!far[j]) continue;
+          const Eigen::Vector3d v =
+              gravity_kernel.from_integrals(sum[kPn][j], Eigen::Vector3d(sum[kPx][j], sum[kPy][j], sum[kPz][j]), n);
+          for (int a = 0; a < 3; ++a) gsum[a][j] += v(a);
+        }
+      if (nfar == m) continue;
+      // Mid, near and self pairs (a few per cent): one at a time, overwriting the far-rule values.
+      for (Index j = 0; j < m; ++j) {
+        if (far[j]) continue;
+        const Eigen::Vector3d p = mesh_.centroid(id[j]);
+        if (id[j] == e) {
+          if (HG) self_pair(e, hb, gb);
+          if (Gravity) {
+            const Eigen::Vector3d v = gravity_element(p, e, gravity_kernel, true);
+            for (int a = 0; a < 3; ++a) gsum[a][j] += v(a);
+          }
+        } else {
+          regular_pair<HG, Gravity>(p, e, total);
+          if (HG)
             for (int b = 0; b < 3; ++b)
               for (int a = 0; a < 3; ++a) {
-                H[(3 * c + b) * ld + 3 * (r0 + j) + a] = hb(a, b);
-                G[(3 * c + b) * ld + 3 * (r0 + j) + a] = gb(a, b);
+                hb(a, b) = total[kHIndex[a][b]];
+                gb(a, b) = total[kGIndex[a][b]];
               }
-          }
-      }
-      if (Gravity) {
-        // P_i = p_scale [b_i dr/dn - n_i (b . r,) / (2 (1 - nu))] is linear in (dr/dn, r,):
-        // integrate those and apply b once per pair.
-        const double bx = body_force.x(), by = body_force.y(), bz = body_force.z();
-        for (Index j = 0; j < m; ++j) {
-          if (far[j]) {
-            const double sn = sum[kPn][j];
-            const double bd = k.p_half_inv * (bx * sum[kPx][j] + by * sum[kPy][j] + bz * sum[kPz][j]);
-            gsum[0][j] += k.p_scale * (bx * sn - nx * bd);
-            gsum[1][j] += k.p_scale * (by * sn - ny * bd);
-            gsum[2][j] += k.p_scale * (bz * sn - nz * bd);
-          } else {
-            const Eigen::Vector3d v = gravity_element(mesh_.centroid(id[j]), e, gravity_kernel, id[j] == e);
-            gsum[0][j] += v.x();
-            gsum[1][j] += v.y();
-            gsum[2][j] += v.z();
+          if (Gravity) {
+            const Eigen::Vector3d v = gravity_kernel.from_integrals(total[kPn], Eigen::Vector3d(total[kPx], total[kPy], total[kPz]), n);
+            for (int a = 0; a < 3; ++a) gsum[a][j] += v(a);
           }
         }
+        if (HG)
+          for (int b = 0; b < 3; ++b)
+            for (int a = 0; a < 3; ++a) {
+              H[(3 * c + b) * ld + 3 * (r0 + j) + a] = hb(a, b);
+              G[(3 * c + b) * ld + 3 * (r0 + j) + a] = gb(a, b);
+            }
       }
     }
     if (Gravity)
@@ -353,47 +395,60 @@ class InfluenceAssembler {
         for (int a = 0; a < 3; ++a) g[3 * (r0 + j) + a] = gsum[a][j];
   }
 
-  /// One far-field point Q (weight w, normal n of its element) for the tile's source points, the
-  /// Kelvin kernels written out (docs/design.md, kernels; Wang et al. 2007 eqs. 2-3):
+  /// The Kelvin kernels at m points, written out (docs/design.md, kernels; Wang et al. 2007
+  /// eqs. 2-3), with r = x_Q - p, r = |r|, r,i = r_i / r and n the element's unit normal:
   ///   U_ij = u_scale [(3 - 4 nu) delta_ij + r,i r,j] / r
   ///   T_ij = t_scale [dr/dn ((1 - 2 nu) delta_ij + 3 r,i r,j) - (1 - 2 nu)(r,i n_j - r,j n_i)] / r^2
-  /// with r,i = r_i / r and t_scale = -1 / (8 pi (1 - nu)) carrying the sign; gravity collects
-  /// w dr/dn and w r,i. A loop over plain arrays, no Eigen temporaries: the compiler vectorises it.
-  template <bool HG, bool Gravity>
-  void far_point(Index m, double w, double nx, double ny, double nz, const double* __restrict rx,
-                 const double* __restrict ry, const double* __restrict rz, const double* __restrict inv,
-                 double (*__restrict sum)[kTileRows]) const {
+  /// (t_scale = -1 / (8 pi (1 - nu)) carries the sign), times the weight w[j]; gravity takes
+  /// w dr/dn and w r,i (P is linear in them: GravityKernel::from_integrals). Accumulate: add to
+  /// out[][j] (far field: j runs over source points) or store (mid / near: j runs over the
+  /// quadrature points, summed by the caller). Plain loops over arrays, no Eigen temporaries: the
+  /// compiler vectorises them. inv is workspace (1/r).
+  template <bool HG, bool Gravity, bool Accumulate>
+  void kelvin_terms(Index m, const double* __restrict w, double nx, double ny, double nz, const double* __restrict rx,
+                    const double* __restrict ry, const double* __restrict rz, double* __restrict inv,
+                    double (*__restrict out)[kTileRows]) const {
+    static_assert(kBatch == kTileRows, "kelvin_terms serves both with one row length");
+    for (Index j = 0; j < m; ++j) inv[j] = rx[j] * rx[j] + ry[j] * ry[j] + rz[j] * rz[j];
+    // 1/r through Eigen's packet sqrt: the plain loop would not vectorise while std::sqrt may set
+    // errno (GCC without -fno-math-errno). Correctly rounded, as std::sqrt is.
+    Eigen::Map<Eigen::ArrayXd> r2(inv, m);
+    r2 = r2.sqrt().inverse();
     const KelvinConstants& k = constants_;
-    const double wu0 = w * k.u_scale, wt0 = w * k.t_scale, c34 = k.three_minus_4nu, a = k.one_minus_2nu;
+    const double c34 = k.three_minus_4nu, a = k.one_minus_2nu;
+    auto put = [](double& o, double v) {
+      if (Accumulate) o += v;
+      else o = v;
+    };
     for (Index j = 0; j < m; ++j) {
       const double dx = rx[j] * inv[j], dy = ry[j] * inv[j], dz = rz[j] * inv[j];  // r,i
       const double drdn = dx * nx + dy * ny + dz * nz;
       if (HG) {
-        const double wu = wu0 * inv[j];            // w u_scale / r
-        const double wt = wt0 * inv[j] * inv[j];   // w t_scale / r^2
-        sum[kGxx][j] += wu * (dx * dx + c34);
-        sum[kGyy][j] += wu * (dy * dy + c34);
-        sum[kGzz][j] += wu * (dz * dz + c34);
-        sum[kGxy][j] += wu * (dx * dy);
-        sum[kGxz][j] += wu * (dx * dz);
-        sum[kGyz][j] += wu * (dy * dz);
+        const double wu = w[j] * k.u_scale * inv[j];            // w u_scale / r
+        const double wt = w[j] * k.t_scale * inv[j] * inv[j];   // w t_scale / r^2
+        put(out[kGxx][j], wu * (dx * dx + c34));
+        put(out[kGyy][j], wu * (dy * dy + c34));
+        put(out[kGzz][j], wu * (dz * dz + c34));
+        put(out[kGxy][j], wu * (dx * dy));
+        put(out[kGxz][j], wu * (dx * dz));
+        put(out[kGyz][j], wu * (dy * dz));
         const double q = 3.0 * drdn * wt, diag = a * drdn * wt, aw = a * wt;
         const double sxy = dx * ny - dy * nx, sxz = dx * nz - dz * nx, syz = dy * nz - dz * ny;  // r,i n_j - r,j n_i
-        sum[kHxx][j] += q * dx * dx + diag;
-        sum[kHyy][j] += q * dy * dy + diag;
-        sum[kHzz][j] += q * dz * dz + diag;
-        sum[kHxy][j] += q * dx * dy - aw * sxy;
-        sum[kHyx][j] += q * dx * dy + aw * sxy;
-        sum[kHxz][j] += q * dx * dz - aw * sxz;
-        sum[kHzx][j] += q * dx * dz + aw * sxz;
-        sum[kHyz][j] += q * dy * dz - aw * syz;
-        sum[kHzy][j] += q * dy * dz + aw * syz;
+        put(out[kHxx][j], q * dx * dx + diag);
+        put(out[kHyy][j], q * dy * dy + diag);
+        put(out[kHzz][j], q * dz * dz + diag);
+        put(out[kHxy][j], q * dx * dy - aw * sxy);
+        put(out[kHyx][j], q * dx * dy + aw * sxy);
+        put(out[kHxz][j], q * dx * dz - aw * sxz);
+        put(out[kHzx][j], q * dx * dz + aw * sxz);
+        put(out[kHyz][j], q * dy * dz - aw * syz);
+        put(out[kHzy][j], q * dy * dz + aw * syz);
       }
       if (Gravity) {
-        sum[kPn][j] += w * drdn;
-        sum[kPx][j] += w * dx;
-        sum[kPy][j] += w * dy;
-        sum[kPz][j] += w * dz;
+        put(out[kPn][j], w[j] * drdn);
+        put(out[kPx][j], w[j] * dx);
+        put(out[kPy][j], w[j] * dy);
+        put(out[kPz][j], w[j] * dz);
       }
     }
   }

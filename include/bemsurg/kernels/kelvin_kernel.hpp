@@ -94,6 +94,12 @@ class GravityKernel {
     return scale_ * (b_ * d.dot(n) - n * (half_inv_ * b_.dot(d)));
   }
 
+  /// int_e P dS from the integrals of its two direction terms over a flat element with normal n:
+  /// s_n = int dr/dn dS and s_d = int r, dS (P is linear in both; the blocked assembler's form).
+  Eigen::Vector3d from_integrals(double s_n, const Eigen::Vector3d& s_d, const Eigen::Vector3d& n) const {
+    return scale_ * (b_ * s_n - n * (half_inv_ * b_.dot(s_d)));
+  }
+
   /// P with dr/dn = 0 (the source's own flat element): -n (b . r,) / (2(1-nu)) / (8 pi mu).
   Eigen::Vector3d tangential_part(const Eigen::Vector3d& d, const Eigen::Vector3d& n) const {
     return -scale_ * half_inv_ * b_.dot(d) * n;
