@@ -137,13 +137,18 @@ int main(int argc, char** argv) {
       Eigen::MatrixXd B = Eigen::MatrixXd::Random(n, 3 * static_cast<Index>(region.size()) + 1);
       lu_factor_and_solve_in_place(A, B, &bare_f, &bare_s);
     }
-    const double ratio = (pt.factorization_seconds + pt.table_seconds) / (bare_f + bare_s);
+    // The whole precompute (assembly included) and the factorisation alone, both against the bare
+    // dgetrf + dgetrs; and the assembly against the bare dgetrf (issue 9: <= 0.5).
+    const double ratio = (pt.assembly_seconds + pt.factorization_seconds + pt.table_seconds) / (bare_f + bare_s);
+    const double factorization_ratio = (pt.factorization_seconds + pt.table_seconds) / (bare_f + bare_s);
+    const double assembly_ratio = pt.assembly_seconds / bare_f;
     std::printf("\nn = %ld equations (%ld elements), region %zu elements, table %.1f MiB\n", long(n), long(E), region.size(),
                 double(table.bytes()) / 1048576.0);
     std::printf("  precompute: assembly %.3f s, factorisation %.3f s, table %.3f s (total %.3f s)\n", pt.assembly_seconds,
                 pt.factorization_seconds, pt.table_seconds, pre_total);
-    std::printf("  bare dgetrf + dgetrs(%zu rhs): %.3f s + %.3f s; precompute (factorisation + table) / bare = %.2f (target <= 1.5)\n",
-                3 * region.size() + 1, bare_f, bare_s, ratio);
+    std::printf("  bare dgetrf + dgetrs(%zu rhs): %.3f s + %.3f s; precompute (assembly + factorisation + table) / bare = %.2f "
+                "(target <= 1.5); factorisation + table / bare = %.2f; assembly / bare dgetrf = %.2f (target <= 0.5)\n",
+                3 * region.size() + 1, bare_f, bare_s, ratio, factorization_ratio, assembly_ratio);
     nlohmann::json size_json = {{"equations", n},
                                 {"elements", E},
                                 {"region_elements", region.size()},
@@ -152,7 +157,9 @@ int main(int argc, char** argv) {
                                 {"table_seconds", pt.table_seconds},
                                 {"bare_factorization_seconds", bare_f},
                                 {"bare_solve_seconds", bare_s},
-                                {"precompute_over_bare", ratio}};
+                                {"precompute_over_bare", ratio},
+                                {"factorization_over_bare", factorization_ratio},
+                                {"assembly_over_bare_factorization", assembly_ratio}};
 
     // 2. and 3. per contact size.
     for (int k : contact_sizes) {

@@ -14,7 +14,7 @@ void check_sizes(const InfluenceMatrices& hg, const BoundaryConditions& bc) {
 Eigen::MatrixXd build_system_matrix(const InfluenceMatrices& hg, const BoundaryConditions& bc) {
   check_sizes(hg, bc);
   const Index n = bc.num_dofs();
-  Eigen::MatrixXd A(n, n);
+  Eigen::MatrixXd A = large_dense_matrix(n, n);  // huge-page advice: see influence_assembler.hpp
 #pragma omp parallel for schedule(static)
   for (Index k = 0; k < n; ++k) {
     if (bc.kind(k) == BcKind::Traction)
