@@ -5,7 +5,7 @@
 //
 // Per size (a box of N x N x (N-1) cells per face edge, as in bench_contact), medians of --repeats:
 //   - assembly phases: H, G and gravity in one pass (assemble(gravity, g)), A* and right-hand sides
-//     (build_system_matrix, build_right_hand_side, the table's G columns); their sum is what
+//     (build_system_matrix_in_place, build_right_hand_side, the table's G columns); their sum is what
 //     GreensTable::compute times as "assembly". Also H, G alone (assemble()), gravity alone
 //     (gravity_vector()) and H, G into storage written before (the integration without the first
 //     touch of fresh memory);
@@ -159,7 +159,7 @@ int main(int argc, char** argv) {
       Eigen::MatrixXd B(n, region_rhs);
       B.leftCols(region_rhs - 1) = hg.G.leftCols(region_rhs - 1);
       B.col(region_rhs - 1) = build_right_hand_side(hg, base, g);
-      Eigen::MatrixXd A = build_system_matrix(hg, base);
+      Eigen::MatrixXd A = build_system_matrix_in_place(hg, base);  // as GreensTable::compute
       t_build.push_back(seconds(t0));
       hg = InfluenceMatrices();
       // The factorisation right after the assembly (the OpenMP team has just finished).

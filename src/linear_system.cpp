@@ -25,6 +25,17 @@ Eigen::MatrixXd build_system_matrix(const InfluenceMatrices& hg, const BoundaryC
   return A;
 }
 
+Eigen::MatrixXd build_system_matrix_in_place(InfluenceMatrices& hg, const BoundaryConditions& bc) {
+  check_sizes(hg, bc);
+  const Index n = bc.num_dofs();
+  Eigen::MatrixXd A = std::move(hg.H);  // traction-prescribed columns are H's already
+  hg.H.resize(0, 0);
+#pragma omp parallel for schedule(static)
+  for (Index k = 0; k < n; ++k)
+    if (bc.kind(k) != BcKind::Traction) A.col(k) = -hg.G.col(k);
+  return A;
+}
+
 Eigen::VectorXd build_right_hand_side(const InfluenceMatrices& hg, const BoundaryConditions& bc, const Eigen::VectorXd& gravity) {
   check_sizes(hg, bc);
   const Index n = bc.num_dofs();
