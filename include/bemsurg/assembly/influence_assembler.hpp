@@ -175,7 +175,8 @@ class InfluenceAssembler {
 
   /// The one block routine behind assemble(), assemble_rows(), assemble_columns() and
   /// gravity_vector(): rows x cols of H and G and/or the gravity of the rows.
-  ///   rows, cols: element ids (nullptr: 0, 1, ..., R-1 or C-1);
+  ///   rows, cols: element ids, in range (not checked here; assemble_rows / assemble_columns
+  ///      check them), or nullptr for 0, 1, ..., R-1 or C-1;
   ///   H, G: column-major 3R x 3C outputs (leading dimension 3R), both or neither (nullptr);
   ///   g: 3R gravity output (nullptr: none), summed over the columns, which should then be all
   ///      elements; body_force is only read when g is given.
