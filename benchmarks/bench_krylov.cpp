@@ -35,20 +35,14 @@
 #include "bemsurg/solvers/dense_lu.hpp"
 #include "bemsurg/solvers/gmres.hpp"
 #include "bemsurg/solvers/near_field_preconditioner.hpp"
+#include "bench_support.hpp"
 
 using namespace bemsurg;
-using Clock = std::chrono::steady_clock;
+using bench::Clock;
+using bench::median;
 using json = nlohmann::json;
 
 namespace {
-
-double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const std::size_t m = v.size() / 2;
-  return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
-}
 
 struct System {
   std::string name;
@@ -308,13 +302,6 @@ int main(int argc, char** argv) {
     std::cerr << "bench_krylov: " << e.what() << "\n";
     return 1;
   }
-  if (!json_path.empty()) {
-    std::ofstream out(json_path);
-    out << report.dump(2) << "\n";
-    if (!out) {
-      std::cerr << "bench_krylov: cannot write " << json_path << "\n";
-      return 1;
-    }
-  }
+  if (!bench::write_json_file(json_path, report, "bench_krylov")) return 1;
   return 0;
 }

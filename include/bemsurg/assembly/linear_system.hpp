@@ -26,6 +26,10 @@ struct BoundarySolution {
 /// factorised once and reused for any values of the same kinds (the pre-solution tables do).
 Eigen::MatrixXd build_system_matrix(const InfluenceMatrices& hg, const BoundaryConditions& bc);
 
+/// The same A*, built in H's storage: hg.H is consumed (left empty), hg.G kept. Spares a second
+/// n x n matrix (its allocation, first touch and copy); build the right-hand side first.
+Eigen::MatrixXd build_system_matrix_in_place(InfluenceMatrices& hg, const BoundaryConditions& bc);
+
 /// Right-hand side R_bc + R_G; gravity may be empty (no body force).
 Eigen::VectorXd build_right_hand_side(const InfluenceMatrices& hg, const BoundaryConditions& bc,
                                       const Eigen::VectorXd& gravity = Eigen::VectorXd());

@@ -12,9 +12,9 @@ namespace bemsurg {
 
 inline double estimate_elastostatic_bytes(Index num_elements) {
   const double n = 3.0 * double(num_elements);
-  // Peak: H, G and A* together while the system is built (H and G are released before the
-  // solve, so the LU copy or the Krylov workspace then fits in their place), plus O(n) vectors.
-  return 8.0 * (3.0 * n * n + 8.0 * n);
+  // Peak: H and G while the system is built (A* is built in H's storage, G is released before
+  // the solve, so the LU copy or the Krylov workspace then fits in its place), plus O(n) vectors.
+  return 8.0 * (2.0 * n * n + 8.0 * n);
 }
 
 inline ElastostaticSolution solve_elastostatic(const ElastostaticProblem& problem, const LinearSolverSettings& solver) {
@@ -29,7 +29,7 @@ inline ElastostaticSolution solve_elastostatic(const ElastostaticProblem& proble
     const double physical = physical_memory_bytes();
     throw ResourceError("solve_elastostatic: the dense solve of " + std::to_string(E) + " elements (" +
                         std::to_string(3 * E) + " equations) needs about " + format_gib(need) +
-                        " (H, G and A*, each " + format_gib(8.0 * 9.0 * double(E) * double(E)) + "), more than " +
+                        " (H and G, each " + format_gib(8.0 * 9.0 * double(E) * double(E)) + "), more than " +
                         format_gib(limit) + " (80 % of this machine's " +
                         (physical > 0.0 ? format_gib(physical) : std::string("unknown")) +
                         " of physical memory); coarsen the mesh");
@@ -41,16 +41,17 @@ inline ElastostaticSolution solve_elastostatic(const ElastostaticProblem& proble
 
   LinearSystem system;
   {
-    auto t0 = std::chrono::steady_clock::now();
+    auto t0 = SteadyClock::now();
     const InfluenceAssembler assembler(problem.mesh, problem.material, problem.quadrature);
-    const InfluenceMatrices hg = assembler.assemble();
-    const Eigen::VectorXd gravity = assembler.gravity_vector(problem.gravity);
+    Eigen::VectorXd gravity;  // H, G and the self-weight term in one pass over the element pairs
+    InfluenceMatrices hg = assembler.assemble(problem.gravity, gravity);
     out.report.assembly_seconds = seconds_since(t0);
 
-    t0 = std::chrono::steady_clock::now();
-    system = build_linear_system(hg, problem.boundary_conditions, gravity);
+    t0 = SteadyClock::now();
+    system.rhs = build_right_hand_side(hg, problem.boundary_conditions, gravity);  // needs H: before A* takes it
+    system.matrix = build_system_matrix_in_place(hg, problem.boundary_conditions);
     out.report.system_seconds = seconds_since(t0);
-  }  // H and G are freed here, before the solver allocates
+  }  // G is freed here, before the solver allocates
 
   const Eigen::VectorXd x = solve_linear_system(system.matrix, system.rhs, solver, out.report.solver, &problem.mesh);
   out.boundary = recover_boundary_solution(problem.boundary_conditions, x);

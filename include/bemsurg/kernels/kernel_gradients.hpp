@@ -13,6 +13,7 @@
 #include <array>
 #include <cmath>
 
+#include "bemsurg/kernels/kelvin_constants.hpp"
 #include "bemsurg/material.hpp"
 
 namespace bemsurg {
@@ -22,11 +23,7 @@ using KernelGradient = std::array<Eigen::Matrix3d, 3>;
 class KelvinKernelGradients {
  public:
   explicit KelvinKernelGradients(const Material& m)
-      : nu_(m.poisson_ratio),
-        u_scale_(1.0 / (16.0 * M_PI * m.shear_modulus() * (1.0 - m.poisson_ratio))),
-        t_scale_(-1.0 / (8.0 * M_PI * (1.0 - m.poisson_ratio))),
-        p_scale_(1.0 / (8.0 * M_PI * m.shear_modulus())),
-        p_half_inv_(1.0 / (2.0 * (1.0 - m.poisson_ratio))) {}
+      : c_(m) {}
 
   /// U_aj = C [(3 - 4nu) delta_aj / r + r_a r_j / r^3]
   /// dU_aj/dr_b = C [-(3 - 4nu) delta_aj r_b / r^3 + (delta_ab r_j + delta_jb r_a) / r^3 - 3 r_a r_j r_b / r^5]
@@ -36,17 +33,17 @@ class KelvinKernelGradients {
     for (int b = 0; b < 3; ++b) {
       Eigen::Matrix3d& m = g[static_cast<std::size_t>(b)];
       m = (-3.0 / r5 * r(b)) * (r * r.transpose());
-      m.diagonal().array() -= (3.0 - 4.0 * nu_) * r(b) / r3;
+      m.diagonal().array() -= c_.three_minus_4nu * r(b) / r3;
       m.row(b) += r.transpose() / r3;  // delta_ab r_j
       m.col(b) += r / r3;              // delta_jb r_a
-      m *= -u_scale_;                  // d/dp = -d/dr
+      m *= -c_.u_scale;                  // d/dp = -d/dr
     }
     return g;
   }
 
   /// T_aj = K [A (r.n) delta_aj / r^3 + 3 (r.n) r_a r_j / r^5 - A (r_a n_j - r_j n_a) / r^3], A = 1 - 2nu.
   KernelGradient traction(const Eigen::Vector3d& r, const Eigen::Vector3d& n) const {
-    const double a = 1.0 - 2.0 * nu_;
+    const double a = c_.one_minus_2nu;
     const double rn = r.norm(), r2 = rn * rn, r3 = r2 * rn, r5 = r3 * r2, r7 = r5 * r2;
     const double rdn = r.dot(n);
     const Eigen::Matrix3d rr = r * r.transpose();
@@ -62,7 +59,7 @@ class KelvinKernelGradients {
       m.row(b) -= (a / r3) * n.transpose();  // delta_ab n_j
       m.col(b) += (a / r3) * n;              // delta_jb n_a
       m += (3.0 * a * r(b) / r5) * skew;
-      g[static_cast<std::size_t>(b)] = -t_scale_ * m;
+      g[static_cast<std::size_t>(b)] = -c_.t_scale * m;
     }
     return g;
   }
@@ -72,15 +69,11 @@ class KelvinKernelGradients {
     const double rn = r.norm(), r3 = rn * rn * rn;
     const Eigen::Vector3d d_rdn = n / rn - (r.dot(n) / r3) * r;            // d((r.n)/r)/dr_b
     const Eigen::Vector3d d_bdr = body_force / rn - (body_force.dot(r) / r3) * r;  // d((b.r)/r)/dr_b
-    return -p_scale_ * (body_force * d_rdn.transpose() - p_half_inv_ * n * d_bdr.transpose());
+    return -c_.p_scale * (body_force * d_rdn.transpose() - c_.p_half_inv * n * d_bdr.transpose());
   }
 
  private:
-  double nu_;
-  double u_scale_;
-  double t_scale_;
-  double p_scale_;
-  double p_half_inv_;
+  KelvinConstants c_;
 };
 
 }  // namespace bemsurg

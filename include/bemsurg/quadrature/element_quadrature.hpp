@@ -1,5 +1,5 @@
 // bemsurg/quadrature/element_quadrature.hpp: how a kernel is integrated over one flat triangle
-// from one source point (DESIGN.md §4). The rule is chosen by the policy here, never inside the
+// from one source point (docs/design.md, integration). The rule is chosen by the policy here, never inside the
 // assembly loop:
 //   - far   (distance / diameter >= far_ratio): Radon's 7-point rule;
 //   - mid   (>= mid_ratio): a collapsed Gauss rule of mid_order^2 points;

@@ -14,7 +14,7 @@ inline void check_sizes(const InfluenceMatrices& hg, const BoundaryConditions& b
 inline Eigen::MatrixXd build_system_matrix(const InfluenceMatrices& hg, const BoundaryConditions& bc) {
   detail::check_sizes(hg, bc);
   const Index n = bc.num_dofs();
-  Eigen::MatrixXd A(n, n);
+  Eigen::MatrixXd A = large_dense_matrix(n, n);  // huge-page advice: see influence_assembler.hpp
 #pragma omp parallel for schedule(static)
   for (Index k = 0; k < n; ++k) {
     if (bc.kind(k) == BcKind::Traction)
@@ -22,6 +22,17 @@ inline Eigen::MatrixXd build_system_matrix(const InfluenceMatrices& hg, const Bo
     else
       A.col(k) = -hg.G.col(k);
   }
+  return A;
+}
+
+inline Eigen::MatrixXd build_system_matrix_in_place(InfluenceMatrices& hg, const BoundaryConditions& bc) {
+  detail::check_sizes(hg, bc);
+  const Index n = bc.num_dofs();
+  Eigen::MatrixXd A = std::move(hg.H);  // traction-prescribed columns are H's already
+  hg.H.resize(0, 0);
+#pragma omp parallel for schedule(static)
+  for (Index k = 0; k < n; ++k)
+    if (bc.kind(k) != BcKind::Traction) A.col(k) = -hg.G.col(k);
   return A;
 }
 

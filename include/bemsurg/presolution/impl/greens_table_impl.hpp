@@ -118,13 +118,12 @@ inline GreensTable GreensTable::compute(const TriangleMesh& mesh, const Material
   Eigen::MatrixXd A, B;
   {
     const InfluenceAssembler assembler(mesh, material, options.quadrature);
-    InfluenceMatrices hg = assembler.assemble();
-    Eigen::VectorXd gvec;
-    if (material.density > 0.0 && options.gravity.squaredNorm() > 0.0) gvec = assembler.gravity_vector(options.gravity);
+    Eigen::VectorXd gvec;  // H, G and gravity in one pass (zero without gravity)
+    InfluenceMatrices hg = assembler.assemble(options.gravity, gvec);
     B.resize(n, 3 * R + 1);
     for (Index s = 0; s < R; ++s) B.middleCols(3 * s, 3) = hg.G.middleCols(3 * table.region_[static_cast<std::size_t>(s)], 3);
     B.col(3 * R) = build_right_hand_side(hg, base, gvec);
-    A = build_system_matrix(hg, base);
+    A = build_system_matrix_in_place(hg, base);
   }
   table.timings_.assembly_seconds = seconds_since(t0);
   lu_factor_and_solve_in_place(A, B, &table.timings_.factorization_seconds, &table.timings_.table_seconds);
