@@ -2,6 +2,7 @@
 #include <catch2/catch.hpp>
 
 #include <chrono>
+#include <limits>
 
 #include "bemsurg/elastostatic_solver.hpp"
 #include "bemsurg/memory_budget.hpp"
@@ -64,4 +65,63 @@ TEST_CASE("a dense solve that cannot fit in memory is refused before allocating"
   CHECK_THROWS_WITH(solve_elastostatic(p), Contains("76800 elements") && Contains(format_gib(need)) &&
                                                Contains("physical memory"));
   CHECK(std::chrono::steady_clock::now() - start < std::chrono::seconds(5));
+}
+
+namespace {
+// A unit cube held on its bottom face and pressed on its top: the correct input the
+// non-finite cases below are variations of.
+ElastostaticProblem pressed_cube(double scale, double youngs_modulus) {
+  // Supports chosen on the unit cube: a huge mesh's normals may have overflowed to zero.
+  const TriangleMesh unit = box_mesh(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones(), 2, 2, 2);
+  const TriangleMesh m(scale * unit.vertices(), unit.faces());
+  BoundaryConditions bc(m.num_elements());
+  for (Index e = 0; e < m.num_elements(); ++e) {
+    if (unit.normal(e).z() < -0.999) bc.prescribe_displacement(e, Eigen::Vector3d::Zero());
+    if (unit.normal(e).z() > 0.999) bc.prescribe_pressure(e, 1.0, unit.normal(e));
+  }
+  return ElastostaticProblem{m, Material{youngs_modulus, 0.3, 0.0}, Eigen::Vector3d::Zero(), bc, {}};
+}
+}  // namespace
+
+TEST_CASE("a non-finite system from a vanishing Young's modulus is refused by LU and GMRES") {
+  LinearSolverSettings lu, gmres;
+  gmres.method = SolverMethod::Gmres;
+  // The correct input solves with both methods and gives finite displacements.
+  for (const LinearSolverSettings& s : {lu, gmres}) {
+    const ElastostaticSolution ok = solve_elastostatic(pressed_cube(1.0, 1e3), s);
+    CHECK(ok.report.solver.status == KrylovStatus::Converged);
+    CHECK(ok.boundary.displacement.allFinite());
+  }
+  // E = the smallest positive double passes Material::validate (E > 0), but 1 / mu overflows in G.
+  for (const LinearSolverSettings& s : {lu, gmres}) {
+    const ElastostaticProblem p = pressed_cube(1.0, std::numeric_limits<double>::denorm_min());
+    CHECK_THROWS_AS(solve_elastostatic(p, s), SolverError);
+    CHECK_THROWS_WITH(solve_elastostatic(p, s), Contains("non-finite") && Contains("Young's modulus") && Contains("mesh scale"));
+  }
+}
+
+TEST_CASE("a mesh scaled to 1e80 gives a SolverError naming the cause, not a crash") {
+  LinearSolverSettings lu, gmres;
+  gmres.method = SolverMethod::Gmres;
+  for (const LinearSolverSettings& s : {lu, gmres}) {
+    const ElastostaticProblem p = pressed_cube(1e80, 1e3);
+    CHECK_THROWS_AS(solve_elastostatic(p, s), SolverError);
+    CHECK_THROWS_WITH(solve_elastostatic(p, s), Contains("non-finite") && Contains("mesh scale"));
+  }
+}
+
+TEST_CASE("solve_linear_system and DenseLU refuse NaN and infinity before factorising") {
+  Eigen::MatrixXd A = Eigen::MatrixXd::Identity(6, 6);
+  Eigen::VectorXd b = Eigen::VectorXd::Ones(6);
+  LinearSolveSummary summary;
+  CHECK(solve_linear_system(A, b, LinearSolverSettings(), summary).isApprox(b));
+  A(4, 2) = std::numeric_limits<double>::quiet_NaN();
+  CHECK_THROWS_WITH(solve_linear_system(A, b, LinearSolverSettings(), summary),
+                    Contains("system matrix") && Contains("row 4, column 2"));
+  CHECK(summary.status == KrylovStatus::NonFinite);
+  CHECK_THROWS_WITH(DenseLU(A), Contains("non-finite") && Contains("row 4, column 2"));
+  A(4, 2) = 0.0;
+  b(5) = std::numeric_limits<double>::infinity();
+  CHECK_THROWS_WITH(solve_linear_system(A, b, LinearSolverSettings(), summary),
+                    Contains("right-hand side") && Contains("element 1, component z"));
 }

@@ -105,6 +105,25 @@ TEST_CASE("empty and non-finite meshes are errors", "[mesh][validation]") {
   CHECK_THROWS_WITH(require_valid_mesh(bad), Catch::Contains("vertex 7") && Catch::Contains("non-finite"));
 }
 
+TEST_CASE("a mesh scaled until its areas overflow names the face and the mesh scale", "[mesh][validation]") {
+  // Corners of 1e80 are finite, but the edge cross products (1e160) overflow when squared: the
+  // areas come out infinite and the normals zero, which must not pass for a valid mesh.
+  const TriangleMesh sphere = icosphere_mesh(Vec3::Zero(), 1.0, 1);
+  const TriangleMesh scaled_ok(1e3 * sphere.vertices(), sphere.faces());
+  CHECK(validate_mesh(scaled_ok).valid());
+  const TriangleMesh huge(1e80 * sphere.vertices(), sphere.faces());
+  REQUIRE(huge.vertices().allFinite());
+  REQUIRE_FALSE(std::isfinite(huge.area(0)));
+  const MeshValidationReport report = validate_mesh(huge);
+  INFO(report.summary());
+  CHECK(report.count(MeshIssueKind::DegenerateFace) == static_cast<std::size_t>(huge.num_elements()));
+  CHECK(report.count(MeshIssueKind::NonFiniteVertex) == 0);
+  CHECK(report.issues.at(0).index == 0);
+  CHECK_THROWS_AS(require_valid_mesh(huge), InvalidMeshError);
+  CHECK_THROWS_WITH(require_valid_mesh(huge),
+                    Catch::Contains("face 0") && Catch::Contains("non-finite area") && Catch::Contains("mesh scale"));
+}
+
 TEST_CASE("a degenerate face in an otherwise closed mesh is found by index", "[mesh][validation]") {
   // Split face 0 (a, b, c) at the midpoint m of edge ab, leaving its neighbour unsplit, and close
   // the T-junction with the zero-area triangle (a, b, m): closed and oriented, one bad face.

@@ -3,8 +3,11 @@
 // about twice as fast on 2 cores (docs/benchmarks.md). Shape as Eigen's solvers: compute, solve, info.
 #pragma once
 
+#include <cmath>
+
 #include <Eigen/Core>
 #include <Eigen/LU>
+#include <string>
 
 #include "bemsurg/error.hpp"
 
@@ -28,10 +31,30 @@ class DenseLU {
   /// unknowns y = D^-1 x and unscaling gives the same x bit for bit, without an n x n copy.
   DenseLU& compute(const Eigen::MatrixXd& A) {
     if (A.rows() != A.cols()) throw SolverError("DenseLU: the matrix is not square");
+    // LAPACK's dgetrf is not defined for NaN or infinite entries (OpenBLAS may crash in it):
+    // refuse them before factorising. One O(n^2) pass against the O(n^3) factorisation.
+    if (!A.allFinite()) {
+      Eigen::Index row = 0, col = 0;
+      first_non_finite(A, row, col);
+      throw SolverError("DenseLU: the matrix has a non-finite entry (" + std::to_string(A(row, col)) + " at row " +
+                        std::to_string(row) + ", column " + std::to_string(col) + "); it cannot be factorised");
+    }
     const Eigen::VectorXd column_max = column_maxima(A);
     lu_.compute(A);
     ok_ = A.rows() > 0 && equilibrated_pivots_ok(lu_.matrixLU().diagonal(), column_max);
     return *this;
+  }
+
+  /// The first entry (column-major order) of A that is NaN or infinite; false when all are finite.
+  static bool first_non_finite(const Eigen::Ref<const Eigen::MatrixXd>& A, Eigen::Index& row, Eigen::Index& col) {
+    for (Eigen::Index j = 0; j < A.cols(); ++j)
+      for (Eigen::Index i = 0; i < A.rows(); ++i)
+        if (!std::isfinite(A(i, j))) {
+          row = i;
+          col = j;
+          return true;
+        }
+    return false;
   }
 
   /// max_i |A_ij| per column j: the equilibration D = diag(1 / column_maxima(A)).

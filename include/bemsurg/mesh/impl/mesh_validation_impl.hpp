@@ -189,9 +189,19 @@ inline MeshValidationReport validate_mesh(const TriangleMesh& mesh, const MeshVa
     const bool repeats = F(f, 0) == F(f, 1) || F(f, 1) == F(f, 2) || F(f, 2) == F(f, 0);
     const std::string corners =
         "(" + std::to_string(F(f, 0)) + ", " + std::to_string(F(f, 1)) + ", " + std::to_string(F(f, 2)) + ")";
+    const bool corners_finite = V.row(F(f, 0)).allFinite() && V.row(F(f, 1)).allFinite() && V.row(F(f, 2)).allFinite();
+    const double normal_length = mesh.normal(f).norm();
     if (repeats) {
       out.error(MeshIssueKind::DegenerateFace, f,
                 "face " + std::to_string(f) + " " + corners + " repeats a vertex: the triangle is degenerate");
+    } else if (corners_finite && (!std::isfinite(mesh.area(f)) || (mesh.area(f) > 0.0 && !(std::abs(normal_length - 1.0) < 1e-6)))) {
+      // Finite corners, yet the area or the normal overflowed (coordinates near 1e154 or beyond):
+      // such an element would put inf into the assembly and its zero normal would pass for flat.
+      out.error(MeshIssueKind::DegenerateFace, f,
+                "face " + std::to_string(f) + " " + corners + " has a non-finite area (" + detail::num(mesh.area(f)) +
+                    ") or normal (length " + detail::num(normal_length) + ") although its corners are finite (first corner (" +
+                    detail::num(V(F(f, 0), 0)) + ", " + detail::num(V(F(f, 0), 1)) + ", " + detail::num(V(F(f, 0), 2)) +
+                    ")): the coordinates are too large to compute with; check the mesh scale (bemsurg works in metres)");
     } else if (std::isfinite(mesh.area(f)) && !(mesh.area(f) > options.degenerate_area_tolerance * mean_area)) {
       out.error(MeshIssueKind::DegenerateFace, f,
                 "face " + std::to_string(f) + " " + corners + " has near-zero area " + detail::num(mesh.area(f)) +

@@ -84,6 +84,31 @@ inline Eigen::VectorXd run_with_preconditioner(const Eigen::MatrixXd& A, const E
   throw SolverError("solve_linear_system: unknown preconditioner value " + std::to_string(static_cast<int>(settings.preconditioner)));
 }
 
+/// Refuses a matrix or right-hand side with NaN or infinite entries before any solver sees it:
+/// LAPACK's factorisation is undefined on them (it may crash) and a Krylov solve would spread
+/// them into the result. Unknown k of A* is component k % 3 of element k / 3 (docs/design.md §2).
+inline void require_finite_system(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, LinearSolveSummary& summary) {
+  static const char* const likely =
+      "; the likely cause is the material's Young's modulus (too small or too large: the Kelvin kernels divide by the "
+      "shear modulus) or the mesh scale (coordinates far from metres overflow the kernels and the element areas)";
+  Eigen::Index row = 0, col = 0;
+  if (DenseLU::first_non_finite(A, row, col)) {
+    summary.status = KrylovStatus::NonFinite;
+    summary.breakdown = "non-finite system matrix";
+    throw SolverError("the system matrix A* has a non-finite entry (" + std::to_string(A(row, col)) + " at row " +
+                      std::to_string(row) + ", column " + std::to_string(col) + ": element " + std::to_string(row / 3) +
+                      ", unknown of element " + std::to_string(col / 3) + ")" + likely);
+  }
+  for (Eigen::Index k = 0; k < b.size(); ++k)
+    if (!std::isfinite(b(k))) {
+      summary.status = KrylovStatus::NonFinite;
+      summary.breakdown = "non-finite right-hand side";
+      throw SolverError("the right-hand side has a non-finite entry (" + std::to_string(b(k)) + " at row " + std::to_string(k) +
+                        ": element " + std::to_string(k / 3) + ", component " + "xyz"[k % 3] +
+                        "); check the prescribed values and gravity" + likely);
+    }
+}
+
 inline Eigen::VectorXd solve_lu(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, LinearSolveSummary& summary) {
   const auto start = SteadyClock::now();
   const DenseLU lu(A);
@@ -126,6 +151,7 @@ inline Eigen::VectorXd solve_linear_system(const Eigen::MatrixXd& A, const Eigen
   if (x0.size() != 0 && x0.size() != A.rows())
     throw SolverError("solve_linear_system: the initial guess has " + std::to_string(x0.size()) + " entries, the matrix " +
                       std::to_string(A.rows()) + " rows");
+  detail::require_finite_system(A, b, summary);
   if (settings.method == SolverMethod::Lu) return detail::solve_lu(A, b, summary);
 
   KrylovSettings ks;
