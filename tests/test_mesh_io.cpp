@@ -367,6 +367,85 @@ TEST_CASE("PLY polygons are fan-triangulated, and errors are reported", "[mesh][
   CHECK_THROWS_WITH(read_ply(dir.file("bad.ply")), Catch::Contains("bad.ply:4") && Catch::Contains("'quad'"));
 }
 
+namespace {
+// Two disjoint spheres in one mesh: a file whose counts cover only the first must not silently
+// drop the second.
+TriangleMesh two_spheres() {
+  const TriangleMesh a = icosphere_mesh(Vec3::Zero(), 1.0, 1), b = icosphere_mesh(Vec3(5.0, 0.0, 0.0), 1.0, 1);
+  RowMatrixX3d V(a.num_vertices() + b.num_vertices(), 3);
+  V << a.vertices(), b.vertices();
+  RowMatrixX3i F(a.num_elements() + b.num_elements(), 3);
+  F << a.faces(), (b.faces().array() + static_cast<int>(a.num_vertices())).matrix();
+  return TriangleMesh(V, F);
+}
+}  // namespace
+
+TEST_CASE("counts smaller than the content are refused in binary STL, OFF and PLY", "[mesh][io]") {
+  TempDir dir;
+  const TriangleMesh both = two_spheres();
+  const Index nf = both.num_elements(), half = nf / 2;
+
+  // Binary STL: the file size must be exactly 84 + 50 x count.
+  write_stl_binary(dir.file("two.stl"), both, "binary");
+  CHECK(read_stl(dir.file("two.stl")).num_elements() == nf);
+  std::string stl = read_text(dir.file("two.stl"));
+  std::string count;
+  put<std::uint32_t>(count, static_cast<std::uint32_t>(half), false);
+  std::string lying = stl;
+  lying.replace(80, 4, count);  // the header announces the first sphere only
+  write_text(dir.file("lying.stl"), lying);
+  CHECK_THROWS_AS(read_stl(dir.file("lying.stl")), InvalidMeshError);
+  CHECK_THROWS_WITH(read_stl(dir.file("lying.stl")),
+                    Catch::Contains("lying.stl") && Catch::Contains("announces " + std::to_string(half) + " triangles") &&
+                        Catch::Contains(std::to_string(nf - half) + " triangles and 0 bytes") &&
+                        Catch::Contains("follow the declared triangles"));
+  write_text(dir.file("padded.stl"), stl + std::string(7, '\0'));
+  CHECK_THROWS_WITH(read_stl(dir.file("padded.stl")), Catch::Contains("0 triangles and 7 bytes"));
+
+  // OFF: declared 2 of 3 faces' worth is refused at the first line beyond; comments and blank
+  // lines after the declared faces are fine.
+  const std::string off_vertices = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n";
+  const std::string off_faces = "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+  write_text(dir.file("tet.off"), "OFF\n4 4 6\n" + off_vertices + off_faces + "\n# done\n\n");
+  CHECK(read_off(dir.file("tet.off")).num_elements() == 4);
+  write_text(dir.file("lying.off"), "OFF\n4 3 6\n" + off_vertices + off_faces);
+  CHECK_THROWS_AS(read_off(dir.file("lying.off")), InvalidMeshError);
+  CHECK_THROWS_WITH(read_off(dir.file("lying.off")),
+                    Catch::Contains("lying.off:10") && Catch::Contains("after the 4 vertices and 3 faces"));
+
+  // PLY ASCII: the same, naming the line; trailing blank and comment lines are fine.
+  const std::string ply_head = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n";
+  const std::string ply_faces = "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+  const std::string face_decl = "property list uchar int vertex_indices\nend_header\n";
+  write_text(dir.file("tet.ply"), ply_head + "element face 4\n" + face_decl + off_vertices + ply_faces + "\ncomment end\n");
+  CHECK(read_ply(dir.file("tet.ply")).num_elements() == 4);
+  write_text(dir.file("lying.ply"), ply_head + "element face 3\n" + face_decl + off_vertices + ply_faces);
+  CHECK_THROWS_AS(read_ply(dir.file("lying.ply")), InvalidMeshError);
+  CHECK_THROWS_WITH(read_ply(dir.file("lying.ply")), Catch::Contains("lying.ply:17") && Catch::Contains("unexpected value '3'") &&
+                                                         Catch::Contains("4 vertex, 3 face"));
+  // ... also when the extra values sit on the last declared line.
+  write_text(dir.file("lying.ply"), ply_head + "element face 4\n" + face_decl + off_vertices + "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3 7\n");
+  CHECK_THROWS_WITH(read_ply(dir.file("lying.ply")), Catch::Contains("lying.ply:17") && Catch::Contains("unexpected value '7'"));
+
+  // PLY binary: a face count covering the first sphere only leaves the second's bytes behind
+  // (14 bytes a face; the 8-byte 'edge' element after the faces is read from face data, so
+  // the second sphere's worth of bytes remains).
+  write_ply(dir.file("two.ply"), both, PlyFormat::LittleEndian, false, false, false);
+  CHECK(read_ply(dir.file("two.ply")).num_elements() == nf);
+  std::string ply = read_text(dir.file("two.ply"));
+  const std::string declared = "element face " + std::to_string(nf) + "\n";
+  const std::size_t at = ply.find(declared);
+  REQUIRE(at != std::string::npos);
+  std::string fewer = "element face " + std::to_string(half) + "\n";
+  fewer.insert(fewer.size() - 1, declared.size() - fewer.size(), ' ');  // keep the header length
+  ply.replace(at, declared.size(), fewer);
+  write_text(dir.file("lying_bin.ply"), ply);
+  CHECK_THROWS_AS(read_ply(dir.file("lying_bin.ply")), InvalidMeshError);
+  CHECK_THROWS_WITH(read_ply(dir.file("lying_bin.ply")),
+                    Catch::Contains("lying_bin.ply") && Catch::Contains(std::to_string((nf - half) * 14) + " bytes of binary data follow") &&
+                        Catch::Contains(std::to_string(half) + " face"));
+}
+
 TEST_CASE("PLY element counts that cannot fit are refused at once", "[mesh][io]") {
   // Each of these used to loop about 9e18 times (no properties: nothing read per instance).
   TempDir dir;

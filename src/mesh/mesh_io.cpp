@@ -215,6 +215,15 @@ void parse_stl_binary(const std::string& data, const std::string& path, RowMatri
   if (data.size() < expected)
     fail(path, 0, "truncated binary STL: the header announces " + std::to_string(n) + " triangles (" +
                       std::to_string(expected) + " bytes) but the file has " + std::to_string(data.size()) + " bytes");
+  // More bytes than the count announces: a wrong count would silently drop the rest (a second
+  // body vanishes), so refuse it rather than guess which is right.
+  if (data.size() > expected) {
+    const std::size_t extra = data.size() - expected;
+    fail(path, 0, "binary STL: the header announces " + std::to_string(n) + " triangles (" + std::to_string(expected) +
+                      " bytes) but the file has " + std::to_string(data.size()) + " bytes: " + std::to_string(extra) +
+                      " bytes (" + std::to_string(extra / 50) + " triangles and " + std::to_string(extra % 50) +
+                      " bytes) follow the declared triangles; the triangle count at byte 80 is wrong or the file is corrupt");
+  }
   V.resize(3 * static_cast<Index>(n), 3);
   F.resize(n, 3);
   for (std::uint32_t t = 0; t < n; ++t) {
@@ -315,6 +324,10 @@ TriangleMesh parse_off(const std::string& text, const std::string& path) {
       polygon.push_back(checked_index(to_integer(tok[static_cast<std::size_t>(i)], path, line, "a vertex index"), path, line));
     mesh.add_polygon(polygon, line);  // trailing colour values are ignored
   }
+  // Content after the declared faces means the counts lie (a second body would vanish).
+  if (reader.next_nonempty(tok, '#'))
+    fail(path, reader.line(), "unexpected content '" + std::string(tok[0]) + "' after the " + std::to_string(nv) + " vertices and " +
+                                  std::to_string(nf) + " faces the header declares: the counts are wrong or the file is corrupt");
   return mesh.build(path);
 }
 
@@ -398,12 +411,21 @@ class BinaryReader {
     return 0.0;
   }
 
+  std::size_t position() const { return pos_; }
+
  private:
   const std::string& data_;
   std::size_t pos_;
   bool big_endian_;
   const std::string& path_;
 };
+
+/// "3 vertex, 1 face": the declared counts, for messages.
+std::string element_counts(const std::vector<PlyElement>& elements) {
+  std::string out;
+  for (const auto& e : elements) out += (out.empty() ? "" : ", ") + std::to_string(e.count) + " " + e.name;
+  return out;
+}
 
 TriangleMesh parse_ply(const std::string& data, const std::string& path) {
   // The header is text up to and including the 'end_header' line; binary data starts right after.
@@ -549,11 +571,31 @@ TriangleMesh parse_ply(const std::string& data, const std::string& path) {
     };
     auto where = [&] { return reader.line(); };
     for (const auto& e : elements) read_instances(e, value, where);
+    // Values after the declared elements mean the counts lie (a second body would vanish).
+    // Blank lines and 'comment' lines may follow.
+    std::string_view extra;
+    if (next_value < values.size()) {
+      extra = values[next_value];
+    } else {
+      while (reader.next_nonempty(values))
+        if (values[0] != "comment") {
+          extra = values[0];
+          break;
+        }
+    }
+    if (!extra.empty())
+      fail(path, reader.line(), "unexpected value '" + std::string(extra) + "' after the elements the header declares (" +
+                                    element_counts(elements) + "): the counts are wrong or the file is corrupt");
   } else {
     BinaryReader reader(data, std::min(pos, data.size()), format == "binary_big_endian", path);
     auto value = [&](PlyType t, const char* what) { return reader.read(t, what); };
     auto where = [] { return std::size_t{0}; };
     for (const auto& e : elements) read_instances(e, value, where);
+    // Trailing bytes other than line ends or spaces mean the counts lie.
+    const std::size_t end = reader.position();
+    if (end < data.size() && data.find_first_not_of(" \t\r\n", end) != std::string::npos)
+      fail(path, 0, std::to_string(data.size() - end) + " bytes of binary data follow the elements the header declares (" +
+                        element_counts(elements) + "): the counts are wrong or the file is corrupt");
   }
   return mesh.build(path);
 }
