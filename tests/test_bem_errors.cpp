@@ -3,10 +3,12 @@
 
 #include <chrono>
 #include <limits>
+#include <vector>
 
 #include "bemsurg/elastostatic_solver.hpp"
 #include "bemsurg/memory_budget.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
+#include "bemsurg/mesh/mesh_topology.hpp"
 
 using namespace bemsurg;
 using Catch::Matchers::Contains;
@@ -124,4 +126,80 @@ TEST_CASE("solve_linear_system and DenseLU refuse NaN and infinity before factor
   b(5) = std::numeric_limits<double>::infinity();
   CHECK_THROWS_WITH(solve_linear_system(A, b, LinearSolverSettings(), summary),
                     Contains("right-hand side") && Contains("element 1, component z"));
+}
+
+namespace {
+// Two surfaces in one mesh; `flip_b` reverses b's faces (a cavity's normals point into it).
+TriangleMesh join(const TriangleMesh& a, const TriangleMesh& b, bool flip_b = false) {
+  RowMatrixX3d V(a.num_vertices() + b.num_vertices(), 3);
+  V << a.vertices(), b.vertices();
+  RowMatrixX3i Fb = (b.faces().array() + static_cast<int>(a.num_vertices())).matrix();
+  if (flip_b) Fb.col(1).swap(Fb.col(2));
+  RowMatrixX3i F(a.num_elements() + Fb.rows(), 3);
+  F << a.faces(), Fb;
+  return TriangleMesh(V, F);
+}
+
+// Holds the bottom (z = min) faces of elements [first, last) fixed.
+void hold_bottom(const TriangleMesh& m, Index first, Index last, BoundaryConditions& bc) {
+  for (Index e = first; e < last; ++e)
+    if (m.normal(e).z() < -0.999) bc.prescribe_displacement(e, Eigen::Vector3d::Zero());
+}
+}  // namespace
+
+TEST_CASE("a second closed body without support is named, not solved") {
+  const TriangleMesh a = box_mesh(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones(), 2, 2, 2);
+  const TriangleMesh b = box_mesh(Eigen::Vector3d(3, 0, 0), Eigen::Vector3d(4, 1, 1), 2, 2, 2);
+  const TriangleMesh both = join(a, b);
+  const Index na = a.num_elements(), n = both.num_elements();
+  BoundaryConditions bc(n);
+  hold_bottom(both, 0, na, bc);
+  for (Index e = 0; e < n; ++e)
+    if (both.normal(e).z() > 0.999) bc.prescribe_pressure(e, 1.0, both.normal(e));
+  ElastostaticProblem p{both, Material{1e3, 0.3, 0.0}, Eigen::Vector3d::Zero(), bc, {}};
+  CHECK_THROWS_AS(solve_elastostatic(p), BoundaryConditionError);
+  CHECK_THROWS_WITH(solve_elastostatic(p), Contains("body 1 of 2") && Contains("shell 1") &&
+                                               Contains("element " + std::to_string(na)) && Contains("no support") &&
+                                               Contains("translation x"));
+
+  // One pinned element leaves the second body's rotations free: named as such.
+  p.boundary_conditions.prescribe_displacement(na, Eigen::Vector3d::Zero());
+  CHECK_THROWS_WITH(solve_elastostatic(p), Contains("body 1 of 2") && Contains("not fully supported") && Contains("rotation"));
+
+  // Both held: it solves, and the first body moves as it does alone (the bodies do not interact).
+  hold_bottom(both, na, n, p.boundary_conditions);
+  const ElastostaticSolution sol = solve_elastostatic(p);
+  CHECK(sol.report.solver.status == KrylovStatus::Converged);
+  BoundaryConditions alone_bc(na);
+  hold_bottom(a, 0, na, alone_bc);
+  for (Index e = 0; e < na; ++e)
+    if (a.normal(e).z() > 0.999) alone_bc.prescribe_pressure(e, 1.0, a.normal(e));
+  const ElastostaticSolution alone = solve_elastostatic({a, Material{1e3, 0.3, 0.0}, Eigen::Vector3d::Zero(), alone_bc, {}});
+  const double scale = alone.boundary.displacement.cwiseAbs().maxCoeff();
+  REQUIRE(scale > 0.0);
+  CHECK((sol.boundary.displacement.topRows(na) - alone.boundary.displacement).cwiseAbs().maxCoeff() < 0.05 * scale);
+  CHECK(sol.boundary.displacement.bottomRows(n - na).cwiseAbs().maxCoeff() < 2.0 * scale);
+}
+
+TEST_CASE("a cavity belongs to its body, an island inside it is a body of its own") {
+  // A hollow box (outer shell 0, inward-facing cavity shell 1) held on its outer bottom.
+  const TriangleMesh outer = box_mesh(Eigen::Vector3d::Zero(), Eigen::Vector3d::Constant(3.0), 2, 2, 2);
+  const TriangleMesh cavity = box_mesh(Eigen::Vector3d::Constant(0.5), Eigen::Vector3d::Constant(2.5), 2, 2, 2);
+  const TriangleMesh hollow = join(outer, cavity, true);
+  const MeshTopology topo(hollow);
+  REQUIRE(topo.num_shells() == 2);
+  CHECK(shell_bodies(hollow, topo) == std::vector<Index>{0, 0});
+  BoundaryConditions bc(hollow.num_elements());
+  hold_bottom(hollow, 0, outer.num_elements(), bc);
+  CHECK_NOTHROW(bc.require_supported(hollow));
+
+  // An island floating inside the cavity is a second body, and it has no support.
+  const TriangleMesh island = box_mesh(Eigen::Vector3d::Constant(1.0), Eigen::Vector3d::Constant(2.0), 1, 1, 1);
+  const TriangleMesh three = join(hollow, island);
+  CHECK(shell_bodies(three, MeshTopology(three)) == std::vector<Index>{0, 0, 1});
+  BoundaryConditions bc3(three.num_elements());
+  hold_bottom(three, 0, outer.num_elements(), bc3);
+  CHECK_THROWS_AS(bc3.require_supported(three), BoundaryConditionError);
+  CHECK_THROWS_WITH(bc3.require_supported(three), Contains("body 1 of 2") && Contains("shell 2") &&
+                                                      Contains("element " + std::to_string(hollow.num_elements())));
 }

@@ -5,10 +5,13 @@
 
 #include <Eigen/Core>
 #include <Eigen/SVD>
+#include <algorithm>
+#include <limits>
 #include <string>
 #include <vector>
 
 #include "bemsurg/error.hpp"
+#include "bemsurg/mesh/mesh_topology.hpp"
 #include "bemsurg/mesh/triangle_mesh.hpp"
 
 namespace bemsurg {
@@ -61,48 +64,57 @@ class BoundaryConditions {
   }
 
   /// Throws BoundaryConditionError unless the prescribed displacements fix all six rigid-body
-  /// motions: without that the BEM system is singular (or nearly so, after discretisation) and
-  /// any answer would be garbage. The check is exact: the rigid modes (3 translations, 3 rotations
-  /// about the centroid of the surface) restricted to the prescribed dofs must have rank 6.
+  /// motions of every body: without that the BEM system is singular (or nearly so, after
+  /// discretisation) and any answer would be garbage. The check is exact: the rigid modes (3
+  /// translations, 3 rotations about the centroid of the body's surface) restricted to the body's
+  /// prescribed dofs must have rank 6. A body is a closed shell with the cavities inside it
+  /// (shell_bodies); with several bodies each is checked on its own, and the message names the
+  /// body that floats by its outer shell and an element of it.
   void require_supported(const TriangleMesh& mesh) const {
     if (mesh.num_elements() != num_elements())
       throw BoundaryConditionError("boundary conditions are for " + std::to_string(num_elements()) +
                                    " elements, the mesh has " + std::to_string(mesh.num_elements()));
-    const Index m = num_displacement_dofs();
-    if (m == 0)
+    if (num_displacement_dofs() == 0)
       throw BoundaryConditionError(
           "the body has no support: no element has a prescribed displacement, so rigid-body motion is free "
           "(prescribe u on some elements)");
-    const Eigen::Vector3d center = mesh.centroids().colwise().mean().transpose();
-    const double scale = std::max(1e-300, (mesh.bounding_box().col(1) - mesh.bounding_box().col(0)).norm());
-    Eigen::MatrixXd modes(m, 6);
-    Index row = 0;
-    for (Index k = 0; k < num_dofs(); ++k) {
-      if (kind(k) != BcKind::Displacement) continue;
-      const int c = static_cast<int>(k % 3);
-      const Eigen::Vector3d x = (mesh.centroid(k / 3) - center) / scale;
-      Eigen::Matrix<double, 6, 1> r = Eigen::Matrix<double, 6, 1>::Zero();
-      r(c) = 1.0;
-      // Rotation about axis a moves x by a x x; component c of that for each axis.
-      for (int a = 0; a < 3; ++a) r(3 + a) = Eigen::Vector3d::Unit(a).cross(x)(c);
-      modes.row(row++) = r.transpose();
+    const MeshTopology topo(mesh);
+    const std::vector<Index> body_of_shell = shell_bodies(mesh, topo);
+    const Index num_bodies =
+        body_of_shell.empty() ? 0 : 1 + *std::max_element(body_of_shell.begin(), body_of_shell.end());
+    if (num_bodies <= 1) {
+      std::vector<Index> all(static_cast<std::size_t>(mesh.num_elements()));
+      for (Index e = 0; e < mesh.num_elements(); ++e) all[static_cast<std::size_t>(e)] = e;
+      const std::string free = free_rigid_motions(mesh, all);
+      if (!free.empty())
+        throw BoundaryConditionError("the body is not fully supported: the prescribed displacements leave rigid-body motion free (" +
+                                     free + "); prescribe displacements on more elements or components");
+      return;
     }
-    Eigen::JacobiSVD<Eigen::MatrixXd> svd(modes, Eigen::ComputeFullV);
-    const auto& s = svd.singularValues();
-    const double tol = 1e-8 * std::max(1.0, s(0));
-    if (s.size() == 6 && s(5) > tol) return;
-    // Name the motions that stay free: right singular vectors of the (near-)zero singular values.
-    static const char* names[6] = {"translation x", "translation y", "translation z",
-                                   "rotation about x", "rotation about y", "rotation about z"};
-    std::string free;
-    for (Index i = 0; i < 6; ++i) {
-      if (i < s.size() && s(i) > tol) continue;
-      Eigen::Index best = 0;
-      svd.matrixV().col(i).cwiseAbs().maxCoeff(&best);
-      free += (free.empty() ? "" : ", ") + std::string(names[best]);
+    for (Index b = 0; b < num_bodies; ++b) {
+      std::vector<Index> elements;
+      Index outer = -1;
+      for (Index s = 0; s < topo.num_shells(); ++s) {
+        if (body_of_shell[static_cast<std::size_t>(s)] != b) continue;
+        if (outer < 0) outer = s;  // shells are numbered by their lowest face; the outer one is the body's root
+        elements.insert(elements.end(), topo.shell(s).begin(), topo.shell(s).end());
+      }
+      std::sort(elements.begin(), elements.end());
+      const std::string free = free_rigid_motions(mesh, elements);
+      if (free.empty()) continue;
+      Index prescribed = 0;
+      for (Index e : elements)
+        for (int c = 0; c < 3; ++c) prescribed += kind(3 * e + c) == BcKind::Displacement ? 1 : 0;
+      const std::string which = "body " + std::to_string(b) + " of " + std::to_string(num_bodies) + " (shell " +
+                                std::to_string(outer) + ", " + std::to_string(elements.size()) + " elements, element " +
+                                std::to_string(elements.front()) + " among them)";
+      throw BoundaryConditionError(
+          prescribed == 0
+              ? which + " has no support: none of its elements has a prescribed displacement, so it floats free (" + free +
+                    "); each separate body needs its own support"
+              : which + " is not fully supported: its prescribed displacements leave rigid-body motion free (" + free +
+                    "); prescribe displacements on more of its elements or components");
     }
-    throw BoundaryConditionError("the body is not fully supported: the prescribed displacements leave rigid-body motion free (" +
-                                 free + "); prescribe displacements on more elements or components");
   }
 
  private:
@@ -110,6 +122,52 @@ class BoundaryConditions {
     if (e < 0 || e >= num_elements())
       throw BoundaryConditionError("element " + std::to_string(e) + " is out of range (the mesh has " +
                                    std::to_string(num_elements()) + " elements)");
+  }
+
+  /// The rigid motions of the surface made of `elements` that its prescribed displacements leave
+  /// free, named ("translation x, rotation about z"); empty when all six are fixed.
+  std::string free_rigid_motions(const TriangleMesh& mesh, const std::vector<Index>& elements) const {
+    Index m = 0;
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+    Eigen::Vector3d center = Eigen::Vector3d::Zero();
+    for (Index e : elements) {
+      for (int c = 0; c < 3; ++c) m += kind(3 * e + c) == BcKind::Displacement ? 1 : 0;
+      center += mesh.centroid(e);
+      for (const Vec3& p : mesh.corners(e)) {
+        lo = lo.cwiseMin(p);
+        hi = hi.cwiseMax(p);
+      }
+    }
+    static const char* names[6] = {"translation x", "translation y", "translation z",
+                                   "rotation about x", "rotation about y", "rotation about z"};
+    if (m == 0 || elements.empty()) return "translation x, y, z and rotation about x, y, z";
+    center /= static_cast<double>(elements.size());
+    const double scale = std::max(1e-300, (hi - lo).norm());
+    Eigen::MatrixXd modes(m, 6);
+    Index row = 0;
+    for (Index e : elements)
+      for (int c = 0; c < 3; ++c) {
+        if (kind(3 * e + c) != BcKind::Displacement) continue;
+        const Eigen::Vector3d x = (mesh.centroid(e) - center) / scale;
+        Eigen::Matrix<double, 6, 1> r = Eigen::Matrix<double, 6, 1>::Zero();
+        r(c) = 1.0;
+        // Rotation about axis a moves x by a x x; component c of that for each axis.
+        for (int a = 0; a < 3; ++a) r(3 + a) = Eigen::Vector3d::Unit(a).cross(x)(c);
+        modes.row(row++) = r.transpose();
+      }
+    Eigen::JacobiSVD<Eigen::MatrixXd> svd(modes, Eigen::ComputeFullV);
+    const auto& s = svd.singularValues();
+    const double tol = 1e-8 * std::max(1.0, s(0));
+    if (s.size() == 6 && s(5) > tol) return std::string();
+    // Name the motions that stay free: right singular vectors of the (near-)zero singular values.
+    std::string free;
+    for (Index i = 0; i < 6; ++i) {
+      if (i < s.size() && s(i) > tol) continue;
+      Eigen::Index best = 0;
+      svd.matrixV().col(i).cwiseAbs().maxCoeff(&best);
+      free += (free.empty() ? "" : ", ") + std::string(names[best]);
+    }
+    return free;
   }
 
   std::vector<BcKind> kinds_;

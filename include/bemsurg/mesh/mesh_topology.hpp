@@ -100,6 +100,13 @@ double winding_number(const TriangleMesh& mesh, const std::vector<Index>& faces,
 /// outside and inside a cavity (whose shell faces the other way).
 double winding_number(const TriangleMesh& mesh, const Vec3& p, bool* on_surface = nullptr);
 
+/// Bodies: the shells grouped into connected solids (docs/design.md §2). A closed shell that lies
+/// inside an odd number of other closed shells is a cavity and belongs to the body of the
+/// smallest closed shell containing it; every other shell (closed at even depth: an outer
+/// surface, or an island inside a cavity; or open) bounds a body of its own. Returns the body of
+/// each shell, bodies numbered 0, 1, ... in the order of their outer shells.
+std::vector<Index> shell_bodies(const TriangleMesh& mesh, const MeshTopology& topo);
+
 }  // namespace bemsurg
 
 // Definitions (header-only: the numerical core needs no compiled library, docs/design.md).

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <tuple>
 
@@ -168,6 +169,51 @@ inline double winding_number(const TriangleMesh& mesh, const Vec3& p, bool* on_s
   return detail::winding_number_over(mesh, p, on_surface, [&](auto&& visit) {
     for (Index f = 0; f < mesh.num_elements(); ++f) visit(f);
   });
+}
+
+inline std::vector<Index> shell_bodies(const TriangleMesh& mesh, const MeshTopology& topo) {
+  const Index ns = topo.num_shells();
+  std::vector<Index> root(static_cast<std::size_t>(ns));
+  std::iota(root.begin(), root.end(), Index{0});
+  // Bounding box and a probe point (the centroid of the largest face) of each closed shell.
+  std::vector<Index> closed;
+  std::vector<Vec3> lo, hi, probe;
+  for (Index s = 0; s < ns; ++s) {
+    if (!topo.shell_is_closed_and_oriented(s)) continue;
+    Vec3 a = Vec3::Constant(std::numeric_limits<double>::infinity()), b = -a;
+    Index largest = topo.shell(s).front();
+    for (Index f : topo.shell(s)) {
+      for (const Vec3& c : mesh.corners(f)) {
+        a = a.cwiseMin(c);
+        b = b.cwiseMax(c);
+      }
+      if (mesh.area(f) > mesh.area(largest)) largest = f;
+    }
+    closed.push_back(s);
+    lo.push_back(a);
+    hi.push_back(b);
+    probe.push_back(mesh.centroid(largest));
+  }
+  for (std::size_t i = 0; i < closed.size(); ++i) {
+    int depth = 0;
+    Index parent = -1;
+    for (std::size_t j = 0; j < closed.size(); ++j) {
+      if (i == j || !(lo[j].array() <= lo[i].array()).all() || !(hi[i].array() <= hi[j].array()).all()) continue;
+      const Index t = closed[j];
+      if (std::abs(winding_number(mesh, topo.shell(t), probe[i])) > 0.5) {
+        ++depth;
+        if (parent < 0 || std::abs(topo.shell_volume(t)) < std::abs(topo.shell_volume(parent))) parent = t;
+      }
+    }
+    if (depth % 2 == 1) root[static_cast<std::size_t>(closed[i])] = parent;  // a cavity: parent is at even depth
+  }
+  // Number the bodies in the order of their outer shells.
+  std::vector<Index> number(static_cast<std::size_t>(ns), -1), body(static_cast<std::size_t>(ns));
+  Index next = 0;
+  for (Index s = 0; s < ns; ++s)
+    if (root[static_cast<std::size_t>(s)] == s) number[static_cast<std::size_t>(s)] = next++;
+  for (Index s = 0; s < ns; ++s) body[static_cast<std::size_t>(s)] = number[static_cast<std::size_t>(root[static_cast<std::size_t>(s)])];
+  return body;
 }
 
 }  // namespace bemsurg
