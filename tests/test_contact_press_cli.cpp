@@ -87,3 +87,78 @@ TEST_CASE("bemsurg press writes elements.csv and force.json consistent with each
   CHECK(run("press " + scene + " --tool point --at 5,5,1 --direction 0,0,-1 --depth 0.001 -o " + out) == 1);
   CHECK(run("press " + scene + " --tool point --at 0,0,1 --direction 0,0,0 --depth 0.001 -o " + out) == 2);
 }
+
+namespace {
+// Runs bemsurg with `args`; returns the exit status and puts stdout + stderr in `output`.
+int run_capture(const std::string& args, const fs::path& log, std::string& output) {
+  const std::string cmd = std::string(BEMSURG_CLI_PATH) + " " + args + " > '" + log.string() + "' 2>&1";
+  const int status = std::system(cmd.c_str());
+  std::ifstream in(log);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  output = ss.str();
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+double force_z(const fs::path& out) {
+  std::ifstream fj(out / "force.json");
+  return nlohmann::json::parse(fj).at("force").get<std::vector<double>>().at(2);
+}
+}  // namespace
+
+TEST_CASE("bemsurg press refuses depths beyond the small-strain range and stays continuous inside it", "[contact][cli]") {
+  const bemsurg_test::TempDir temp("bemsurg_test_press_range_");
+  const fs::path& dir = temp.path;
+  auto write_scene = [&](const std::string& name, double height, int nz) {
+    std::ofstream scene(dir / name);
+    scene << R"({"mesh": {"generator": "box", "min": [-0.05, -0.05, 0], "max": [0.05, 0.05, )" << height
+          << R"(], "divisions": [6, 6, )" << nz << R"(]},
+                 "material": {"young_modulus": 3000, "poisson_ratio": 0.45, "density": 1000},
+                 "gravity": [0, 0, -9.81],
+                 "boundary_conditions": {"rules": [{"select": {"plane": {"point": [0, 0, 0], "normal": [0, 0, 1]}},
+                                                    "displacement": [0, 0, 0]}]}})";
+    return (dir / name).string();
+  };
+  const std::string flat_block = write_scene("block.json", 0.05, 3), tall = write_scene("tall.json", 0.2, 6);
+  const std::string out = (dir / "out").string(), table = (dir / "table.bin").string();
+  const fs::path log = dir / "log.txt";
+  std::string text;
+
+  // Before: a sphere pushed deeper than its radius gave zero force on zero elements with exit 0;
+  // a flat tool pushed 1.7e308 gave NaN forces; 1 m into a 5 cm body gave a force without a word.
+  CHECK(run_capture("press " + tall + " --tool sphere:0.02 --at 0,0,0.3 --direction 0,0,-1 --depth 0.025 -o " + out, log,
+                    text) == 1);
+  CHECK_THAT(text, Catch::Contains("1.25 times the tool radius 0.02") && Catch::Contains("depth <= 0.01"));
+  CHECK(run_capture("press " + flat_block + " --tool flat:0.02 --at 0,0,0.1 --direction 0,0,-1 --depth 1.7e308 -o " + out,
+                    log, text) == 1);
+  CHECK_THAT(text, Catch::Contains("small-strain range") && Catch::Contains("depth <= 0.01"));
+  CHECK(run_capture("press " + flat_block + " --tool point --at 0,0,0.1 --direction 0,0,-1 --depth 1 -o " + out, log,
+                    text) == 1);
+  CHECK_THAT(text, Catch::Contains("2e+03 % of the body's extent along the push (0.05)"));
+  CHECK_FALSE(fs::exists(dir / "out" / "force.json"));  // refused before any work
+
+  // Inside the range the force grows continuously with the depth up to the limit (20 % of the
+  // 0.05 body = 0.01; the sphere's own limit 0.5 R = 0.02 is further): a frictionless sphere on a
+  // fixed contact set is linear in the depth, and the set grows from 8 to 16 elements at 0.009.
+  // Measured F/d relative to the shallowest: 1.000 up to 0.008, then 1.015, 1.082; bound 12 %.
+  // Above 5 % strain (0.0025) a warning says the model is approximate.
+  const std::vector<double> depths = {0.001, 0.003, 0.005, 0.007, 0.009, 0.01};
+  double stiffness0 = 0.0, previous = 0.0;
+  for (double d : depths) {
+    INFO("depth " << d);
+    REQUIRE(run_capture("press " + flat_block + " --tool sphere:0.04 --frictionless --at 0,0,0.1 --direction 0,0,-1 --depth " +
+                            std::to_string(d) + " --table " + table + " -o " + out,
+                        log, text) == 0);
+    CHECK((text.find("warning: press:") != std::string::npos) == (d > 0.0025));
+    const double f = force_z(dir / "out");
+    CHECK(f > previous);
+    if (stiffness0 == 0.0) stiffness0 = f / d;
+    CHECK(std::abs(f / d / stiffness0 - 1.0) < 0.12);
+    previous = f;
+  }
+  // Just beyond the limit: refused, not a jump.
+  CHECK(run_capture("press " + flat_block + " --tool sphere:0.04 --frictionless --at 0,0,0.1 --direction 0,0,-1 --depth 0.0101 --table " +
+                        table + " -o " + out,
+                    log, text) == 1);
+  CHECK_THAT(text, Catch::Contains("beyond the small-strain range"));
+}

@@ -18,6 +18,7 @@
 #include "bemsurg/io/results_io.hpp"
 #include "bemsurg/io/scene.hpp"
 #include "bemsurg/presolution/contact_tools.hpp"
+#include "bemsurg/presolution/contact_validity.hpp"
 #include "bemsurg/presolution/greens_table.hpp"
 #include "bemsurg/presolution/table_file.hpp"
 #include "bemsurg/timing.hpp"
@@ -38,6 +39,9 @@ constexpr const char* kPressUsage =
     "matrix on the pre-solution table): bonded unless --frictionless (normal component only).\n"
     "flat: rigid flat disc of radius RADIUS; sphere: rigid sphere of radius RADIUS (unilateral:\n"
     "elements that would pull are released). The point tool's force depends on the mesh size.\n"
+    "\n"
+    "DEPTH must stay in the small-strain range (docs/design.md §6): refused beyond 20 % of the body's\n"
+    "extent along DIRECTION or 0.5 x RADIUS (flat, sphere); a warning above 5 % or 0.1 x RADIUS.\n"
     "\n"
     "writes OUTDIR/elements.csv (as bemsurg solve) and OUTDIR/force.json:\n"
     "  {\"force\": [fx, fy, fz], \"contact_elements\": k, \"force_update_us\": time of one force evaluation, ...}\n"
@@ -79,7 +83,7 @@ struct PressOptions {
   std::string scene, output, table_file, tool_text;
   bemsurg::ToolSpec tool;
   Eigen::Vector3d at = Eigen::Vector3d::Zero(), direction = Eigen::Vector3d::Zero();
-  double depth = 0.0;
+  double depth = 0.0, tool_radius = 0.0;  // tool_radius: 0 for the point tool
   bool have_at = false, have_direction = false, have_depth = false, frictionless = false, quiet = false, help = false;
 };
 
@@ -143,9 +147,9 @@ PressOptions parse(int argc, char** argv) {
   if (t == "point")
     o.tool = bemsurg::ToolSpec::point(mode);
   else if (t.rfind("flat:", 0) == 0)
-    o.tool = bemsurg::ToolSpec::flat(radius("flat:"), mode);
+    o.tool = bemsurg::ToolSpec::flat(o.tool_radius = radius("flat:"), mode);
   else if (t.rfind("sphere:", 0) == 0)
-    o.tool = bemsurg::ToolSpec::sphere(radius("sphere:"), mode);
+    o.tool = bemsurg::ToolSpec::sphere(o.tool_radius = radius("sphere:"), mode);
   else
     throw UsageError("press: --tool must be point, flat:RADIUS or sphere:RADIUS, got '" + t + "'");
   return o;
@@ -164,6 +168,10 @@ int run_press(int argc, char** argv) {
   if (!o.quiet)
     for (const auto& w : scene.warnings) std::cerr << "bemsurg: warning: " << w << "\n";
   const bemsurg::ElastostaticProblem& p = scene.problem;
+  // The depth must lie in the model's small-strain range (docs/design.md §6): refused before the
+  // table is computed, with a warning between the warning and the refusal thresholds.
+  const bemsurg::ContactDepthCheck range = bemsurg::check_contact_depth(p.mesh, o.direction, o.depth, o.tool_radius);
+  if (!o.quiet && !range.warning.empty()) std::cerr << "bemsurg: warning: press: " << range.warning << "\n";
 
   // The table: loaded when a matching file is given, else computed (and saved when asked).
   bemsurg::GreensTableOptions table_options;
@@ -196,6 +204,15 @@ int run_press(int argc, char** argv) {
   solver.set_depth(tool, o.depth);
   const bemsurg::ContactUpdateReport report = solver.update();
   const Eigen::Vector3d force = solver.force(tool);
+  // Never a NaN or a sudden zero (docs/design.md §10): inside the depth range the contact set is
+  // never empty once the tool pushes, so an empty one or a non-finite force is a failure to report.
+  if (!force.allFinite())
+    throw bemsurg::ContactError("press: the contact force is not finite at depth " + std::to_string(o.depth) +
+                                " (the contact solve failed); try a smaller --depth");
+  if (o.depth > 0.0 && solver.contact_elements(tool) == 0)
+    throw bemsurg::ContactError("press: the tool pushed " + std::to_string(o.depth) +
+                                " beyond first contact but no element is in contact (the contact set emptied); "
+                                "try a smaller --depth or a wider tool");
 
   // Time one force evaluation at this contact set (targets in, force out through the 3 x k force
   // operator), median of many.
