@@ -394,3 +394,26 @@ TEST_CASE("mesh files resolve against the scene's directory and can be scaled", 
   CHECK(s.problem.mesh.enclosed_volume() == Approx(1.0));
   CHECK_THAT(s.mesh_source, Catch::Contains("cube.obj"));
 }
+
+TEST_CASE("generators too large for the dense solve are refused with the estimate before generating", "[scene][generators]") {
+  // Before: the box at its maximum divisions generated and validated 12 M elements (> 4 GB)
+  // before the solve refused the size; now the element count is predicted from the parameters.
+  const auto resource_error = [](const std::string& mesh) -> std::string {
+    try {
+      load_scene_from_string(scene(mesh, kMaterial, kFixBottom), ".");
+    } catch (const ResourceError& e) {
+      return e.what();
+    } catch (const std::exception& e) {
+      return std::string("WRONG EXCEPTION TYPE: ") + e.what();
+    }
+    return "NO EXCEPTION";
+  };
+  CHECK_THAT(resource_error(R"("mesh": {"generator": "box", "min": [0,0,0], "max": [1,1,1], "divisions": [1000,1000,1000]})"),
+             Catch::Contains("mesh.divisions: a 1000x1000x1000 box has 12000000 elements") &&
+                 Catch::Contains("GiB") && Catch::Contains("refused before generating it"));
+  // 20 x 4^7 = 327680 elements: about 14 TB for H and G, beyond any machine this runs on.
+  CHECK_THAT(resource_error(R"("mesh": {"generator": "icosphere", "radius": 1, "subdivisions": 7})"),
+             Catch::Contains("mesh.subdivisions: the icosphere has 327680 elements"));
+  CHECK_THAT(resource_error(R"("mesh": {"generator": "hollow_sphere", "inner_radius": 0.5, "outer_radius": 1, "subdivisions_inner": 1, "subdivisions_outer": 7})"),
+             Catch::Contains("the hollow sphere has 327760 elements"));
+}

@@ -18,7 +18,9 @@
 #include <utility>
 
 #include "bemsurg/error.hpp"
+#include "bemsurg/elastostatic_solver.hpp"
 #include "bemsurg/io/element_selector.hpp"
+#include "bemsurg/memory_budget.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/mesh/mesh_io.hpp"
 #include "bemsurg/mesh/mesh_topology.hpp"
@@ -242,6 +244,19 @@ std::vector<double> as_increasing(const json& v, const std::string& key) {
   return out;
 }
 
+// A generated mesh is sized from its parameters before it is generated (docs/design.md §10): one
+// that the dense solve could not hold (H and G alone) is refused with the estimate, instead of
+// generating and validating millions of elements first.
+void require_generated_size(const std::string& key, const std::string& what, double elements) {
+  const double need = estimate_elastostatic_bytes(static_cast<Index>(elements)), limit = default_memory_limit_bytes();
+  if (need <= limit) return;
+  std::ostringstream m;
+  m.precision(3);
+  m << key << ": " << what << " has " << static_cast<long long>(elements) << " elements; the dense solve needs about " << format_gib(need)
+    << ", more than the limit of " << format_gib(limit) << " (80 % of physical memory); refused before generating it";
+  throw ResourceError(m.str());
+}
+
 TriangleMesh generate_mesh(const json& m, std::string& source, std::vector<std::string>& warnings) {
   const std::string kind = as_string(m["generator"], "mesh.generator");
   const auto center = [&] { return optional(m, "center") ? as_vec3(m["center"], "mesh.center") : Vec3(Vec3::Zero()); };
@@ -260,6 +275,8 @@ TriangleMesh generate_mesh(const json& m, std::string& source, std::vector<std::
       int n[3];
       for (std::size_t i = 0; i < 3; ++i) n[i] = as_int_in(d[i], item("mesh.divisions", i), 1, kMaxDivisions);
       source = "box generator, " + std::to_string(n[0]) + "x" + std::to_string(n[1]) + "x" + std::to_string(n[2]);
+      require_generated_size("mesh.divisions", "a " + source.substr(15) + " box",
+                             4.0 * (double(n[0]) * n[1] + double(n[1]) * n[2] + double(n[0]) * n[2]));
       return box_mesh(lo, hi, n[0], n[1], n[2]);
     }
     if (kind == "box_grid") {
@@ -268,6 +285,8 @@ TriangleMesh generate_mesh(const json& m, std::string& source, std::vector<std::
       const auto ys = as_increasing(required(m, "y", "mesh"), "mesh.y");
       const auto zs = as_increasing(required(m, "z", "mesh"), "mesh.z");
       source = "box_grid generator";
+      const double gx = double(xs.size() - 1), gy = double(ys.size() - 1), gz = double(zs.size() - 1);
+      require_generated_size("mesh", "the box_grid", 4.0 * (gx * gy + gy * gz + gx * gz));
       return box_mesh_from_grid(xs, ys, zs);
     }
     if (kind == "icosphere") {
@@ -275,6 +294,7 @@ TriangleMesh generate_mesh(const json& m, std::string& source, std::vector<std::
       const double r = positive(as_number(required(m, "radius", "mesh"), "mesh.radius"), "mesh.radius");
       const int s = subdivisions("subdivisions", 2);
       source = "icosphere generator, subdivisions " + std::to_string(s);
+      require_generated_size("mesh.subdivisions", "the icosphere", 20.0 * std::pow(4.0, s));
       return icosphere_mesh(center(), r, s);
     }
     if (kind == "ellipsoid") {
@@ -283,6 +303,7 @@ TriangleMesh generate_mesh(const json& m, std::string& source, std::vector<std::
       for (int c = 0; c < 3; ++c) positive(axes(c), item("mesh.semi_axes", static_cast<std::size_t>(c)));
       const int s = subdivisions("subdivisions", 2);
       source = "ellipsoid generator, subdivisions " + std::to_string(s);
+      require_generated_size("mesh.subdivisions", "the ellipsoid", 20.0 * std::pow(4.0, s));
       return ellipsoid_mesh(center(), axes, s);
     }
     if (kind == "hollow_sphere") {
@@ -297,9 +318,12 @@ TriangleMesh generate_mesh(const json& m, std::string& source, std::vector<std::
       const int si = subdivisions("subdivisions_inner", s);
       const int so = subdivisions("subdivisions_outer", s);
       source = "hollow_sphere generator, subdivisions " + std::to_string(si) + "/" + std::to_string(so);
+      require_generated_size("mesh.subdivisions", "the hollow sphere", 20.0 * (std::pow(4.0, si) + std::pow(4.0, so)));
       return hollow_sphere_mesh(center(), a, b, si, so);
     }
   } catch (const SceneError&) {
+    throw;
+  } catch (const ResourceError&) {
     throw;
   } catch (const Error& e) {
     fail("mesh", std::string("generator '") + kind + "' failed: " + e.what());

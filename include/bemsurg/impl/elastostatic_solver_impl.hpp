@@ -6,6 +6,7 @@
 #include <string>
 
 #include "bemsurg/memory_budget.hpp"
+#include "bemsurg/quadrature/quadrature_cost.hpp"
 #include "bemsurg/timing.hpp"
 
 namespace bemsurg {
@@ -34,6 +35,8 @@ inline ElastostaticSolution solve_elastostatic(const ElastostaticProblem& proble
                         (physical > 0.0 ? format_gib(physical) : std::string("unknown")) +
                         " of physical memory); coarsen the mesh");
   }
+  // The quadrature options' cost, estimated before the work (docs/design.md §4, §10).
+  require_assembly_quadrature_within(problem.mesh, problem.quadrature, "solve_elastostatic");
 
   ElastostaticSolution out;
   out.report.elements = E;

@@ -64,6 +64,16 @@ class ElementQuadrature {
     integrate_adaptive(p, a, b, c, 0, visit);
   }
 
+  /// The number of quadrature points integrate(p, a, b, c, ...) would visit, found by the same
+  /// recursion without evaluating anything (cost estimates, quadrature_cost.hpp). Counting stops
+  /// once the count exceeds `cap`, so a pair that would take minutes is counted in bounded time.
+  double count_points(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
+                      double cap) const {
+    double count = 0.0;
+    count_adaptive(p, a, b, c, 0, cap, count);
+    return count;
+  }
+
   /// Polar rule about the centroid p of the flat triangle (a, b, c). Calls visit(d, R, w): unit
   /// in-plane direction d, distance R from p to the boundary along d, and angle weight w
   /// (sum of w = 2 pi). Then int_T f dS = sum w int_0^R f(p + r d) r dr.
@@ -116,6 +126,27 @@ class ElementQuadrature {
     integrate_adaptive(p, ab, b, bc, depth + 1, visit);
     integrate_adaptive(p, ca, bc, c, depth + 1, visit);
     integrate_adaptive(p, ab, bc, ca, depth + 1, visit);
+  }
+
+  // integrate_adaptive's decisions, counting points instead of visiting them (keep the two alike).
+  void count_adaptive(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
+                      int depth, double cap, double& count) const {
+    if (count > cap) return;
+    const double h = std::sqrt(std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()}));
+    const double dist = (p - (a + b + c) / 3.0).norm();
+    if (dist >= options_.far_ratio * h) {
+      count += static_cast<double>(radon7_rule().weights.size());
+      return;
+    }
+    if (dist >= options_.mid_ratio * h || depth >= options_.max_depth) {
+      count += static_cast<double>(mid_rule_.weights.size());
+      return;
+    }
+    const Eigen::Vector3d ab = 0.5 * (a + b), bc = 0.5 * (b + c), ca = 0.5 * (c + a);
+    count_adaptive(p, a, ab, ca, depth + 1, cap, count);
+    count_adaptive(p, ab, b, bc, depth + 1, cap, count);
+    count_adaptive(p, ca, bc, c, depth + 1, cap, count);
+    count_adaptive(p, ab, bc, ca, depth + 1, cap, count);
   }
 
   QuadratureOptions options_;

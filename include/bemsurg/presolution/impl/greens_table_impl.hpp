@@ -12,6 +12,7 @@
 #include "bemsurg/assembly/linear_system.hpp"
 #include "bemsurg/error.hpp"
 #include "bemsurg/memory_budget.hpp"
+#include "bemsurg/quadrature/quadrature_cost.hpp"
 #include "bemsurg/solvers/dense_lu.hpp"
 #include "bemsurg/solvers/lu_in_place.hpp"
 #include "bemsurg/timing.hpp"
@@ -113,6 +114,7 @@ inline GreensTable GreensTable::compute(const TriangleMesh& mesh, const Material
                         " (A*, H and G: " + format_gib(8.0 * 3.0 * double(n) * double(n)) + "; table: " +
                         format_gib(8.0 * double(n) * 3.0 * double(R)) + "), more than the limit of " + format_gib(limit) +
                         "; restrict the region to where tools act, or coarsen the mesh away from it");
+  require_assembly_quadrature_within(mesh, options.quadrature, "GreensTable");  // docs/design.md §4, §10
 
   auto t0 = std::chrono::steady_clock::now();
   Eigen::MatrixXd A, B;
