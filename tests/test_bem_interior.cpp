@@ -76,3 +76,44 @@ TEST_CASE("interior points of the hanging bar include the gravity term") {
   CHECK(e.displacement < 0.0157);
   CHECK(e.stress < 0.063);
 }
+
+TEST_CASE("interior points too close to the surface are refused, and exact just outside that distance") {
+  // Rigid translation c (u = c, t = 0 on every element): Somigliana gives u = c and stress 0
+  // exactly, so anything else is quadrature error. Unit cube, 4 x 4 x 4 divisions, longest edge
+  // h = 0.354; points below the top face over an element and near the box edge y = z = 1.
+  const TriangleMesh box = box_mesh(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones(), 4, 4, 4);
+  const Index E = box.num_elements();
+  const Eigen::Vector3d c(1.0, 2.0, 3.0);
+  BoundarySolution s{RowMatrixX3d(E, 3), RowMatrixX3d::Zero(E, 3)};
+  for (Index e = 0; e < E; ++e) s.displacement.row(e) = c.transpose();
+  const Material m{1e3, 0.3, 0.0};
+  const InteriorEvaluator ev(box, m);
+  const double h = 0.25 * std::sqrt(2.0), limit = min_clearance_fraction(QuadratureOptions());
+  CHECK(limit == Approx(2.0 * 1.5 / 1024.0).epsilon(1e-15));
+  const Eigen::Vector3d face(0.46, 0.34, 1.0), edge(0.4, 1.0, 1.0);
+  const Eigen::Vector3d down(0.0, 0.0, -1.0), diagonal = Eigen::Vector3d(0.0, -1.0, -1.0).normalized();
+  // Before: 1e-4 h inside gave stresses of 4e3 E|c| and u 5-17 % off; now refused, naming the point.
+  RowMatrixX3d close(2, 3);
+  close.row(0) = (face + 0.3 * h * down).transpose();
+  close.row(1) = (face + 1e-4 * h * down).transpose();
+  CHECK_THROWS_AS(ev.stress(close, s), InvalidArgumentError);
+  CHECK_THROWS_WITH(ev.displacement(close, s), Catch::Contains("point 1") && Catch::Contains("closer than 0.00293") &&
+                                                   Catch::Contains("max_depth"));
+  // At 1.05 x the limit. Measured: u 3.1e-9 / 2.2e-9 relative, stress 1.9e-5 / 2.6e-5 E|c| over
+  // the face / at the edge; bounds 4.5e-9 and 3.5e-5 (at 1e-4 h: 5e-2 and 4e3).
+  RowMatrixX3d near(2, 3);
+  near.row(0) = (face + 1.05 * limit * h * down).transpose();
+  near.row(1) = (edge + 1.05 * std::sqrt(2.0) * limit * h * diagonal).transpose();  // 1.05 x limit from both faces
+  const RowMatrixX3d u = ev.displacement(near, s);
+  const StressRows st = ev.stress(near, s);
+  for (Index k = 0; k < 2; ++k) {
+    INFO("point " << k << ": u error " << (u.row(k).transpose() - c).norm() / c.norm() << ", stress "
+                  << st.row(k).norm() / (m.young_modulus * c.norm()));
+    CHECK((u.row(k).transpose() - c).norm() < 4.5e-9 * c.norm());
+    CHECK(st.row(k).norm() < 3.5e-5 * m.young_modulus * c.norm());
+  }
+  // One more level of splitting halves the distance allowed.
+  QuadratureOptions deeper;
+  deeper.max_depth = 11;
+  CHECK(min_clearance_fraction(deeper) == Approx(0.5 * limit).epsilon(1e-15));
+}

@@ -268,6 +268,14 @@ TEST_CASE("interior points outside the body or on its surface are refused", "[sc
   CHECK_THAT(scene_error(scene(R"("mesh": {"generator": "hollow_sphere", "inner_radius": 0.5, "outer_radius": 1, "subdivisions": 1})",
                                kMaterial, R"("boundary_conditions": {})", R"("interior_points": [[0.75, 0, 0], [0.1, 0, 0]])")),
              Catch::Contains("interior_points[1]: point (0.1, 0.0, 0.0) is not inside the body"));
+  // Closer to the surface than the quadrature resolves (2.9e-3 x the 0.707 edge = 2.1e-3): refused
+  // at load, naming the point, the element and the distance; max_depth 12 lets it through.
+  const std::string close = R"("interior_points": [[0.5, 0.5, 0.5], [0.3, 0.4, 0.999]])";
+  CHECK_THAT(scene_error(scene(kCube, kMaterial, kFixBottom, close)),
+             Catch::Contains("interior_points[1]: point (0.3, 0.4, 0.999) is 0.001 from element") &&
+                 Catch::Contains("closer than 0.00293"));
+  CHECK(load_scene_from_string(scene(kCube, kMaterial, kFixBottom, close + R"(, "quadrature": {"max_depth": 12})"), ".")
+            .interior_points.rows() == 2);
 }
 
 TEST_CASE("selectors pick exactly the elements their geometry says", "[scene][selectors]") {

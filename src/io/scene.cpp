@@ -25,6 +25,7 @@
 #include "bemsurg/mesh/mesh_io.hpp"
 #include "bemsurg/mesh/mesh_topology.hpp"
 #include "bemsurg/mesh/mesh_validation.hpp"
+#include "bemsurg/post/interior_clearance.hpp"
 
 namespace bemsurg {
 namespace {
@@ -621,7 +622,7 @@ BoundaryConditions load_boundary_conditions(const json& b, const std::string& di
 // ---- interior points -------------------------------------------------------------------------
 
 RowMatrixX3d load_interior_points(const json& ip, const std::string& directory, const TriangleMesh& mesh,
-                                  std::vector<std::string>& warnings) {
+                                  const QuadratureOptions& quadrature, std::vector<std::string>& warnings) {
   const std::string key = "interior_points";
   std::vector<Vec3> points;
   std::vector<std::string> where;  // how to name each point in a message
@@ -663,6 +664,13 @@ RowMatrixX3d load_interior_points(const json& ip, const std::string& directory, 
     }
     out.row(static_cast<Index>(i)) = points[i].transpose();
   }
+  // Too close to the surface for the quadrature: refused here rather than after the solve.
+  const ClearanceViolation v = find_point_too_close(mesh, out, quadrature);
+  if (v.point >= 0) {
+    const Vec3& p = points[static_cast<std::size_t>(v.point)];
+    fail(where[static_cast<std::size_t>(v.point)], "point (" + json(p.x()).dump() + ", " + json(p.y()).dump() + ", " +
+                                                       json(p.z()).dump() + ") " + describe_clearance_violation(v, quadrature));
+  }
   return out;
 }
 
@@ -684,7 +692,7 @@ Scene build_scene(const json& root, const std::string& directory, const std::str
   if (const json* q = optional(root, "quadrature")) problem.quadrature = load_quadrature(*q, scene.warnings);
   if (const json* s = optional(root, "solver")) scene.solver = load_solver(*s, scene.warnings);
   if (const json* ip = optional(root, "interior_points")) {
-    scene.interior_points = load_interior_points(*ip, directory, problem.mesh, scene.warnings);
+    scene.interior_points = load_interior_points(*ip, directory, problem.mesh, problem.quadrature, scene.warnings);
     scene.has_interior_points = true;
   }
   return scene;

@@ -2,7 +2,9 @@
 // the boundary solution (Wang et al. 2007 eqs. 7-9; Somigliana's identity with c = I):
 //   u_i(p)      = sum_e [ int_e U_ij t_j - int_e T_ij u_j ] + int_Gamma P_i
 //   sigma_ij(p) = sum_e [ int_e D_kij t_k - int_e S_kij u_k ] + gravity term
-// The same adaptive quadrature as assembly is used, so points close to the surface stay accurate.
+// The same adaptive quadrature as assembly is used; it is accurate down to a distance from each
+// element of min_clearance_fraction (2.9e-3 by default) times the element's size, and points
+// closer are refused (interior_clearance.hpp, docs/design.md §4).
 #pragma once
 
 #include <Eigen/Core>
@@ -10,6 +12,7 @@
 #include "bemsurg/assembly/linear_system.hpp"
 #include "bemsurg/material.hpp"
 #include "bemsurg/mesh/triangle_mesh.hpp"
+#include "bemsurg/post/interior_clearance.hpp"
 #include "bemsurg/quadrature/element_quadrature.hpp"
 
 namespace bemsurg {
@@ -22,10 +25,14 @@ class InteriorEvaluator {
   InteriorEvaluator(const TriangleMesh& mesh, const Material& material,
                     const Eigen::Vector3d& gravity = Eigen::Vector3d::Zero(), const QuadratureOptions& options = {});
 
+  /// Both throw InvalidArgumentError naming the first point closer to an element than the
+  /// quadrature resolves (interior_clearance.hpp), before evaluating anything.
   RowMatrixX3d displacement(const RowMatrixX3d& points, const BoundarySolution& solution) const;
   StressRows stress(const RowMatrixX3d& points, const BoundarySolution& solution) const;
 
  private:
+  void require_clearance(const RowMatrixX3d& points) const;
+
   /// The traversal both evaluations share: every point (in parallel) against every element, with
   /// the adaptive rule of assembly; integrand(sum, r = x - p, n_e, w, t_e, u_e) per quadrature
   /// point, then finish(k, sum) per point.

@@ -1,6 +1,8 @@
 // Implementation of bemsurg/post/interior_evaluator.hpp (Somigliana's identity and its gradient).
 #pragma once
 
+#include <sstream>
+
 #include "bemsurg/kernels/kelvin_kernel.hpp"
 #include "bemsurg/kernels/kernel_gradients.hpp"
 
@@ -12,7 +14,18 @@ inline InteriorEvaluator::InteriorEvaluator(const TriangleMesh& mesh, const Mate
   material_.validate();
 }
 
+inline void InteriorEvaluator::require_clearance(const RowMatrixX3d& points) const {
+  const ClearanceViolation v = find_point_too_close(mesh_, points, quadrature_.options());
+  if (v.point < 0) return;
+  std::ostringstream s;
+  s.precision(10);
+  s << "InteriorEvaluator: point " << v.point << " (" << points(v.point, 0) << ", " << points(v.point, 1) << ", "
+    << points(v.point, 2) << ") " << describe_clearance_violation(v, quadrature_.options());
+  throw InvalidArgumentError(s.str());
+}
+
 inline RowMatrixX3d InteriorEvaluator::displacement(const RowMatrixX3d& points, const BoundarySolution& s) const {
+  require_clearance(points);
   const KelvinKernel kernel(material_);
   const GravityKernel gravity(material_, body_force_);
   const bool has_gravity = body_force_.squaredNorm() > 0.0;
@@ -32,6 +45,7 @@ inline RowMatrixX3d InteriorEvaluator::displacement(const RowMatrixX3d& points, 
 }
 
 inline StressRows InteriorEvaluator::stress(const RowMatrixX3d& points, const BoundarySolution& s) const {
+  require_clearance(points);
   const KelvinKernelGradients grad(material_);
   const bool has_gravity = body_force_.squaredNorm() > 0.0;
   StressRows out(points.rows(), 6);
