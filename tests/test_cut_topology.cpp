@@ -137,13 +137,13 @@ TEST_CASE("opening a cut makes a groove of the asked width and depth and removes
     CHECK(std::abs((mesh->enclosed_volume() - m.enclosed_volume()) - w * d * h / 3.0) < 1e-15);
 
     // Extended by one edge: cone (h/2) + prism (h/2) + cone (h) = w d h.
-    REQUIRE(checked_action(cutter, false, Vec3(), Vec3(1, 0.1, 0), *mesh, {}));
+    REQUIRE(checked_action(cutter, false, Vec3::Zero(), Vec3(1, 0.1, 0), *mesh, {}));
     REQUIRE(cutter.sections().size() == 4);
     CHECK((cutter.mesh()->vertex(cutter.sections()[3].vertex) - Vec3(0.5, 0.5, 1)).norm() < 1e-15);
     CHECK(std::abs((mesh->enclosed_volume() - cutter.mesh()->enclosed_volume()) - w * d * h) < 1e-15);
 
     // Deepened by one level: twice the depth, twice the volume.
-    REQUIRE(checked_action(cutter, true, Vec3(), Vec3(), *mesh, {}));
+    REQUIRE(checked_action(cutter, true, Vec3::Zero(), Vec3::Zero(), *mesh, {}));
     REQUIRE(cutter.depth_levels() == 2);
     const auto& s2 = cutter.sections()[2];
     CHECK(std::abs(cutter.mesh()->vertex(s2.left[0]).z() - cutter.mesh()->vertex(s2.left[2]).z() - 2 * h) < 1e-15);
@@ -269,8 +269,8 @@ TEST_CASE("steps that cannot be done cleanly are refused with the reason and cha
   SECTION("deepening until the end fans would be slivers") {
     SurfaceCutter cutter(mesh, {});
     REQUIRE(checked_action(cutter, false, Vec3(0.5, 0.5, 1), Vec3(1, 0, 0), box, none));
-    REQUIRE(checked_action(cutter, true, Vec3(), Vec3(), box, none));  // two levels: 2.6 degrees
-    CHECK_FALSE(checked_action(cutter, true, Vec3(), Vec3(), box, none, &reason));  // three: 1.8
+    REQUIRE(checked_action(cutter, true, Vec3::Zero(), Vec3::Zero(), box, none));  // two levels: 2.6 degrees
+    CHECK_FALSE(checked_action(cutter, true, Vec3::Zero(), Vec3::Zero(), box, none, &reason));  // three: 1.8
     CHECK_THAT(reason, Catch::Contains("below the minimum"));
   }
   SECTION("breaking through a thin part") {
@@ -279,6 +279,21 @@ TEST_CASE("steps that cannot be done cleanly are refused with the reason and cha
     CHECK_FALSE(checked_action(cutter, false, Vec3(0.5, 0.5, 0.05), Vec3(1, 0, 0), plate,
                                std::vector<char>(static_cast<std::size_t>(plate.num_elements()), 0), &reason));
     CHECK_THAT(reason, Catch::Contains("intersect itself"));
+  }
+  SECTION("leaving a skin thinner than the gap") {
+    // Plate 0.13 thick, top edges 0.125: one level (0.125) leaves 0.005, less than the gap 0.0125.
+    const TriangleMesh plate = box_mesh(Vec3(0, 0, 0), Vec3(1, 1, 0.13), 8, 8, 1);
+    SurfaceCutter cutter(std::make_shared<const TriangleMesh>(plate), {});
+    CHECK_FALSE(checked_action(cutter, false, Vec3(0.5, 0.5, 0.13), Vec3(1, 0, 0), plate,
+                               std::vector<char>(static_cast<std::size_t>(plate.num_elements()), 0), &reason));
+    CHECK_THAT(reason, Catch::Contains("break through a thin part"));
+    CHECK_THAT(reason, Catch::Contains("less than the gap width"));
+    // Half as deep a level leaves 0.0675: accepted.
+    CutOptions shallow;
+    shallow.depth_fraction = 0.5;
+    SurfaceCutter ok(std::make_shared<const TriangleMesh>(plate), {}, shallow);
+    CHECK(checked_action(ok, false, Vec3(0.5, 0.5, 0.13), Vec3(1, 0, 0), plate,
+                         std::vector<char>(static_cast<std::size_t>(plate.num_elements()), 0)));
   }
   SECTION("crossing another cut's wall") {
     SurfaceCutter first(mesh, {});
@@ -291,7 +306,7 @@ TEST_CASE("steps that cannot be done cleanly are refused with the reason and cha
   }
   SECTION("no direction along the surface, and nothing to deepen") {
     SurfaceCutter cutter(mesh, {});
-    CHECK_FALSE(checked_action(cutter, true, Vec3(), Vec3(), box, none, &reason));
+    CHECK_FALSE(checked_action(cutter, true, Vec3::Zero(), Vec3::Zero(), box, none, &reason));
     CHECK_THAT(reason, Catch::Contains("no cut to deepen"));
     CHECK_FALSE(checked_action(cutter, false, Vec3(0.5, 0.5, 1), Vec3(0, 0, -1), box, none, &reason));
     CHECK_THAT(reason, Catch::Contains("normal"));

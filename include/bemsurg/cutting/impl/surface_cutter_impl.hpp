@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "bemsurg/error.hpp"
+#include "bemsurg/mesh/bvh.hpp"
 #include "bemsurg/mesh/mesh_validation.hpp"
 #include "bemsurg/mesh/self_intersection.hpp"
 
@@ -34,6 +35,28 @@ inline double cut_min_angle_degrees(const Vec3& p, const Vec3& q, const Vec3& r)
     smallest = std::min(smallest, std::acos(cosine) * 180.0 / kCutPi);
   }
   return smallest;
+}
+// Distance from p to the triangle (a, b, c): closest point by Voronoi regions (Ericson,
+// Real-Time Collision Detection, §5.1.5).
+inline double cut_point_triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0.0 && d2 <= 0.0) return ap.norm();
+  const Vec3 bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0.0 && d4 <= d3) return bp.norm();
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return (p - (a + d1 / (d1 - d3) * ab)).norm();
+  const Vec3 cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0.0 && d5 <= d6) return cp.norm();
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return (p - (a + d2 / (d2 - d6) * ac)).norm();
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0)
+    return (p - (b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b))).norm();
+  const double denom = 1.0 / (va + vb + vc);
+  return (p - (a + ab * (vb * denom) + ac * (vc * denom))).norm();
 }
 }  // namespace detail
 
@@ -495,15 +518,17 @@ inline bool SurfaceCutter::check(Work& w, std::string& reason) const {
       return false;
     }
   // No locked element may touch the cut's path either (its ends included).
+  std::vector<Index> locked_by_vertex(static_cast<std::size_t>(old.num_vertices()), -1);
+  for (Index f = 0; f < old.num_elements(); ++f)
+    if (locked_[static_cast<std::size_t>(f)])
+      for (int k = 0; k < 3; ++k) locked_by_vertex[static_cast<std::size_t>(old.faces()(f, k))] = f;
   for (const auto& s : w.path) {
     const Index v = s.split ? s.left.front() : s.vertex;
-    for (Index f = 0; f < old.num_elements(); ++f)
-      if (locked_[static_cast<std::size_t>(f)])
-        for (int k = 0; k < 3; ++k)
-          if (old.faces()(f, k) == v) {
-            reason = "the cut would reach supported element " + std::to_string(f) + " at vertex " + std::to_string(v);
-            return false;
-          }
+    if (v < old.num_vertices() && locked_by_vertex[static_cast<std::size_t>(v)] >= 0) {
+      reason = "the cut would reach supported element " + std::to_string(locked_by_vertex[static_cast<std::size_t>(v)]) +
+               " at vertex " + std::to_string(v);
+      return false;
+    }
   }
   const std::vector<Index> changed = d.changed();
   for (Index f : changed) {
@@ -531,6 +556,36 @@ inline bool SurfaceCutter::check(Work& w, std::string& reason) const {
     reason = "the cut would make the surface intersect itself (elements " + std::to_string(pairs[0].first) + " and " +
              std::to_string(pairs[0].second) + "): it would break through a thin part or cross a wall";
     return false;
+  }
+  // Clearance: the groove's walls and bottom keep at least one gap width from the rest of the
+  // surface, so that a cut that nearly breaks through a thin part (leaving a skin thinner than
+  // the gap, whose two sides the BEM would integrate as near-singular neighbours) is refused
+  // like one that breaks through.
+  const TriangleBvh bvh(*mesh);
+  std::vector<Index> near;
+  for (const auto& s : w.path) {
+    if (!s.split) continue;
+    for (std::size_t l = 1; l < s.left.size(); ++l)
+      for (Index v : {s.left[l], s.right[l]}) {
+        const Vec3 p = w.pos(v);
+        const double r = s.width;
+        near.clear();
+        bvh.query_box(p.array() - r, p.array() + r, near);
+        for (Index g : near) {
+          const auto& t = w.F[static_cast<std::size_t>(g)];
+          if (w.groove[static_cast<std::size_t>(g)] || w.cut_vertex[static_cast<std::size_t>(t[0])] ||
+              w.cut_vertex[static_cast<std::size_t>(t[1])] || w.cut_vertex[static_cast<std::size_t>(t[2])])
+            continue;
+          const double dist = detail::cut_point_triangle_distance(p, w.pos(t[0]), w.pos(t[1]), w.pos(t[2]));
+          if (dist < r) {
+            std::ostringstream msg;
+            msg << "the cut would come within " << dist << " of element " << g << " (less than the gap width " << r
+                << "): it would break through a thin part";
+            reason = msg.str();
+            return false;
+          }
+        }
+      }
   }
   w.result = std::move(mesh);
   return true;
