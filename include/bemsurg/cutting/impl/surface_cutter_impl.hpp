@@ -542,13 +542,6 @@ inline bool SurfaceCutter::check(Work& w, std::string& reason) const {
       return false;
     }
   }
-  MeshValidationOptions vo;
-  vo.warn_unreferenced_vertices = false;
-  const MeshValidationReport report = validate_mesh(*mesh, vo);
-  if (!report.valid()) {
-    reason = "the cut would leave an invalid surface: " + report.summary();
-    return false;
-  }
   SelfIntersectionOptions so;
   so.max_pairs = 1;
   const auto pairs = find_self_intersections(*mesh, changed, so);
@@ -586,6 +579,15 @@ inline bool SurfaceCutter::check(Work& w, std::string& reason) const {
           }
         }
       }
+  }
+  // Last, the topology: a groove that breaks through a wall also breaks the shells' nesting, and
+  // the reasons above name that cause.
+  MeshValidationOptions vo;
+  vo.warn_unreferenced_vertices = false;
+  const MeshValidationReport report = validate_mesh(*mesh, vo);
+  if (!report.valid()) {
+    reason = "the cut would leave an invalid surface: " + report.summary();
+    return false;
   }
   w.result = std::move(mesh);
   return true;
