@@ -91,6 +91,9 @@ bool checked_action(SurfaceCutter& cutter, bool deepen, const Vec3& from, const 
     return false;
   }
   REQUIRE(step.reason.empty());
+  REQUIRE(step.added_parent.size() == step.delta.added.size());
+  for (Index parent : step.added_parent)  // split halves name an existing, modified element
+    if (parent >= 0) REQUIRE(std::binary_search(step.delta.modified.begin(), step.delta.modified.end(), parent));
   REQUIRE(cutter.mesh() != before.pointer);
   REQUIRE(cutter.version() == before.version + 1);
   REQUIRE(cutter.locked_elements().size() == static_cast<std::size_t>(cutter.mesh()->num_elements()));
@@ -319,4 +322,30 @@ TEST_CASE("steps that cannot be done cleanly are refused with the reason and cha
     bad.gap_fraction = -1;
     CHECK_THROWS_AS(SurfaceCutter(mesh, {}, bad), InvalidArgumentError);
   }
+}
+
+TEST_CASE("the halves of the split edge name their parent and the walls are new cut surface", "[cut]") {
+  const auto mesh = std::make_shared<const TriangleMesh>(box_mesh(Vec3(0, 0, 0), Vec3(1, 1, 1), 8, 8, 8));
+  SurfaceCutter cutter(mesh, {});
+  const CutStep open = cutter.step(Vec3(0.5, 0.5, 1), Vec3(1, 0, 0));
+  REQUIRE(open.accepted);
+  REQUIRE(open.delta.modified.size() == 2);  // the two triangles of the split edge
+  REQUIRE(open.delta.added.size() == 8);     // their second halves and two end fans of 3
+  std::vector<Index> parents;
+  for (Index p : open.added_parent)
+    if (p >= 0) parents.push_back(p);
+  std::sort(parents.begin(), parents.end());
+  CHECK(parents == open.delta.modified);
+  // The halves cover their parent less the sliver the rim vertex moved into: same normal, areas
+  // adding up to the parent's minus h (w/2) / 2 (h = 0.125, w = 0.1 h).
+  for (std::size_t i = 0; i < open.delta.added.size(); ++i) {
+    const Index p = open.added_parent[i], e = open.delta.added[i];
+    if (p < 0) continue;
+    CHECK((cutter.mesh()->normal(e) - mesh->normal(p)).norm() < 1e-15);
+    const double h = 0.125, w = 0.1 * h;
+    CHECK(std::abs(cutter.mesh()->area(e) + cutter.mesh()->area(p) - (mesh->area(p) - h * w / 4.0)) < 1e-15);
+  }
+  const CutStep extend = cutter.step(Vec3::Zero(), Vec3(1, 0, 0));
+  REQUIRE(extend.accepted);
+  CHECK(std::count(extend.added_parent.begin(), extend.added_parent.end(), Index(-1)) == 6);
 }
