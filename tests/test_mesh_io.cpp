@@ -519,3 +519,34 @@ TEST_CASE("VTK output carries named cell and point fields and reads back", "[mes
   CHECK_THROWS_WITH(write_vtk(path, sphere, {{"m", Eigen::MatrixXd::Zero(80, 2)}}), Catch::Contains("80 x 2"));
   CHECK_THROWS_AS(write_vtk(dir.file("no/such/dir/x.vtk"), sphere), Error);
 }
+
+TEST_CASE("OBJ: concave polygons are triangulated inside the face, self-crossing ones refused", "[mesh][io]") {
+  // An L-shaped prism, height 1: the L faces (area 3) list their corners from a reflex-adjacent
+  // corner, so the old fan from the first corner put an inside-out triangle outside the face.
+  TempDir dir;
+  const std::string path = dir.file("l_prism.obj");
+  write_text(path,
+             "v 2 1 0\nv 1 1 0\nv 1 2 0\nv 0 2 0\nv 0 0 0\nv 2 0 0\n"
+             "v 2 1 1\nv 1 1 1\nv 1 2 1\nv 0 2 1\nv 0 0 1\nv 2 0 1\n"
+             "f 7 8 9 10 11 12\n"  // top, counter-clockwise seen from +z
+             "f 6 5 4 3 2 1\n"     // bottom, reversed
+             "f 1 2 8 7\nf 2 3 9 8\nf 3 4 10 9\nf 4 5 11 10\nf 5 6 12 11\nf 6 1 7 12\n");
+  const TriangleMesh m = read_obj(path);
+  CHECK(m.num_elements() == 4 + 4 + 12);
+  // Every triangle of the top lies in the face and faces +z; of the bottom, -z. Before: one
+  // triangle of each had its normal reversed and the total area was larger.
+  for (Index f = 0; f < 8; ++f) {
+    INFO("face " << f);
+    CHECK(std::abs(m.normal(f).z()) == Approx(1.0));
+    CHECK(m.normal(f).z() * (f < 4 ? 1.0 : -1.0) > 0.0);
+  }
+  CHECK(m.total_area() == Approx(2 * 3.0 + 8.0).epsilon(1e-14));
+  CHECK(m.enclosed_volume() == Approx(3.0).epsilon(1e-14));
+  const MeshValidationReport r = validate_mesh(m);
+  INFO(r.summary());
+  CHECK(r.valid());
+
+  // A polygon that crosses itself in its plane cannot be triangulated: refused with its line.
+  write_text(path, "v 0 0 0\nv 4 0 0\nv 4 3 0\nv 2 -1 0\nv 0 3 0\nv 1 1 0\nf 1 2 3 4 5 6\n");
+  CHECK_THROWS_WITH(read_obj(path), Catch::Contains("l_prism.obj:7") && Catch::Contains("cannot be triangulated"));
+}

@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "bemsurg/mesh/mesh_generators.hpp"
+#include "bemsurg/mesh/mesh_thickness.hpp"
 #include "bemsurg/mesh/mesh_topology.hpp"
 #include "bemsurg/mesh/mesh_validation.hpp"
 #include "bemsurg/mesh/vertex_welding.hpp"
@@ -283,4 +284,63 @@ TEST_CASE("coincident_vertex_representatives respects the tolerance", "[mesh][va
   const auto rep_loose = coincident_vertex_representatives(V, 1e-6);
   CHECK(rep_loose == std::vector<Index>{0, 1, 0, 1, 4});
   CHECK(bounding_box_diagonal(V) == Approx(std::sqrt(4.0 + 4.0 + 4.0)));
+}
+
+namespace {
+TriangleMesh join_meshes(const TriangleMesh& a, const TriangleMesh& b) {
+  RowMatrixX3d V(a.num_vertices() + b.num_vertices(), 3);
+  V << a.vertices(), b.vertices();
+  RowMatrixX3i F(a.num_elements() + b.num_elements(), 3);
+  F << a.faces(), (b.faces().array() + static_cast<int>(a.num_vertices())).matrix();
+  return TriangleMesh(V, F);
+}
+}  // namespace
+
+TEST_CASE("self-intersecting surfaces and overlapping shells are refused naming a face pair", "[mesh][validation]") {
+  // Before: both passed validation (closed, manifold, oriented) and were solved.
+  // Two overlapping spheres: every shell is closed and outward, but they share material.
+  const TriangleMesh a = icosphere_mesh(Eigen::Vector3d::Zero(), 1.0, 2);
+  const TriangleMesh b = icosphere_mesh(Eigen::Vector3d(1.2, 0.0, 0.0), 1.0, 2);
+  const TriangleMesh both = join_meshes(a, b);
+  const MeshValidationReport r = validate_mesh(both);
+  CHECK(has_kind(r, MeshIssueKind::SelfIntersection));
+  CHECK_THROWS_WITH(require_valid_mesh(both), Catch::Contains("intersect") && Catch::Contains("two shells overlap"));
+  // The same spheres apart are fine.
+  const TriangleMesh apart = join_meshes(a, icosphere_mesh(Eigen::Vector3d(2.5, 0.0, 0.0), 1.0, 2));
+  CHECK_FALSE(has_kind(validate_mesh(apart), MeshIssueKind::SelfIntersection));
+  CHECK(validate_mesh(apart).valid());
+
+  // One closed surface through itself: a vertex of a sphere pushed out through the far side.
+  RowMatrixX3d V = a.vertices();
+  Index top = 0;
+  for (Index v = 0; v < V.rows(); ++v)
+    if (V(v, 2) > V(top, 2)) top = v;
+  V.row(top) = Eigen::RowVector3d(0.0, 0.0, -1.5);
+  const TriangleMesh folded(V, a.faces());
+  const MeshValidationReport rf = validate_mesh(folded);
+  INFO(rf.summary());
+  REQUIRE(has_kind(rf, MeshIssueKind::SelfIntersection));
+  const MeshIssue& first = *std::find_if(rf.issues.begin(), rf.issues.end(),
+                                         [](const MeshIssue& i) { return i.kind == MeshIssueKind::SelfIntersection; });
+  CHECK_THAT(first.message, Catch::StartsWith("faces ") && Catch::Contains(" and ") && Catch::Contains("cuts through itself"));
+
+  // The check can be switched off (a cutter that checked its own faces).
+  MeshValidationOptions off;
+  off.check_self_intersection = false;
+  CHECK_FALSE(has_kind(validate_mesh(both, off), MeshIssueKind::SelfIntersection));
+}
+
+TEST_CASE("elements larger than the local thickness are found", "[mesh][validation]") {
+  // Before: a plate 1 x 1 x 0.001 meshed with 0.5-size elements was accepted without a word (its
+  // displacements came out ~1e6 too large).
+  const TriangleMesh plate = box_mesh(Eigen::Vector3d::Zero(), Eigen::Vector3d(1.0, 1.0, 0.001), 2, 2, 1);
+  const ThinElements thin = find_thin_elements(plate);
+  // The 16 top and bottom triangles: size sqrt(2 x 0.125) = 0.5 over a thickness of 0.001.
+  CHECK(thin.count == 16);
+  REQUIRE(thin.element >= 0);
+  CHECK(thin.size == Approx(0.5).epsilon(1e-12));
+  CHECK(thin.thickness == Approx(0.001).epsilon(1e-6));
+  // A cube as thick as its elements (one division), and a finely meshed sphere, are not thin.
+  CHECK(find_thin_elements(box_mesh(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones(), 1, 1, 1)).count == 0);
+  CHECK(find_thin_elements(icosphere_mesh(Eigen::Vector3d::Zero(), 1.0, 2)).count == 0);
 }

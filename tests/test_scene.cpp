@@ -425,3 +425,23 @@ TEST_CASE("generators too large for the dense solve are refused with the estimat
   CHECK_THAT(resource_error(R"("mesh": {"generator": "hollow_sphere", "inner_radius": 0.5, "outer_radius": 1, "subdivisions_inner": 1, "subdivisions_outer": 7})"),
              Catch::Contains("the hollow sphere has 327760 elements"));
 }
+
+TEST_CASE("overlapping shells are refused at load, a body thinner than its elements is warned about", "[scene][errors]") {
+  TempDir dir;
+  // Two overlapping spheres in one OBJ: before, this scene loaded and solved.
+  const TriangleMesh a = icosphere_mesh(Vec3::Zero(), 1.0, 1), b = icosphere_mesh(Vec3(1.2, 0.0, 0.0), 1.0, 1);
+  RowMatrixX3d V(a.num_vertices() + b.num_vertices(), 3);
+  V << a.vertices(), b.vertices();
+  RowMatrixX3i F(a.num_elements() + b.num_elements(), 3);
+  F << a.faces(), (b.faces().array() + static_cast<int>(a.num_vertices())).matrix();
+  write_obj((dir.path / "two.obj").string(), TriangleMesh(V, F));
+  CHECK_THAT(scene_error(scene(R"("mesh": {"file": "two.obj"})", kMaterial, R"("boundary_conditions": {})"), dir.path.string()),
+             Catch::Contains("mesh.file: invalid mesh") && Catch::Contains("faces ") && Catch::Contains("intersect"));
+
+  // A plate 1 x 1 x 0.001 in 2 x 2 x 1 divisions: loads, with a warning naming an element.
+  const Scene plate = load_scene_from_string(
+      scene(R"("mesh": {"generator": "box", "min": [0,0,0], "max": [1,1,0.001], "divisions": [2,2,1]})", kMaterial, kFixBottom), ".");
+  REQUIRE(plate.warnings.size() == 1);
+  CHECK_THAT(plate.warnings[0], Catch::Contains("mesh: 16 elements are larger than the body is thick under them") &&
+                                    Catch::Contains("size 0.5, thickness 0.001"));
+}

@@ -23,6 +23,7 @@
 #include "bemsurg/memory_budget.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/mesh/mesh_io.hpp"
+#include "bemsurg/mesh/mesh_thickness.hpp"
 #include "bemsurg/mesh/mesh_topology.hpp"
 #include "bemsurg/mesh/mesh_validation.hpp"
 #include "bemsurg/post/interior_clearance.hpp"
@@ -368,6 +369,18 @@ TriangleMesh load_mesh(const json& m, const std::string& directory, std::string&
     std::string what = e.what();
     if (what.rfind("invalid mesh: ", 0) == 0) what.erase(0, 14);
     fail(has_file ? "mesh.file" : "mesh", "invalid mesh (" + source + "): " + what);
+  }
+  // Legal but unreliable: a body thinner than its elements (docs/design.md §2).
+  const ThinElements thin = find_thin_elements(mesh);
+  if (thin.count > 0) {
+    std::ostringstream w;
+    w.precision(3);
+    w << (has_file ? "mesh.file" : "mesh") << ": " << thin.count
+      << " elements are larger than the body is thick under them (element " << thin.element << ": size " << thin.size
+      << ", thickness " << thin.thickness
+      << " along its inward normal); constant elements cannot resolve a part thinner than themselves and the "
+         "results there may be far off: refine the mesh to elements no larger than the thickness";
+    warnings.push_back(w.str());
   }
   return mesh;
 }

@@ -108,40 +108,110 @@ long long to_integer(std::string_view token, const std::string& path, std::size_
   return v;
 }
 
-/// Collects vertices and fan-triangulated polygons, remembering the line of each triangle so
-/// an out-of-range index can be reported where it was written.
+/// Collects vertices and polygons, remembering the line of each polygon so an out-of-range index
+/// or an untriangulable polygon can be reported where it was written. Polygons become triangles
+/// in build(), once every vertex is known: a convex polygon as a fan from its first corner (an
+/// OBJ quad becomes two consecutive elements), a non-convex one by ear clipping, which respects
+/// its concave corners (a fan would put an inside-out triangle outside the face).
 struct MeshBuilder {
   std::vector<double> coords;
-  std::vector<int> corners;
-  std::vector<std::size_t> lines;
+  std::vector<int> corners;        // polygon corners, one polygon after another
+  std::vector<std::size_t> sizes;  // corners per polygon
+  std::vector<std::size_t> lines;  // file position of each polygon
 
   Index num_vertices() const { return static_cast<Index>(coords.size() / 3); }
   void add_vertex(double x, double y, double z) { coords.insert(coords.end(), {x, y, z}); }
   void add_polygon(const std::vector<long long>& polygon, std::size_t line) {
-    for (std::size_t k = 1; k + 1 < polygon.size(); ++k) {
-      corners.insert(corners.end(), {static_cast<int>(polygon[0]), static_cast<int>(polygon[k]),
-                                     static_cast<int>(polygon[k + 1])});
-      lines.push_back(line);
-    }
+    for (long long v : polygon) corners.push_back(static_cast<int>(v));
+    sizes.push_back(polygon.size());
+    lines.push_back(line);
+  }
+  Eigen::Vector3d vertex(int v) const {
+    const std::size_t i = 3 * static_cast<std::size_t>(v);
+    return {coords[i], coords[i + 1], coords[i + 2]};
   }
   /// Indices are checked here (not by TriangleMesh) so the message can carry the file position.
   TriangleMesh build(const std::string& path, const char* face_word = "face") const {
     const Index nv = num_vertices();
-    for (std::size_t t = 0; t < lines.size(); ++t)
-      for (int k = 0; k < 3; ++k) {
-        const int v = corners[3 * t + static_cast<std::size_t>(k)];
+    std::size_t first = 0;
+    for (std::size_t p = 0; p < sizes.size(); first += sizes[p], ++p)
+      for (std::size_t k = 0; k < sizes[p]; ++k) {
+        const int v = corners[first + k];
         if (v < 0 || v >= nv)
-          fail(path, lines[t], std::string(face_word) + " refers to vertex " + std::to_string(v) + " (0-based), but the file has " +
+          fail(path, lines[p], std::string(face_word) + " refers to vertex " + std::to_string(v) + " (0-based), but the file has " +
                                    std::to_string(nv) + " vertices");
       }
+    std::vector<int> triangles;
+    triangles.reserve(3 * corners.size());
+    first = 0;
+    for (std::size_t p = 0; p < sizes.size(); first += sizes[p], ++p)
+      triangulate(&corners[first], sizes[p], path, lines[p], face_word, triangles);
     RowMatrixX3d V(nv, 3);
     for (Index v = 0; v < nv; ++v)
       for (int k = 0; k < 3; ++k) V(v, k) = coords[static_cast<std::size_t>(3 * v + k)];
-    const Index nf = static_cast<Index>(lines.size());
+    const Index nf = static_cast<Index>(triangles.size() / 3);
     RowMatrixX3i F(nf, 3);
     for (Index f = 0; f < nf; ++f)
-      for (int k = 0; k < 3; ++k) F(f, k) = corners[static_cast<std::size_t>(3 * f + k)];
+      for (int k = 0; k < 3; ++k) F(f, k) = triangles[static_cast<std::size_t>(3 * f + k)];
     return TriangleMesh(std::move(V), std::move(F));
+  }
+
+ private:
+  void triangulate(const int* poly, std::size_t n, const std::string& path, std::size_t line, const char* face_word,
+                   std::vector<int>& out) const {
+    const auto fan = [&] {
+      for (std::size_t k = 1; k + 1 < n; ++k) out.insert(out.end(), {poly[0], poly[k], poly[k + 1]});
+    };
+    if (n <= 3) return fan();
+    // Newell's normal: the polygon's area vector, robust for non-planar and concave polygons.
+    Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+    for (std::size_t k = 0; k < n; ++k) normal += vertex(poly[k]).cross(vertex(poly[(k + 1) % n]));
+    if (!(normal.norm() > 0.0) || !normal.allFinite()) return fan();  // degenerate: the validator names it
+    normal.normalize();
+    // In-plane coordinates: a 2D polygon, counter-clockwise about the normal.
+    const Eigen::Vector3d ex = (std::abs(normal.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY()).cross(normal).normalized();
+    const Eigen::Vector3d ey = normal.cross(ex);
+    std::vector<Eigen::Vector2d> q(n);
+    for (std::size_t k = 0; k < n; ++k) q[k] = {vertex(poly[k]).dot(ex), vertex(poly[k]).dot(ey)};
+    const auto cross = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
+      return (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
+    };
+    bool convex = true;
+    // Convex (flat corners allowed): the fan, as before, so element numbering of such files is
+    // unchanged.
+    for (std::size_t k = 0; k < n && convex; ++k) convex = cross(q[(k + n - 1) % n], q[k], q[(k + 1) % n]) >= 0.0;
+    if (convex) return fan();
+    // Ear clipping: cut off a convex corner whose triangle holds no other remaining corner, until
+    // three remain. O(n^2) per polygon, which is fine for the polygons of a surface mesh.
+    std::vector<std::size_t> left(n);
+    for (std::size_t k = 0; k < n; ++k) left[k] = k;
+    const auto inside = [&](const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
+      return cross(a, b, p) >= 0.0 && cross(b, c, p) >= 0.0 && cross(c, a, p) >= 0.0;
+    };
+    while (left.size() > 3) {
+      bool clipped = false;
+      for (std::size_t i = 0; i < left.size() && !clipped; ++i) {
+        const std::size_t a = left[(i + left.size() - 1) % left.size()], b = left[i], c = left[(i + 1) % left.size()];
+        if (!(cross(q[a], q[b], q[c]) > 0.0)) continue;  // reflex or flat corner
+        bool empty = true;
+        for (std::size_t j : left)
+          if (j != a && j != b && j != c && inside(q[j], q[a], q[b], q[c])) {
+            empty = false;
+            break;
+          }
+        if (!empty) continue;
+        out.insert(out.end(), {poly[a], poly[b], poly[c]});
+        left.erase(left.begin() + static_cast<std::ptrdiff_t>(i));
+        clipped = true;
+      }
+      if (!clipped)
+        fail(path, line, std::string(face_word) + " with " + std::to_string(n) +
+                             " corners cannot be triangulated: it crosses itself (or folds onto itself) in its plane");
+    }
+    if (cross(q[left[0]], q[left[1]], q[left[2]]) > 0.0) out.insert(out.end(), {poly[left[0]], poly[left[1]], poly[left[2]]});
+    else
+      fail(path, line, std::string(face_word) + " with " + std::to_string(n) +
+                           " corners cannot be triangulated: it crosses itself (or folds onto itself) in its plane");
   }
 };
 

@@ -24,8 +24,9 @@ enum class MeshIssueKind {
   InconsistentOrientation,  // two faces traverse their shared edge in the same direction
   InwardShell,              // a closed shell whose normals point into the material
   UnreferencedVertex,       // a vertex no face uses (harmless: a warning)
+  SelfIntersection,         // two faces cross or touch where the connectivity says they should not
 };
-inline constexpr std::size_t kNumMeshIssueKinds = 9;
+inline constexpr std::size_t kNumMeshIssueKinds = 10;
 
 enum class MeshIssueSeverity { Warning, Error };
 
@@ -47,6 +48,11 @@ struct MeshValidationOptions {
   bool check_shell_orientation = true;
   /// Whether unreferenced vertices are reported (always as warnings).
   bool warn_unreferenced_vertices = true;
+  /// Whether faces that cross each other are reported (find_self_intersections, O(F log F)): a
+  /// surface that cuts through itself, or two overlapping shells, bounds no body. Checked only
+  /// when the vertices are finite, no face is degenerate and no used vertices coincide. A caller that has checked the faces
+  /// it changed (the cutter) may switch it off.
+  bool check_self_intersection = true;
   /// At most this many issues of one kind are stored in full; the rest are only counted, so a
   /// triangle soup of a million faces does not produce a million strings.
   std::size_t max_issues_per_kind = 20;

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "bemsurg/mesh/mesh_topology.hpp"
+#include "bemsurg/mesh/self_intersection.hpp"
 #include "bemsurg/mesh/vertex_welding.hpp"
 
 namespace bemsurg {
@@ -26,6 +27,7 @@ inline const char* kind_name(MeshIssueKind kind) {
     case MeshIssueKind::InconsistentOrientation: return "inconsistently oriented edges";
     case MeshIssueKind::InwardShell: return "wrongly oriented shells";
     case MeshIssueKind::UnreferencedVertex: return "unreferenced vertices";
+    case MeshIssueKind::SelfIntersection: return "intersecting face pairs";
   }
   return "issues";
 }
@@ -252,6 +254,25 @@ inline MeshValidationReport validate_mesh(const TriangleMesh& mesh, const MeshVa
                 "faces " + std::to_string(edge.faces[0].face) + " and " + std::to_string(edge.faces[1].face) +
                     " traverse " + detail::edge_name(edge) +
                     " in the same direction: the orientation is inconsistent (one of them is flipped)");
+    }
+  }
+
+  // Before the shell orientation: overlapping shells also confuse their nesting, and the face
+  // pair is the cause to name.
+  // Not on unwelded meshes: faces meeting at coincident but distinct vertices would all count as
+  // touching, and the duplicates are the cause already named.
+  if (options.check_self_intersection && all_finite && report.count(MeshIssueKind::DegenerateFace) == 0 &&
+      report.count(MeshIssueKind::DuplicateVertex) == 0) {
+    SelfIntersectionOptions so;
+    so.max_pairs = options.max_issues_per_kind + 1;
+    const auto pairs = find_self_intersections(mesh, so);
+    for (const auto& pr : pairs) {
+      const Vec3 c = mesh.centroid(pr.first);
+      out.error(MeshIssueKind::SelfIntersection, pr.first,
+                "faces " + std::to_string(pr.first) + " and " + std::to_string(pr.second) + " intersect (face " +
+                    std::to_string(pr.first) + " near (" + detail::num(c.x()) + ", " + detail::num(c.y()) + ", " +
+                    detail::num(c.z()) +
+                    ")): the surface cuts through itself or two shells overlap, so it bounds no body");
     }
   }
 
