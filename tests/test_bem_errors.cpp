@@ -225,15 +225,15 @@ TEST_CASE("quadrature cost is counted exactly per pair and estimated from a samp
     total_counted += q.count_points(p, c[0], c[1], c[2], 1e300);
   }
   CHECK(total_counted == total_visited);
-  // 64 sampled sources against all 1280 (exact). Measured: 0.37 % apart; bound 0.6 %.
-  const QuadratureCostEstimate sampled = estimate_assembly_quadrature(m, o, 1e300, 64);
+  // 16 sampled sources (the default) against all 1280 (exact). Measured: 2.5 % apart; bound 3.5 %.
+  const QuadratureCostEstimate sampled = estimate_assembly_quadrature(m, o, 1e300);
   const QuadratureCostEstimate exact = estimate_assembly_quadrature(m, o, 1e300, m.num_elements());
   REQUIRE(exact.sampled_sources == m.num_elements());
   CHECK_FALSE(sampled.exceeded);
   INFO("sampled " << sampled.points << " exact " << exact.points);
-  CHECK(std::abs(sampled.points / exact.points - 1.0) < 0.006);
+  CHECK(std::abs(sampled.points / exact.points - 1.0) < 0.035);
   // The limit stops the count early and says so.
-  const QuadratureCostEstimate stopped = estimate_assembly_quadrature(m, o, 0.01 * exact.points, 64);
+  const QuadratureCostEstimate stopped = estimate_assembly_quadrature(m, o, 0.01 * exact.points);
   CHECK(stopped.exceeded);
   CHECK(stopped.points > 0.01 * exact.points);
 }
