@@ -242,6 +242,7 @@ void Session::drain(HapticLoop& loop, SessionObserver* observer) {
         if (big > 0.0) {
           jumps_.emplace_back((f - last_force_[t]).norm() / big, std::min(mag, prev));
           jump_tool_.push_back(static_cast<int>(t));
+          jump_time_.push_back(sample.time);
         }
       }
       last_force_[t] = f;
@@ -374,8 +375,11 @@ SessionResult Session::run(SessionObserver* observer) {
   result.peak_force = peak_;
   for (std::size_t i = 0; i < jumps_.size(); ++i) {
     const double threshold = 0.1 * peak_[static_cast<std::size_t>(jump_tool_[i])];
-    if (jumps_[i].second >= threshold && threshold > 0.0)
-      result.max_force_jump_fraction = std::max(result.max_force_jump_fraction, jumps_[i].first);
+    if (jumps_[i].second >= threshold && threshold > 0.0 && jumps_[i].first > result.max_force_jump_fraction) {
+      result.max_force_jump_fraction = jumps_[i].first;
+      result.max_force_jump_time = jump_time_[i];
+      result.max_force_jump_tool = jump_tool_[i];
+    }
   }
   if (!field_ms_.empty()) {
     std::vector<double> v = field_ms_;

@@ -64,6 +64,8 @@ struct SessionResult {
   /// Largest |F_k - F_(k-1)| / max(|F_k|, |F_(k-1)|) of a tool's contact-model force between
   /// consecutive ticks, over pairs where both magnitudes are at least 10 % of that tool's peak.
   double max_force_jump_fraction = 0.0;
+  double max_force_jump_time = 0.0;  // session time of that jump (s)
+  int max_force_jump_tool = -1;
   std::vector<double> peak_force;  // per tool, N (model force)
   int models_built = 0;
   int cuts = 0;
@@ -125,6 +127,7 @@ class Session {
   std::vector<Eigen::Vector3d> last_force_;
   std::vector<bool> have_last_;
   std::vector<std::pair<double, double>> jumps_;  // (jump fraction, smaller magnitude) per tool pair
+  std::vector<double> jump_time_;
   std::vector<int> jump_tool_;
   std::vector<double> peak_;
   double next_graphics_ = 0.0;
