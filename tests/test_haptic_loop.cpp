@@ -345,7 +345,7 @@ TEST_CASE("a cut through the session hook swaps the new table in between ticks",
     "actions": [
       {"time": 0.0, "tool": "grasper", "type": "pinch", "at": [0.52, 0.47, 0.7], "direction": [0, 0, -1]},
       {"time": 0.0, "tool": "grasper", "type": "move", "to": [0.52, 0.47, 0.501], "duration": 0.05},
-      {"time": 0.1, "tool": "scalpel", "type": "cut", "from": [0.2, 0.2, 0.5], "direction": [1, 0, 0], "steps": 1}
+      {"time": 0.1, "tool": "scalpel", "type": "cut", "from": [0.2, 0.2, 0.5], "direction": [1, 0, 0], "steps": 2, "step_interval": 0.05}
     ]
   })";
   SessionOptions options;
@@ -359,15 +359,16 @@ TEST_CASE("a cut through the session hook swaps the new table in between ticks",
   SECTION("with a hook") {
     options.cut_hook = [&](const CutRequest& r) {
       ++calls;
-      CHECK(r.table == b.table);  // the current snapshot
+      CHECK(r.step == calls - 1);
+      CHECK(r.table == (calls == 1 ? b.table : soft));  // the current snapshot
       return CutResult{r.mesh, soft};
     };
     Session session(b.mesh, b.table, load_action_script_from_string(script), options);
     Collect c;
     const SessionResult r = session.run(&c);
-    CHECK(calls == 1);
-    CHECK(r.cuts == 1);
-    CHECK(c.cuts == std::vector<int>{1});
+    CHECK(calls == 2);
+    CHECK(r.cuts == 2);
+    CHECK(c.cuts == std::vector<int>{1, 2});
     // Pulling up by 1 mm (the pinch grabbed the top at z = 0.5) at the end, before and after the cut.
     const Vec3 pos(0.52, 0.47, 0.501);
     auto pinch_force = [&](const std::shared_ptr<const GreensTable>& t) {

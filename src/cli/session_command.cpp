@@ -24,7 +24,8 @@ namespace {
 using bemsurg::cli::UsageError;
 
 constexpr const char* kSessionUsage =
-    "usage: bemsurg session SCENE.json --script ACTIONS.json -o OUTDIR [--table FILE] [--virtual-clock] [--quiet]\n"
+    "usage: bemsurg session SCENE.json --script ACTIONS.json -o OUTDIR [--table FILE] [--virtual-clock]\n"
+    "                       [--realtime-priority N] [--quiet]\n"
     "\n"
     "Runs the action script (docs/actions.md) on the scene: scripted devices drive the tools, the\n"
     "haptic loop computes their forces from the pre-solution table at the script's rate_hz.\n"
@@ -40,6 +41,8 @@ constexpr const char* kSessionUsage =
     "                    it and save it there\n"
     "  --virtual-clock   run the ticks back to back in session time (deterministic, as fast as the\n"
     "                    machine goes) instead of in real time on the haptic thread\n"
+    "  --realtime-priority N   ask for SCHED_FIFO priority N (1-99) for the haptic thread; refused\n"
+    "                    quietly without the privilege (report.json says what it got)\n"
     "  -q, --quiet       print nothing but errors\n";
 
 /// The cutting module's entry point for sessions. Unset in this build: the session refuses
@@ -92,6 +95,7 @@ nlohmann::json percentiles_json(const bemsurg::haptics::Percentiles& p) {
 int run_session(int argc, char** argv) {
   std::string scene_path, script_path, output, table_file;
   bool quiet = false, virtual_clock = false;
+  int realtime_priority = 0;
   auto value = [&](int& i, const std::string& arg) -> std::string {
     if (i + 1 >= argc) throw UsageError("session: " + arg + " needs a value");
     return argv[++i];
@@ -107,6 +111,17 @@ int run_session(int argc, char** argv) {
       output = value(i, arg);
     } else if (arg == "--table") {
       table_file = value(i, arg);
+    } else if (arg == "--realtime-priority") {
+      const std::string v = value(i, arg);
+      try {
+        std::size_t used = 0;
+        realtime_priority = std::stoi(v, &used);
+        if (used != v.size()) throw std::invalid_argument(v);
+      } catch (const std::exception&) {
+        throw UsageError("session: --realtime-priority expects an integer 1-99, got '" + v + "'");
+      }
+      if (realtime_priority < 1 || realtime_priority > 99)
+        throw UsageError("session: --realtime-priority expects an integer 1-99, got '" + v + "'");
     } else if (arg == "--virtual-clock") {
       virtual_clock = true;
     } else if (arg == "-q" || arg == "--quiet") {
@@ -131,6 +146,7 @@ int run_session(int argc, char** argv) {
   }
   bemsurg::haptics::SessionOptions options;
   options.virtual_clock = virtual_clock;
+  options.loop.realtime_priority = realtime_priority;
   options.cut_hook = session_cut_hook();
   // Refuse a script the session cannot run before the (possibly long) precomputation.
   if (script.has_cuts() && !options.cut_hook)
@@ -188,6 +204,7 @@ int run_session(int argc, char** argv) {
   j["clamped_ticks"] = s.clamped_ticks;
   j["faults"] = s.faults;
   j["trace_dropped"] = s.trace_dropped;
+  j["realtime_priority"] = s.realtime_priority;
   j["field_updates"] = r.field_updates;
   j["field_ms"] = percentiles_json(r.field_ms);
   j["cuts"] = r.cuts;

@@ -2,6 +2,9 @@
 // stages and its statistics (docs/haptics.md).
 #include "bemsurg/haptics/haptic_loop.hpp"
 
+#include <pthread.h>
+#include <sched.h>
+
 #include <chrono>
 #include <cmath>
 
@@ -28,8 +31,8 @@ HapticLoop::HapticLoop(const HapticLoopSettings& settings, std::vector<HapticDev
       contact_out_(contact_prototype(settings.publish_capacity)) {
   if (!(settings.rate_hz >= 100.0 && settings.rate_hz <= 10000.0))
     throw InvalidArgumentError("HapticLoop: rate_hz must lie in [100, 10000], got " + std::to_string(settings.rate_hz));
-  if (!(settings.stale_after_s > 0.0) || !(settings.ramp_s > 0.0) || settings.overrun_limit < 1)
-    throw InvalidArgumentError("HapticLoop: stale_after_s and ramp_s must be positive and overrun_limit at least 1");
+  if (!(settings.stale_after_s > 0.0) || !(settings.ramp_s > 0.0) || settings.overrun_limit < 1 || !(settings.spin_us >= 0.0))
+    throw InvalidArgumentError("HapticLoop: stale_after_s and ramp_s must be positive, spin_us non-negative and overrun_limit at least 1");
   if (devices_.empty() || devices_.size() > static_cast<std::size_t>(kMaxChannels))
     throw InvalidArgumentError("HapticLoop: between 1 and " + std::to_string(kMaxChannels) + " devices, got " +
                                std::to_string(devices_.size()));
@@ -236,7 +239,12 @@ void HapticLoop::start() {
 void HapticLoop::run() {
   using Clock = std::chrono::steady_clock;
   const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / settings_.rate_hz));
-  const auto spin = std::chrono::microseconds(150);
+  const auto spin = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double, std::micro>(settings_.spin_us));
+  if (settings_.realtime_priority > 0) {
+    sched_param p{};
+    p.sched_priority = settings_.realtime_priority;
+    if (pthread_setschedparam(pthread_self(), SCHED_FIFO, &p) == 0) counters_.realtime_priority = settings_.realtime_priority;
+  }
   const auto t0 = Clock::now();
   auto next = t0;
   while (running_.load(std::memory_order_acquire)) {

@@ -357,7 +357,12 @@ SessionResult Session::run(SessionObserver* observer) {
     loop.start();
     try {
       const auto period = std::chrono::duration<double>(1.0 / options_.simulation_hz);
-      while (loop.time() < script_.duration) {
+      // Until the script's end, and until every cut due by then has been applied (a slow cut
+      // must not be skipped; the loop renders the old model meanwhile).
+      auto cuts_pending = [&] {
+        return std::any_of(cuts_.begin(), cuts_.end(), [](const ScheduledCut& c) { return !c.done; });
+      };
+      while (loop.time() < script_.duration || cuts_pending()) {
         simulation_step(loop, observer, result);
         std::this_thread::sleep_for(period);
         if (std::chrono::steady_clock::now() - wall0 > std::chrono::duration<double>(4.0 * script_.duration + 30.0))

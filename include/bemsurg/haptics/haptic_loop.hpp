@@ -61,6 +61,13 @@ struct HapticLoopSettings {
   std::size_t trace_capacity = 1 << 15;  // samples the trace ring holds before the reader drains it
   std::size_t event_capacity = 256;
   Index publish_capacity = 2048;  // contact elements published per tick for graphics
+  /// > 0: ask for SCHED_FIFO at this priority for the haptic thread (what haptic programs do on
+  /// Linux; needs CAP_SYS_NICE or an rtprio limit). Refusal is not an error: the loop runs at
+  /// normal priority and LoopStatistics::realtime_priority says 0.
+  int realtime_priority = 0;
+  /// The thread sleeps until this long before each deadline, then spins: longer is steadier and
+  /// costs more CPU (>= the period: it never sleeps, a whole core).
+  double spin_us = 150.0;
 };
 
 struct ChannelSample {

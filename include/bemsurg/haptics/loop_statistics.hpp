@@ -70,6 +70,7 @@ struct LoopStatistics {
   std::uint64_t clamped_ticks = 0;      // ticks where the limiter changed the force
   std::uint64_t faults = 0;             // exceptions caught on the haptic thread (force zeroed)
   std::uint64_t trace_dropped = 0;      // trace samples lost because the reader fell behind
+  int realtime_priority = 0;            // SCHED_FIFO priority the haptic thread got (0: normal)
 };
 
 }  // namespace bemsurg::haptics
