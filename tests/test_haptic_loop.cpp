@@ -470,3 +470,27 @@ TEST_CASE("a haptic tick allocates nothing", "[haptics][loop]") {
   CHECK(n == 0);
   CHECK(sample.channel[0].force.norm() > 0.0);
 }
+
+TEST_CASE("an action script becomes keyframes: a press starts at first contact and pushes its depth", "[haptics][session]") {
+  Block& b = block();
+  const Session session(b.mesh, b.table, load_action_script_from_string(kPressScript), SessionOptions{});
+  const ScriptedDevice d(session.keyframes(0));
+  // The move holds at its target; the press jumps to where the disc first touches the top (z = 0.5)
+  // and pushes 1 mm over 0.2 s, linearly; after the script the tool stays where it ended.
+  CHECK((d.state_at(0.04).position - Vec3(0.5, 0.5, 0.7)).norm() < 1e-12);
+  CHECK(std::abs(d.state_at(0.05).position.z() - 0.5) < 1e-12);
+  CHECK(std::abs(d.state_at(0.15).position.z() - 0.4995) < 1e-12);
+  CHECK(std::abs(d.state_at(0.25).position.z() - 0.499) < 1e-12);
+  CHECK(std::abs(d.state_at(10.0).position.z() - 0.499) < 1e-12);
+  CHECK(d.state_at(0.1).buttons == 0U);  // a flat tool needs no button
+  const char* pinch = R"({"format": "bemsurg-actions", "version": 1,
+    "tools": [{"name": "g", "shape": "pinch"}],
+    "actions": [{"time": 0.1, "tool": "g", "type": "pinch", "at": [0.3, 0.3, 2.0], "direction": [0, 0, -1]},
+                {"time": 0.2, "tool": "g", "type": "release"}]})";
+  const Session ps(b.mesh, b.table, load_action_script_from_string(pinch), SessionOptions{});
+  const ScriptedDevice g(ps.keyframes(0));
+  CHECK(g.state_at(0.05).buttons == 0U);
+  CHECK(g.state_at(0.15).buttons == 1U);  // the jaws close: button 0 held
+  CHECK(std::abs(g.state_at(0.15).position.z() - 0.5) < 1e-12);
+  CHECK(g.state_at(0.25).buttons == 0U);
+}
