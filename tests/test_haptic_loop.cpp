@@ -271,7 +271,6 @@ TEST_CASE("the loop thread starts and stops with zero force sent", "[haptics][lo
   s.position = Vec3(0.52, 0.47, 0.5) + Vec3(0, 0, -0.001);
   device.set_state(s);
   loop.start();
-  CHECK(device.writes() >= 1);  // zero force first
   // Wait (generously: the machine may be loaded) until the loop has rendered a force.
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
   TickSample sample;
@@ -287,7 +286,10 @@ TEST_CASE("the loop thread starts and stops with zero force sent", "[haptics][lo
   CHECK(device.last_force() == Vec3::Zero());
   CHECK(loop.statistics().ticks > 0);
   CHECK(loop.statistics().faults == 0);
+  // One write per tick, plus zero force on start, at the thread's end and after the join.
+  CHECK(device.writes() == static_cast<long>(loop.statistics().ticks) + 3);
   loop.stop();  // idempotent
+  CHECK(device.writes() == static_cast<long>(loop.statistics().ticks) + 3);
 }
 
 TEST_CASE("model swaps under a running loop are whole: every force is the old or the new model's", "[haptics][loop]") {
@@ -493,4 +495,25 @@ TEST_CASE("an action script becomes keyframes: a press starts at first contact a
   CHECK(g.state_at(0.15).buttons == 1U);  // the jaws close: button 0 held
   CHECK(std::abs(g.state_at(0.15).position.z() - 0.5) < 1e-12);
   CHECK(g.state_at(0.25).buttons == 0U);
+}
+
+TEST_CASE("the workspace maps device positions into the model and forces back", "[haptics][devices]") {
+  NullDevice device;
+  Workspace w;
+  w.scale = 2.0;
+  w.offset = Vec3(0.5, 0.5, 0.0);
+  w.force_scale = 0.5;
+  HapticLoop loop(HapticLoopSettings{}, {&device}, {w});
+  auto m = point_model(block().table, 1);
+  loop.offer(m);
+  DeviceState s;
+  s.position = Vec3(0.01, -0.015, 0.2495);  // model: (0.52, 0.47, 0.499), 1 mm into the top
+  device.set_state(s);
+  for (int k = 0; k < 30; ++k) loop.tick(k * 1e-3);
+  TickSample sample;
+  REQUIRE(loop.latest(sample));
+  CHECK((sample.channel[0].position - Vec3(0.52, 0.47, 0.499)).norm() < 1e-12);
+  const Vec3 F = direct_point_force(block().table, Vec3(0.52, 0.47, 0.499));
+  CHECK((sample.channel[0].model_force - F).norm() < 1e-9 * F.norm());
+  CHECK((device.last_force() - 0.5 * sample.channel[0].force).norm() < 1e-15);
 }
