@@ -24,10 +24,9 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "bemsurg/haptics/half_space_table.hpp"
 #include "bemsurg/haptics/session.hpp"
 #include "bemsurg/io/action_script.hpp"
-#include "bemsurg/mesh/mesh_generators.hpp"
-#include "bemsurg/presolution/greens_table.hpp"
 #include "bench_support.hpp"
 
 using namespace bemsurg;
@@ -35,58 +34,14 @@ using Vec3 = Eigen::Vector3d;
 
 namespace {
 
-struct Model {
-  std::shared_ptr<const TriangleMesh> mesh;
-  std::shared_ptr<const GreensTable> table;
-  double h = 0.0;  // element edge in the fine region
-};
+using Model = haptics::HalfSpaceBlock;
 
-/// A 100 x 100 x 50 mm block, fine (edge h) on the top face within `fine` of its centre, graded
-/// to h_max elsewhere; bottom held; table columns for the top elements within `region` of the centre.
-Model build_model(double h, double h_max, double fine, double region, double depth_cells) {
-  const double L = 0.05;
-  (void)depth_cells;
-  const auto xs = graded_coordinates(-L, L, 0.0, h, h_max, 1.5, fine);
-  const auto zs = graded_coordinates(-L, 0.0, 0.0, std::max(2.0 * h, 0.002), h_max, 1.5, 0.0);
-  auto mesh = std::make_shared<TriangleMesh>(box_mesh_from_grid(xs, xs, std::vector<double>(zs.begin(), zs.end())));
-  const Index E = mesh->num_elements();
-  std::vector<Index> bottom, top;
-  for (Index e = 0; e < E; ++e) {
-    if (mesh->normal(e).z() < -0.99) bottom.push_back(e);
-    if (mesh->normal(e).z() > 0.99 && mesh->centroid(e).head<2>().norm() < region) top.push_back(e);
-  }
-  const Material material{1.0e5, 0.45, 1000.0};  // 100 kPa: newton-level forces at millimetres
-  const BoundaryConditions bc = supported_base_conditions(E, bottom);
-  const GreensTableKey key = make_greens_table_key(*mesh, material, bc, Vec3::Zero(), QuadratureOptions{});
-  const double nu = material.poisson_ratio, Y = material.young_modulus;
-  Eigen::MatrixXd columns = Eigen::MatrixXd::Zero(3 * E, 3 * static_cast<Index>(top.size()));
-  std::vector<char> held(static_cast<std::size_t>(E), 0);
-  for (Index e : bottom) held[static_cast<std::size_t>(e)] = 1;
-  for (std::size_t s = 0; s < top.size(); ++s) {
-    const Index j = top[s];
-    const Vec3 xj = mesh->centroid(j);
-    const double aj = mesh->area(j), cj = std::sqrt(aj / M_PI);
-    for (Index i = 0; i < E; ++i) {
-      if (held[static_cast<std::size_t>(i)]) continue;  // displacement prescribed: zero change
-      const Vec3 d = mesh->centroid(i) - xj;
-      const double r = d.norm();
-      // 1/r, and for the loaded element itself the mean of 1/r over a disc of its area (2/c).
-      const double inv = i == j ? 2.0 / cj : 1.0 / std::max(r, 0.5 * cj);
-      const double dx = i == j ? 0.0 : d.x() / r, dy = i == j ? 0.0 : d.y() / r;
-      const double f = aj * (1.0 + nu) / (M_PI * Y) * inv;  // displacement per unit traction on j
-      Eigen::Matrix3d G;
-      G << f * ((1.0 - nu) + nu * dx * dx), f * nu * dx * dy, 0.0,  //
-          f * nu * dx * dy, f * ((1.0 - nu) + nu * dy * dy), 0.0,    //
-          0.0, 0.0, f * (1.0 - nu);
-      columns.block<3, 3>(3 * i, 3 * static_cast<Index>(s)) = G;
-    }
-  }
-  Model m;
-  m.h = h;
-  m.table = std::make_shared<const GreensTable>(key, top, Eigen::VectorXd::Zero(3 * E), Eigen::VectorXd::Zero(3 * E), bc.kinds(),
-                                                std::move(columns));
-  m.mesh = mesh;
-  return m;
+/// Full: ~5,000 elements, 1 mm elements under the tools; quick: ~1,000, 4 mm. 100 kPa, nu 0.45:
+/// newton-level forces at millimetres.
+Model build_model(bool quick) {
+  const Material material{1.0e5, 0.45, 1000.0};
+  return quick ? haptics::half_space_block(0.004, 0.025, 0.008, 0.012, material)
+               : haptics::half_space_block(0.001, 0.015, 0.008, 0.012, material);
 }
 
 std::string script_text(double rate_hz, double scale, bool cuts) {
@@ -143,11 +98,10 @@ int main(int argc, char** argv) {
       return a == "--help" || a == "-h" ? 0 : 2;
     }
   }
-  // Full: ~5,000 elements, 1 mm elements under the tools. Quick: a few hundred, 2 mm.
-  const Model model = quick ? build_model(0.004, 0.025, 0.008, 0.012, 1.0) : build_model(0.001, 0.015, 0.008, 0.012, 1.0);
+  const Model model = build_model(quick);
   std::printf("bench_haptic_loop: %ld elements, %ld table columns (%.0f MB), fine edge %.1f mm\n",
               static_cast<long>(model.mesh->num_elements()), static_cast<long>(model.table->columns().cols()),
-              double(model.table->bytes()) / 1e6, model.h * 1e3);
+              double(model.table->bytes()) / 1e6, model.fine_edge * 1e3);
   const double scale = quick ? 0.5 : 1.0;
 
   haptics::SessionOptions options;
@@ -215,7 +169,7 @@ int main(int argc, char** argv) {
   out["benchmark"] = "bench_haptic_loop";
   out["quick"] = quick;
   out["elements"] = model.mesh->num_elements();
-  out["fine_element_edge_m"] = model.h;
+  out["fine_element_edge_m"] = model.fine_edge;
   out["rate_hz"] = s.achieved_rate_hz;
   out["overruns"] = s.overruns;
   out["jitter_us"] = {{"p50", s.jitter_us.p50}, {"p99", s.jitter_us.p99}, {"p999", s.jitter_us.p999}, {"max", s.jitter_us.max}};
