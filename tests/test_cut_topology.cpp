@@ -6,6 +6,7 @@
 // steps (supported elements, slivers, thin parts, another cut's wall) change nothing.
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <map>
 #include <random>
 
 #include "bemsurg/cutting/surface_cutter.hpp"
@@ -32,8 +33,33 @@ bool same_corners(const TriangleMesh& a, Index fa, const TriangleMesh& b, Index 
   return x[0] == y[0] && x[1] == y[1] && x[2] == y[2];
 }
 
+// Every vertex has one closed cycle of faces around it (edges alone do not show two cones
+// touching at a vertex).
+bool vertices_are_manifold(const TriangleMesh& mesh) {
+  std::vector<std::map<int, int>> next(static_cast<std::size_t>(mesh.num_vertices()));
+  const auto& F = mesh.faces();
+  for (Index f = 0; f < mesh.num_elements(); ++f)
+    for (int k = 0; k < 3; ++k)
+      if (!next[static_cast<std::size_t>(F(f, k))].emplace(F(f, (k + 1) % 3), F(f, (k + 2) % 3)).second) return false;
+  for (const auto& around : next) {
+    if (around.empty()) continue;
+    const int start = around.begin()->first;
+    int current = start;
+    std::size_t steps = 0;
+    do {
+      const auto it = around.find(current);
+      if (it == around.end()) return false;
+      current = it->second;
+      ++steps;
+    } while (current != start && steps <= around.size());
+    if (steps != around.size()) return false;
+  }
+  return true;
+}
+
 // The surface a BEM can use, checked independently of the cutter's own checks.
 void require_clean_surface(const TriangleMesh& mesh) {
+  REQUIRE(vertices_are_manifold(mesh));
   MeshValidationOptions options;
   options.warn_unreferenced_vertices = false;
   const auto report = validate_mesh(mesh, options);
@@ -198,6 +224,14 @@ TEST_CASE("seeded random cut sequences keep the surface closed manifold oriented
   const std::vector<Case> cases{{"box with a supported bottom", block, lock_where(block, Vec3(0, 0, -1))},
                                 {"sphere", sphere, std::vector<char>(static_cast<std::size_t>(sphere.num_elements()), 0)},
                                 {"refined box", refined, lock_where(refined, Vec3(0, 0, -1))}};
+  {  // the independent vertex check itself: two tetrahedra touching at one vertex fail it
+    RowMatrixX3d V(7, 3);
+    V << 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, -1, 0, 0, 0, -1, 0, 0, 0, -1;
+    RowMatrixX3i F(8, 3);
+    F << 0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3, 0, 5, 4, 0, 4, 6, 0, 6, 5, 4, 5, 6;
+    REQUIRE_FALSE(vertices_are_manifold(TriangleMesh(V, F)));
+    REQUIRE(vertices_are_manifold(TriangleMesh(V, RowMatrixX3i(F.topRows(4)))));
+  }
   std::mt19937 rng(20261123);
   std::uniform_real_distribution<double> U(-1.0, 1.0);
   int accepted = 0, refused = 0, deepened = 0, second_cuts = 0;

@@ -577,6 +577,19 @@ inline bool SurfaceCutter::check(Work& w, std::string& reason) const {
   }
   // Last, the topology: a groove that breaks through a wall also breaks the shells' nesting, and
   // the reasons above name that cause.
+  // Every vertex of a changed face has one closed fan of faces around it (validate_mesh checks
+  // edges; a vertex where two cones touch would pass it but is no 2-manifold either).
+  std::vector<char> seen(w.V.size(), 0);
+  for (Index f : changed)
+    for (Index v : w.F[static_cast<std::size_t>(f)]) {
+      if (seen[static_cast<std::size_t>(v)]) continue;
+      seen[static_cast<std::size_t>(v)] = 1;
+      std::string why;
+      if (w.fan(v, -1, why).empty()) {
+        reason = "the cut would leave a surface that is not 2-manifold: " + why;
+        return false;
+      }
+    }
   MeshValidationOptions vo;
   vo.warn_unreferenced_vertices = false;
   const MeshValidationReport report = validate_mesh(*mesh, vo);
