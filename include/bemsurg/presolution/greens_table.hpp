@@ -74,6 +74,8 @@ struct GreensTableUpdateReport {
 };
 
 /// What a table was computed for; a saved table is used only when all of it matches.
+struct CutChange;  // cutting/cut_change.hpp
+
 struct GreensTableKey {
   std::uint64_t mesh_hash = 0;        // vertices and faces, bit for bit
   std::uint64_t conditions_hash = 0;  // kinds and values of the base boundary conditions
@@ -126,6 +128,24 @@ class GreensTable {
   std::shared_ptr<const GreensTable> updated(std::shared_ptr<const TriangleMesh> after, const MeshDelta& delta,
                                              const GreensTableUpdateOptions& options = {},
                                              GreensTableUpdateReport* report = nullptr) const;
+
+  /// The same step taken with the rows and columns already integrated (integrate_cut_change on
+  /// this table's mesh, `after`, its material, quadrature and gravity), e.g. shared with an
+  /// iterative re-solve of the same step.
+  std::shared_ptr<const GreensTable> updated(std::shared_ptr<const TriangleMesh> after, const MeshDelta& delta,
+                                             const CutChange& change, const GreensTableUpdateOptions& options = {},
+                                             GreensTableUpdateReport* report = nullptr) const;
+  /// The reference for updated(): the same step by full re-assembly and a new factorisation
+  /// (same region rule, version() + 1).
+  std::shared_ptr<const GreensTable> recomputed_after(std::shared_ptr<const TriangleMesh> after, const MeshDelta& delta,
+                                                      const GreensTableUpdateOptions& options = {}) const;
+  /// This table computed again from scratch on its own mesh (same region, conditions, version):
+  /// what a background refactorisation publishes in place of a table whose correction rank grew.
+  std::shared_ptr<const GreensTable> refactored() const;
+  /// The region after a cut step: this region in its slots, then the added elements that join it
+  /// (GreensTableUpdateOptions::join_distance).
+  std::vector<Index> region_after_cut(const TriangleMesh& after, const MeshDelta& delta,
+                                      const GreensTableUpdateOptions& options = {}) const;
 
   /// Snapshot number: 0 from compute() or a file, +1 per updated().
   std::uint64_t version() const { return version_; }

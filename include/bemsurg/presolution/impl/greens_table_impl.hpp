@@ -192,10 +192,73 @@ inline std::shared_ptr<const GreensTable> GreensTable::updated(std::shared_ptr<c
   if (!has_factorization())
     throw InvalidArgumentError("GreensTable::updated: this table kept no factorisation (it was read from a file); recompute it");
   if (!after) throw InvalidArgumentError("GreensTable::updated: no mesh");
-  const TriangleMesh& before_mesh = *mesh_;
+  const CutChange change = integrate_cut_change(*mesh_, *after, delta, key_.material, quadrature_, key_.gravity);
+  auto out = updated(std::move(after), delta, change, options, report);
+  if (report) report->total_seconds = seconds_since(t_start);  // integration included
+  return out;
+}
+
+inline std::vector<Index> GreensTable::region_after_cut(const TriangleMesh& after, const MeshDelta& delta,
+                                                        const GreensTableUpdateOptions& options) const {
+  std::vector<Index> region = region_;
+  Index free_count = 0;
+  for (Index e = 0; e < key_.num_elements; ++e) free_count += is_free(e) ? 1 : 0;
+  const bool all_free = free_count == static_cast<Index>(region_.size());
+  double reach = options.join_distance;
+  if (!(reach > 0.0)) {
+    double largest = 0.0;
+    for (Index e : delta.changed())
+      if (e >= 0 && e < after.num_elements()) largest = std::max(largest, after.diameter(e));
+    reach = 3.0 * largest;
+  }
+  for (Index e : delta.added) {  // new cut surface: traction-free, so a tool may act on it
+    if (e < 0 || e >= after.num_elements()) continue;
+    bool join = all_free;
+    for (std::size_t s = 0; !join && s < region_.size(); ++s)
+      join = (after.centroid(e) - after.centroid(region_[s])).squaredNorm() <= reach * reach;
+    if (join) region.push_back(e);
+  }
+  return region;
+}
+
+inline std::shared_ptr<const GreensTable> GreensTable::recomputed_after(std::shared_ptr<const TriangleMesh> after,
+                                                                        const MeshDelta& delta,
+                                                                        const GreensTableUpdateOptions& options) const {
+  if (!mesh_) throw InvalidArgumentError("GreensTable::recomputed_after: this table has no mesh (read from a file)");
+  if (!after) throw InvalidArgumentError("GreensTable::recomputed_after: no mesh");
+  check_mesh_delta(delta, *mesh_, *after);
+  GreensTableOptions o;
+  o.region = region_after_cut(*after, delta, options);
+  o.gravity = key_.gravity;
+  o.quadrature = quadrature_;
+  auto out = std::make_shared<GreensTable>(compute(std::move(after), key_.material, conditions_after_cut(base_conditions(), delta), o));
+  out->version_ = version_ + 1;
+  return out;
+}
+
+inline std::shared_ptr<const GreensTable> GreensTable::refactored() const {
+  if (!mesh_) throw InvalidArgumentError("GreensTable::refactored: this table has no mesh (read from a file)");
+  GreensTableOptions o;
+  o.region = region_;
+  o.gravity = key_.gravity;
+  o.quadrature = quadrature_;
+  auto out = std::make_shared<GreensTable>(compute(mesh_, key_.material, base_conditions(), o));
+  out->version_ = version_;
+  return out;
+}
+
+inline std::shared_ptr<const GreensTable> GreensTable::updated(std::shared_ptr<const TriangleMesh> after, const MeshDelta& delta,
+                                                               const CutChange& change, const GreensTableUpdateOptions& options,
+                                                               GreensTableUpdateReport* report) const {
+  const auto t_start = SteadyClock::now();
+  if (!has_factorization())
+    throw InvalidArgumentError("GreensTable::updated: this table kept no factorisation (it was read from a file); recompute it");
+  if (!after) throw InvalidArgumentError("GreensTable::updated: no mesh");
+  check_mesh_delta(delta, *mesh_, *after);
+  if (change.n_before != num_dofs() || change.n_after != after->num_dofs())
+    throw InvalidArgumentError("GreensTable::updated: the integrated change is for another step");
   const BoundaryConditions before = base_conditions();
-  const BoundaryConditions bc = conditions_after_cut(before, delta);  // checks ids only; the delta is checked below
-  const CutChange change = integrate_cut_change(before_mesh, *after, delta, key_.material, quadrature_, key_.gravity);
+  const BoundaryConditions bc = conditions_after_cut(before, delta);
   const auto t_system = SteadyClock::now();
   const Index n = num_dofs(), n1 = change.n_after, d = change.size();
 
@@ -238,25 +301,7 @@ inline std::shared_ptr<const GreensTable> GreensTable::updated(std::shared_ptr<c
   const auto t_table = SteadyClock::now();
 
   // Region: old elements keep their slots; added elements near the region join at the end.
-  t.region_ = region_;
-  {
-    Index free_count = 0;
-    for (Index e = 0; e < key_.num_elements; ++e) free_count += is_free(e) ? 1 : 0;
-    const bool all_free = free_count == static_cast<Index>(region_.size());
-    double reach = options.join_distance;
-    if (!(reach > 0.0)) {
-      double largest = 0.0;
-      for (Index e : change.elements) largest = std::max(largest, t.mesh_->diameter(e));
-      reach = 3.0 * largest;
-    }
-    for (Index e : delta.added) {
-      if (!bc.is_free(e)) continue;
-      bool join = all_free;
-      for (std::size_t s = 0; !join && s < region_.size(); ++s)
-        join = (t.mesh_->centroid(e) - t.mesh_->centroid(region_[s])).squaredNorm() <= reach * reach;
-      if (join) t.region_.push_back(e);
-    }
-  }
+  t.region_ = region_after_cut(*t.mesh_, delta, options);
   const Index R0 = static_cast<Index>(region_.size()), R1 = static_cast<Index>(t.region_.size());
 
   // The old columns: T' = T + A'^-1 (B' - A' T) with T extended by zero rows. The residual is
