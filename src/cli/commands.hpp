@@ -22,3 +22,6 @@ int run_solve(int argc, char** argv);
 
 /// bemsurg press ...  (src/cli/press_command.cpp)
 int run_press(int argc, char** argv);
+
+/// bemsurg cut SCENE.json --from X,Y,Z --direction DX,DY,DZ --steps K ... (src/cli/cut_command.cpp)
+int run_cut(int argc, char** argv);

@@ -19,6 +19,7 @@ constexpr const char* kUsage =
     "commands:\n"
     "  solve SCENE.json -o OUTDIR   solve a scene; write elements.csv, interior.csv, surface.vtk, report.json\n"
     "  press ...                    press a tool into a scene and report the force (bemsurg press --help)\n"
+    "  cut ...                      cut a scene step by step, updating system and tables (bemsurg cut --help)\n"
     "\n"
     "Run 'bemsurg <command> --help' for a command's options. Scene format: docs/scene-format.md.\n";
 
@@ -44,6 +45,7 @@ int main(int argc, char** argv) {
     // The sub-command sees itself as argv[0], like a program's main.
     if (command == "solve") return run_solve(argc - 1, argv + 1);
     if (command == "press") return run_press(argc - 1, argv + 1);
+    if (command == "cut") return run_cut(argc - 1, argv + 1);
     return usage_error("unknown command '" + command + "'");
   } catch (const bemsurg::cli::UsageError& e) {
     return usage_error(e.what());
