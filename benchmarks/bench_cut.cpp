@@ -11,7 +11,7 @@
 //      agreement of the two (largest relative difference of base state and table).
 //   3. Narrow gaps: the solution on a cut mesh with default quadrature against a much finer one,
 //      as gap width / edge length shrinks (kMinimumGapRatio in cutting/gap_limit.hpp).
-//   bench_cut [--quick] [--json PATH] [--equations N1,N2,...] [--repeats R] [--no-gap]
+//   bench_cut [--quick] [--json PATH] [--equations N1,N2,...] [--repeats R] [--no-gap] [--no-table1] [--no-latency]
 // JSON: "table1": [{"equations", "scenario", "method", "seconds", "iterations", ...}],
 //       "latency": [{"equations", "region_elements", "exact_seconds", "refactor_seconds", "agreement", ...}],
 //       "gap": [{"gap_ratio", "difference_vs_fine_quadrature", ...}].
@@ -19,6 +19,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -55,8 +56,8 @@ struct Body {
   int nx = 0, ny = 0, nz = 0;
 };
 
-/// Box of nx x ny x nz cells on its base (u = 0), the cut starting near the top face's centre
-/// along its longer side, one cell back so that extensions have room.
+/// Box of nx x ny x nz cells on its base (u = 0), the cut running along the top face's longer
+/// centre line from one cell in from its edge.
 Body make_body(int nx, int ny, int nz, const QuadratureOptions& = {}) {
   Body b;
   b.nx = nx;
@@ -71,8 +72,9 @@ Body make_body(int nx, int ny, int nz, const QuadratureOptions& = {}) {
       b.locked[static_cast<std::size_t>(e)] = 1;
     }
   b.direction = nx >= ny ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
+  // One cell in from the top face's edge, on its centre line: room for max(nx, ny) - 2 steps.
   const Vec3 centre(0.5 * nx * kCell, 0.5 * ny * kCell, nz * kCell);
-  b.from = centre - std::floor(0.25 * std::max(nx, ny)) * kCell * b.direction;
+  b.from = centre - (0.5 * std::max(nx, ny) - 1.0) * kCell * b.direction;
   return b;
 }
 
@@ -206,10 +208,10 @@ void table1(const std::vector<std::array<int, 3>>& sizes, int repeats, json& out
 
 /// Box nearest `equations`: nx = ny = a (>= 8 for the cut's room), nz = b <= a.
 std::array<int, 3> block_near(long long equations) {
-  std::array<int, 3> best{8, 8, 1};
+  std::array<int, 3> best{8, 8, 3};
   long long gap = -1;
   for (int a = 8; a <= 80; ++a)
-    for (int b = 1; b <= a; ++b) {
+    for (int b = 3; b <= a; ++b) {  // at least 3 cells deep: the cut must not break through
       const long long n = 12LL * (a * a + 2LL * a * b);
       const long long d = std::llabs(n - equations);
       if (gap < 0 || d < gap) {
@@ -312,10 +314,19 @@ void gap_study(bool quick, json& out) {
   std::printf("  gap/edge 0: the uncut body (the quadrature's own error). Differences: max over dofs, relative to the largest.\n");
 }
 
+/// The 1-minute load average (/proc/loadavg; -1 where unavailable): on a shared 2-core machine a
+/// load above 2 makes every wall-clock figure proportionally slower, so the report keeps it.
+double load_average() {
+  std::ifstream in("/proc/loadavg");
+  double l = -1.0;
+  in >> l;
+  return in ? l : -1.0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  bool quick = false, gap = true;
+  bool quick = false, gap = true, do_table1 = true, do_latency = true;
   int repeats = 3;
   std::string json_path;
   std::vector<int> equations;
@@ -323,6 +334,8 @@ int main(int argc, char** argv) {
     const std::string a = argv[i];
     if (a == "--quick") quick = true;
     else if (a == "--no-gap") gap = false;
+    else if (a == "--no-table1") do_table1 = false;
+    else if (a == "--no-latency") do_latency = false;
     else if (a == "--json" && i + 1 < argc) json_path = argv[++i];
     else if (a == "--repeats" && i + 1 < argc) repeats = std::max(1, std::stoi(argv[++i]));
     else if (a == "--equations" && i + 1 < argc) {
@@ -333,14 +346,14 @@ int main(int argc, char** argv) {
         return 2;
       }
     } else {
-      std::cerr << "usage: bench_cut [--quick] [--json PATH] [--equations N1,N2,...] [--repeats R] [--no-gap]\n"
+      std::cerr << "usage: bench_cut [--quick] [--json PATH] [--equations N1,N2,...] [--repeats R] [--no-gap] [--no-table1] [--no-latency]\n"
                 << "unknown or incomplete argument: " << a << "\n";
       return 2;
     }
   }
   if (quick) repeats = 1;
   if (equations.empty()) equations = quick ? std::vector<int>{1000} : std::vector<int>{1584, 4752, 9000, 15000};
-  std::vector<std::array<int, 3>> sizes = {{3, 3, 3}};
+  std::vector<std::array<int, 3>> sizes = {{4, 4, 2}};  // n = 384
   if (!quick) sizes = {{6, 3, 8}, {2, 8, 9}, {6, 6, 8}};  // n = 1080, 1272, 1584
   int threads = 1;
 #ifdef _OPENMP
@@ -351,19 +364,21 @@ int main(int argc, char** argv) {
 #else
   const char* backend = "Eigen";
 #endif
-  std::printf("bench_cut (%s): %d OpenMP threads, dense back end %s, %d repeats (median)\n", quick ? "quick" : "full", threads, backend,
-              repeats);
+  std::printf("bench_cut (%s): %d OpenMP threads, dense back end %s, %d repeats (median), load average %.2f\n", quick ? "quick" : "full",
+              threads, backend, repeats, load_average());
   json report = {{"benchmark", "bench_cut"}, {"mode", quick ? "quick" : "full"}, {"threads", threads}, {"dense_backend", backend},
-                 {"repeats", repeats}, {"table1", json::array()}, {"latency", json::array()}, {"gap", json::array()}};
+                 {"repeats", repeats}, {"load_average_at_start", load_average()}, {"table1", json::array()}, {"latency", json::array()}, {"gap", json::array()}};
   try {
-    table1(sizes, repeats, report["table1"]);
-    latency(equations, report["latency"]);
+    if (do_table1) table1(sizes, repeats, report["table1"]);
+    if (do_latency) latency(equations, report["latency"]);
     if (gap) gap_study(quick, report["gap"]);
   } catch (const std::exception& e) {
     std::cerr << "bench_cut: " << e.what() << "\n";
     bench::write_json_file(json_path, report, "bench_cut");
     return 1;
   }
+  report["load_average_at_end"] = load_average();
+  std::printf("load average at the end: %.2f\n", load_average());
   if (!bench::write_json_file(json_path, report, "bench_cut")) return 1;
   return 0;
 }
