@@ -66,6 +66,11 @@ struct CutStep {
   /// Why a step was refused (empty when accepted).
   std::string reason;
   MeshDelta delta;
+  /// One entry per element of delta.added, in the same order: -1 for new cut surface (walls and
+  /// bottom: traction-free unless the scene says otherwise), or the id of the existing element it
+  /// was split from (the second half of a triangle split on opening), whose boundary condition
+  /// it inherits.
+  std::vector<Index> added_parent;
 };
 
 class SurfaceCutter {
@@ -113,6 +118,7 @@ class SurfaceCutter {
 
  private:
   struct Work;  // a candidate state, built fully before anything is committed
+  Work start_work() const;
   CutStep refuse(std::string reason) const;
   CutStep commit(Work& w);
   bool open(Work& w, const Vec3& from, const Vec3& direction, std::string& reason) const;

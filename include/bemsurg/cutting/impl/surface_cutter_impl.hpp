@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "bemsurg/error.hpp"
@@ -78,9 +79,11 @@ struct SurfaceCutter::Work {
     cut_vertex.push_back(1);
     return static_cast<Index>(V.size()) - 1;
   }
-  Index add_face(const std::array<Index, 3>& f, bool is_groove) {
+  std::vector<Index> parent;  // per face appended by this step: the element it was split from, or -1
+  Index add_face(const std::array<Index, 3>& f, bool is_groove, Index split_from = -1) {
     F.push_back(f);
     groove.push_back(is_groove ? 1 : 0);
+    parent.push_back(split_from);
     return static_cast<Index>(F.size()) - 1;
   }
   Vec3 face_normal_area(Index f) const {  // twice the area times the unit normal
@@ -186,9 +189,7 @@ inline CutStep SurfaceCutter::refuse(std::string reason) const {
   return out;
 }
 
-inline CutStep SurfaceCutter::step(const Eigen::Vector3d& from, const Eigen::Vector3d& direction) {
-  if (!from.allFinite() || !direction.allFinite() || direction.norm() == 0.0)
-    return refuse("the tool position and direction must be finite and the direction non-zero");
+inline SurfaceCutter::Work SurfaceCutter::start_work() const {
   Work w;
   const TriangleMesh& m = *mesh_;
   w.V.resize(static_cast<std::size_t>(m.num_vertices()));
@@ -204,6 +205,13 @@ inline CutStep SurfaceCutter::step(const Eigen::Vector3d& from, const Eigen::Vec
   w.levels = levels_;
   w.groove_faces = groove_faces_;
   w.elements_before = m.num_elements();
+  return w;
+}
+
+inline CutStep SurfaceCutter::step(const Eigen::Vector3d& from, const Eigen::Vector3d& direction) {
+  if (!from.allFinite() || !direction.allFinite() || direction.norm() == 0.0)
+    return refuse("the tool position and direction must be finite and the direction non-zero");
+  Work w = start_work();
   std::string reason;
   const bool ok = path_.empty() ? open(w, from, direction, reason) : extend(w, direction, reason);
   if (!ok) return refuse(reason);
@@ -214,21 +222,8 @@ inline CutStep SurfaceCutter::step(const Eigen::Vector3d& from, const Eigen::Vec
 
 inline CutStep SurfaceCutter::deepen() {
   if (path_.empty()) return refuse("there is no cut to deepen: open one with step() first");
-  Work w;
-  const TriangleMesh& m = *mesh_;
-  w.V.resize(static_cast<std::size_t>(m.num_vertices()));
-  for (Index v = 0; v < m.num_vertices(); ++v) w.V[static_cast<std::size_t>(v)] = m.vertex(v);
-  w.F.resize(static_cast<std::size_t>(m.num_elements()));
-  for (Index f = 0; f < m.num_elements(); ++f)
-    w.F[static_cast<std::size_t>(f)] = {m.faces()(f, 0), m.faces()(f, 1), m.faces()(f, 2)};
-  w.groove.assign(w.F.size(), 0);
-  for (const auto& kv : groove_faces_) w.groove[static_cast<std::size_t>(kv.second)] = 1;
-  w.cut_vertex = cut_vertex_;
-  w.path = path_;
-  w.segment_length = segment_length_;
-  w.levels = levels_ + 1;
-  w.groove_faces = groove_faces_;
-  w.elements_before = m.num_elements();
+  Work w = start_work();
+  ++w.levels;
   for (auto& s : w.path) {
     if (!s.split) continue;
     const double half = 0.5 * s.width, depth = w.levels * s.level_depth;
@@ -292,9 +287,9 @@ inline bool SurfaceCutter::open(Work& w, const Vec3& from, const Vec3& direction
   }
   const Index mid = w.add_vertex(0.5 * (w.pos(a) + w.pos(b)));
   w.F[static_cast<std::size_t>(f1)] = {a, mid, x1};
-  w.add_face({mid, b, x1}, false);
+  w.add_face({mid, b, x1}, false, f1);
   w.F[static_cast<std::size_t>(f2)] = {b, mid, x2};
-  w.add_face({mid, a, x2}, false);
+  w.add_face({mid, a, x2}, false, f2);
   const double length = (w.pos(b) - w.pos(a)).norm();
   for (Index v : {a, mid, b}) {
     Section s;
@@ -542,13 +537,6 @@ inline bool SurfaceCutter::check(Work& w, std::string& reason) const {
       return false;
     }
   }
-  MeshValidationOptions vo;
-  vo.warn_unreferenced_vertices = false;
-  const MeshValidationReport report = validate_mesh(*mesh, vo);
-  if (!report.valid()) {
-    reason = "the cut would leave an invalid surface: " + report.summary();
-    return false;
-  }
   SelfIntersectionOptions so;
   so.max_pairs = 1;
   const auto pairs = find_self_intersections(*mesh, changed, so);
@@ -587,6 +575,28 @@ inline bool SurfaceCutter::check(Work& w, std::string& reason) const {
         }
       }
   }
+  // Last, the topology: a groove that breaks through a wall also breaks the shells' nesting, and
+  // the reasons above name that cause.
+  // Every vertex of a changed face has one closed fan of faces around it (validate_mesh checks
+  // edges; a vertex where two cones touch would pass it but is no 2-manifold either).
+  std::vector<char> seen(w.V.size(), 0);
+  for (Index f : changed)
+    for (Index v : w.F[static_cast<std::size_t>(f)]) {
+      if (seen[static_cast<std::size_t>(v)]) continue;
+      seen[static_cast<std::size_t>(v)] = 1;
+      std::string why;
+      if (w.fan(v, -1, why).empty()) {
+        reason = "the cut would leave a surface that is not 2-manifold: " + why;
+        return false;
+      }
+    }
+  MeshValidationOptions vo;
+  vo.warn_unreferenced_vertices = false;
+  const MeshValidationReport report = validate_mesh(*mesh, vo);
+  if (!report.valid()) {
+    reason = "the cut would leave an invalid surface: " + report.summary();
+    return false;
+  }
   w.result = std::move(mesh);
   return true;
 }
@@ -595,6 +605,7 @@ inline CutStep SurfaceCutter::commit(Work& w) {
   CutStep out;
   out.accepted = true;
   out.delta = w.delta;
+  out.added_parent = w.parent;
   mesh_ = std::move(w.result);
   ++version_;
   locked_.resize(static_cast<std::size_t>(mesh_->num_elements()), 0);
