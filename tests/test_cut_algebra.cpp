@@ -109,7 +109,7 @@ TEST_CASE("inversion by partitioning equals the direct inverse of the grown BEM 
   const Eigen::MatrixXd direct = A.partialPivLu().inverse();
   const double err = relative_max(grown, direct);
   INFO("partitioned vs direct inverse: " << err);
-  CHECK(err <= 1e-10);  // measured: see docs/cutting.md
+  CHECK(err <= 1e-14);  // measured 6.1e-16 (the issue asks for 1e-10)
   CHECK(relative_max(grown * A, Eigen::MatrixXd::Identity(A.rows(), A.cols())) <= 1e-10);
 }
 
@@ -153,7 +153,7 @@ TEST_CASE("the low-rank-updated factorisation solves grown and reshaped systems"
     worst = std::max(worst, relative_max(X, A.partialPivLu().solve(B)));
   }
   INFO("Woodbury vs direct: " << worst);
-  CHECK(worst <= 1e-11);
+  CHECK(worst <= 5e-14);  // measured 8.7e-15
   CHECK(solver.rank() > 0);
 }
 
@@ -176,7 +176,7 @@ TEST_CASE("a Green's table updated after cut steps equals the table computed fro
     const GreensTable reference = from_scratch(*next, body);
     const double diff = table_difference(*next, reference);
     INFO("step " << step << ": updated vs scratch " << diff << ", rank " << report.rank);
-    CHECK(diff <= 1e-9);
+    CHECK(diff <= 1e-13);  // measured at most 1.2e-14
     worst = std::max(worst, diff);
     table = next;
   }
@@ -221,7 +221,7 @@ TEST_CASE("exact, iterative and refactored cut updates agree after every step", 
     for (int i = 0; i < 4; ++i) {
       const double diff = relative_max(systems[static_cast<std::size_t>(i)]->solution(), ref);
       INFO("step " << step << " " << to_string(methods[i]) << " vs refactor: " << diff);
-      CHECK(diff <= (i == 0 ? 1e-12 : 1e-8));
+      CHECK(diff <= (i == 0 ? 1e-13 : 5e-11));  // measured 9.5e-15 (exact), 7.2e-12 (Krylov at tolerance 1e-12)
       (i == 0 ? worst_refactor : worst_iterative) = std::max(i == 0 ? worst_refactor : worst_iterative, diff);
     }
     CHECK(table_difference(*systems[0]->table(), *systems[4]->table()) <= 1e-12);
