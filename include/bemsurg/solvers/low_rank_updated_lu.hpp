@@ -22,6 +22,7 @@
 #include <utility>
 #include <vector>
 
+#include "bemsurg/assembly/influence_assembler.hpp"  // large_dense_matrix
 #include "bemsurg/error.hpp"
 #include "bemsurg/solvers/lu_factors.hpp"
 #include "bemsurg/types.hpp"
@@ -104,8 +105,9 @@ class LowRankUpdatedLu {
     Eigen::MatrixXd Ws = Us;
     out.apply_base_inverse(Ws);
     auto grow = [&](const Eigen::MatrixXd& old, const Eigen::MatrixXd& add) {
-      Eigen::MatrixXd m = Eigen::MatrixXd::Zero(new_size, r);
+      Eigen::MatrixXd m = large_dense_matrix(new_size, r);  // huge pages: see influence_assembler.hpp
       m.topLeftCorner(n_, r0) = old;
+      m.bottomLeftCorner(new_size - n_, r0).setZero();
       m.rightCols(k) = add;
       return m;
     };

@@ -169,11 +169,14 @@ inline void GreensTable::set_columns_from_solution(Eigen::MatrixXd&& X) {
   reaction_dofs_.clear();
   for (Index k = 0; k < n; ++k)
     if (base_kinds_[static_cast<std::size_t>(k)] == BcKind::Displacement) reaction_dofs_.push_back(k);
-  reactions_.resize(static_cast<Index>(reaction_dofs_.size()), X.cols());
-  for (std::size_t i = 0; i < reaction_dofs_.size(); ++i) {
-    reactions_.row(static_cast<Index>(i)) = X.row(reaction_dofs_[i]);
-    X.row(reaction_dofs_[i]).setZero();
-  }
+  const Index S = static_cast<Index>(reaction_dofs_.size());
+  reactions_.resize(S, X.cols());
+  for (Index c = 0; c < X.cols(); ++c)  // column by column: both matrices are column-major
+    for (Index i = 0; i < S; ++i) {
+      double& x = X(reaction_dofs_[static_cast<std::size_t>(i)], c);
+      reactions_(i, c) = x;
+      x = 0.0;
+    }
   columns_.swap(X);
 }
 
@@ -307,9 +310,14 @@ inline std::shared_ptr<const GreensTable> GreensTable::updated(std::shared_ptr<c
   // The old columns: T' = T + A'^-1 (B' - A' T) with T extended by zero rows. The residual is
   // E_D (dB_D - X T) - Y T_D + F (F: whole columns of reshaped region elements outside rows D),
   // so T' = T + Z_E (dB_D - X T) - Z_Y T_D + A'^-1 F, Z = A'^-1 U_s.
-  Eigen::MatrixXd T = Eigen::MatrixXd::Zero(n1, 3 * R1);
+  // A fresh n' x 3|region| matrix per step (snapshots are immutable): advise huge pages before the
+  // first touch, which otherwise costs one page fault per 4 KiB (influence_assembler.hpp).
+  Eigen::MatrixXd T = large_dense_matrix(n1, 3 * R1);
   T.topLeftCorner(n, 3 * R0) = columns_;
-  for (std::size_t i = 0; i < reaction_dofs_.size(); ++i) T.row(reaction_dofs_[i]).head(3 * R0) = reactions_.row(static_cast<Index>(i));
+  T.bottomRows(n1 - n).setZero();
+  T.topRightCorner(n, 3 * (R1 - R0)).setZero();
+  for (Index c = 0; c < 3 * R0; ++c)
+    for (std::size_t i = 0; i < reaction_dofs_.size(); ++i) T(reaction_dofs_[i], c) = reactions_(static_cast<Index>(i), c);
   Eigen::MatrixXd TD(d, 3 * R0);
   for (Index j = 0; j < d; ++j) TD.row(j) = T.row(change.dofs[static_cast<std::size_t>(j)]).head(3 * R0);
   Eigen::MatrixXd coef(d, 3 * R0);
