@@ -101,8 +101,8 @@ TEST_CASE("bemsurg cut writes a report whose steps follow the contract and a sol
     REQUIRE(solved.size() == cut.size());
     const double diff = csv_difference(cut, solved);
     INFO(method << ": cut vs solve " << diff);
-    // measured: exact ~1e-13, refactor ~1e-14, gmres (tolerance 1e-12) ~1e-11
-    CHECK(diff <= 1e-9);
+    // measured: exact 2.8e-14, refactor 1.3e-14, gmres (tolerance 1e-12) 3.3e-11
+    CHECK(diff <= (std::string(method) == "gmres" ? 1e-10 : 1e-13));
   }
 }
 
