@@ -25,3 +25,5 @@ int run_press(int argc, char** argv);
 
 /// bemsurg session SCENE.json --script ACTIONS.json -o OUTDIR  (src/cli/session_command.cpp)
 int run_session(int argc, char** argv);
+/// bemsurg cut SCENE.json --from X,Y,Z --direction DX,DY,DZ --steps K ... (src/cli/cut_command.cpp)
+int run_cut(int argc, char** argv);

@@ -21,6 +21,7 @@ constexpr const char* kUsage =
     "  press ...                    press a tool into a scene and report the force (bemsurg press --help)\n"
     "  session SCENE.json --script ACTIONS.json -o OUTDIR\n"
     "                               run an action script through the haptic loop (bemsurg session --help)\n"
+    "  cut ...                      cut a scene step by step, updating system and tables (bemsurg cut --help)\n"
     "\n"
     "Run 'bemsurg <command> --help' for a command's options. Scene format: docs/scene-format.md.\n";
 
@@ -47,6 +48,7 @@ int main(int argc, char** argv) {
     if (command == "solve") return run_solve(argc - 1, argv + 1);
     if (command == "press") return run_press(argc - 1, argv + 1);
     if (command == "session") return run_session(argc - 1, argv + 1);
+    if (command == "cut") return run_cut(argc - 1, argv + 1);
     return usage_error("unknown command '" + command + "'");
   } catch (const bemsurg::cli::UsageError& e) {
     return usage_error(e.what());

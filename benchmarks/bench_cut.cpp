@@ -1,0 +1,384 @@
+// bench_cut: the system and table updates of cutting (docs/cutting.md; Wang et al. 2007 §5.3).
+//   1. The paper's Table 1: soft boxes of n = 1080, 1272 and 1584 equations (quick: 324) standing
+//      on their base under gravity; a "new cut" (the first step on the uncut body) and an "extended
+//      cut" (the next step along the same path), re-solved by GMRES (no restart), BiCGStab and BiCG
+//      warm-started from the previous solution (block-Jacobi, tolerance 1e-12), printed beside the
+//      paper's figures, with the exact update (system and table) and the reference refactorisation
+//      timed in the same run.
+//   2. Cut-step latency of the exact update, system plus table (region: the 1,000 free elements
+//      nearest the cut, or all when fewer), against n: median over the steps of one cut (opening
+//      and five extensions), the refactorisation it replaces (re-assembly, LU, table) and the
+//      agreement of the two (largest relative difference of base state and table).
+//   3. Narrow gaps: the solution on a cut mesh with default quadrature against a much finer one,
+//      as gap width / edge length shrinks (kMinimumGapRatio in cutting/gap_limit.hpp).
+//   bench_cut [--quick] [--json PATH] [--equations N1,N2,...] [--repeats R] [--no-gap] [--no-table1] [--no-latency]
+// JSON: "table1": [{"equations", "scenario", "method", "seconds", "iterations", ...}],
+//       "latency": [{"equations", "region_elements", "exact_seconds", "refactor_seconds", "agreement", ...}],
+//       "gap": [{"gap_ratio", "difference_vs_fine_quadrature", ...}].
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "bemsurg/assembly/influence_assembler.hpp"
+#include "bemsurg/assembly/linear_system.hpp"
+#include "bemsurg/cutting/cut_system_update.hpp"
+#include "bemsurg/cutting/surface_cutter.hpp"
+#include "bemsurg/mesh/mesh_generators.hpp"
+#include "bemsurg/presolution/greens_table.hpp"
+#include "bemsurg/solvers/dense_lu.hpp"
+#include "bench_support.hpp"
+
+using namespace bemsurg;
+using bench::median;
+using json = nlohmann::json;
+
+namespace {
+
+constexpr double kCell = 0.01;  // 1 cm cells
+
+struct Body {
+  std::shared_ptr<const TriangleMesh> mesh;
+  Material material{3000.0, 0.45, 1000.0};
+  Eigen::Vector3d gravity{0.0, 0.0, -9.81};
+  BoundaryConditions bc;
+  std::vector<char> locked;
+  Vec3 from, direction;
+  int nx = 0, ny = 0, nz = 0;
+};
+
+/// Box of nx x ny x nz cells on its base (u = 0), the cut running along the top face's longer
+/// centre line from one cell in from its edge.
+Body make_body(int nx, int ny, int nz, const QuadratureOptions& = {}) {
+  Body b;
+  b.nx = nx;
+  b.ny = ny;
+  b.nz = nz;
+  b.mesh = std::make_shared<const TriangleMesh>(box_mesh(Vec3(0, 0, 0), Vec3(nx * kCell, ny * kCell, nz * kCell), nx, ny, nz));
+  b.bc = BoundaryConditions(b.mesh->num_elements());
+  b.locked.assign(static_cast<std::size_t>(b.mesh->num_elements()), 0);
+  for (Index e = 0; e < b.mesh->num_elements(); ++e)
+    if (b.mesh->normal(e).z() < -0.9) {
+      b.bc.prescribe_displacement(e, Vec3::Zero());
+      b.locked[static_cast<std::size_t>(e)] = 1;
+    }
+  b.direction = nx >= ny ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
+  // One cell in from the top face's edge, on its centre line: room for max(nx, ny) - 2 steps.
+  const Vec3 centre(0.5 * nx * kCell, 0.5 * ny * kCell, nz * kCell);
+  b.from = centre - (0.5 * std::max(nx, ny) - 1.0) * kCell * b.direction;
+  return b;
+}
+
+/// The free elements nearest the cut's start, at most `limit`.
+std::vector<Index> region_near(const Body& b, std::size_t limit) {
+  std::vector<Index> free;
+  for (Index e = 0; e < b.mesh->num_elements(); ++e)
+    if (b.bc.is_free(e)) free.push_back(e);
+  std::sort(free.begin(), free.end(), [&](Index x, Index y) {
+    return (b.mesh->centroid(x) - b.from).squaredNorm() < (b.mesh->centroid(y) - b.from).squaredNorm();
+  });
+  if (free.size() > limit) free.resize(limit);
+  std::sort(free.begin(), free.end());
+  return free;
+}
+
+std::shared_ptr<const GreensTable> precompute(const Body& b, std::size_t region_limit, const QuadratureOptions& q = {}) {
+  GreensTableOptions o;
+  o.region = region_near(b, region_limit);
+  o.gravity = b.gravity;
+  o.quadrature = q;
+  return std::make_shared<const GreensTable>(GreensTable::compute(b.mesh, b.material, b.bc, o));
+}
+
+struct Step {
+  std::shared_ptr<const TriangleMesh> mesh;
+  MeshDelta delta;
+};
+
+/// The cut's steps (topology only): the opening and `extensions` more.
+std::vector<Step> cut_steps(const Body& b, int extensions, CutOptions options = {}) {
+  SurfaceCutter cutter(b.mesh, b.locked, options);
+  std::vector<Step> steps;
+  for (int i = 0; i <= extensions; ++i) {
+    const CutStep s = cutter.step(b.from, b.direction);
+    if (!s.accepted) throw Error("bench_cut: cut step " + std::to_string(i + 1) + " refused: " + s.reason);
+    steps.push_back({cutter.mesh(), s.delta});
+  }
+  return steps;
+}
+
+double relative_max(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+  return (a - b).cwiseAbs().maxCoeff() / std::max(1e-300, b.cwiseAbs().maxCoeff());
+}
+double table_difference(const GreensTable& a, const GreensTable& b) {
+  return std::max({relative_max(a.columns(), b.columns()), relative_max(a.base_displacement(), b.base_displacement()),
+                   relative_max(a.base_traction(), b.base_traction())});
+}
+
+struct PaperRow {
+  int n;
+  const char* scenario;
+  double gmres, bicgstab, bicg;
+  int it_gmres, it_bicgstab, it_bicg;
+};
+const PaperRow kPaper[] = {
+    {1080, "new cut", 0.06250, 0.234375, 0.234375, 3, 8, 12},    {1080, "extended cut", 0.14062, 0.25000, 0.296875, 9, 9, 14},
+    {1272, "new cut", 0.09375, 0.453125, 0.578125, 3, 11, 20},   {1272, "extended cut", 0.17188, 0.468750, 0.609375, 7, 11, 21},
+    {1584, "new cut", 0.17188, 0.890625, 0.93750, 3, 13, 20},    {1584, "extended cut", 0.21875, 1.140625, 0.93750, 6, 18, 21},
+};
+
+void table1(const std::vector<std::array<int, 3>>& sizes, int repeats, json& out) {
+  std::printf("\nTable 1 (Wang et al. 2007): seconds (iterations) of one cut step's re-solve; paper: 3.06 GHz, 1 core\n");
+  std::printf("%6s %-13s %-9s %11s %6s | %9s %5s | %12s\n", "n", "scenario", "method", "seconds", "iter", "paper s", "iter",
+              "vs refactor");
+  const CutUpdateMethod methods[] = {CutUpdateMethod::Gmres, CutUpdateMethod::BiCgStab, CutUpdateMethod::BiCg, CutUpdateMethod::Exact,
+                                     CutUpdateMethod::Refactor};
+  for (const auto& c : sizes) {
+    const Body body = make_body(c[0], c[1], c[2]);
+    const Index n = body.mesh->num_dofs();
+    const std::vector<Step> steps = cut_steps(body, 1);
+    auto table0 = precompute(body, 1000);
+    auto table1 = table0->updated(steps[0].mesh, steps[0].delta);
+    const std::shared_ptr<const GreensTable> start[2] = {table0, table1};
+    const char* names[2] = {"new cut", "extended cut"};
+    for (int sc = 0; sc < 2; ++sc) {
+      const Step& step = steps[static_cast<std::size_t>(sc)];
+      Eigen::VectorXd reference;
+      std::vector<json> rows;
+      for (int mi = 4; mi >= 0; --mi) {  // refactor first: the reference of the others
+        const CutUpdateMethod m = methods[mi];
+        std::vector<double> secs, integ;
+        int iterations = 0;
+        Eigen::VectorXd x;
+        for (int r = 0; r < repeats; ++r) {
+          CutSystemOptions o;
+          o.keep_matrix = m != CutUpdateMethod::Exact && m != CutUpdateMethod::Refactor;
+          o.refactor_rank = 1 << 30;
+          CutSystemUpdate sys(start[sc], o);
+          const CutStepReport rep = sys.apply(step.mesh, step.delta, m);
+          const bool krylov = o.keep_matrix;
+          secs.push_back(krylov ? rep.system_seconds
+                                : m == CutUpdateMethod::Exact ? rep.system_seconds + rep.table_seconds : rep.total_seconds);
+          integ.push_back(rep.integration_seconds);
+          iterations = rep.iterations;
+          x = sys.solution();
+        }
+        if (m == CutUpdateMethod::Refactor) reference = x;
+        const double agreement = relative_max(x, reference);
+        json row = {{"equations", n}, {"equations_after", 3 * step.delta.elements_after}, {"scenario", names[sc]},
+                    {"method", to_string(m)}, {"seconds", median(secs)}, {"iterations", iterations},
+                    {"integration_seconds", median(integ)}, {"agreement_vs_refactor", agreement}};
+        const PaperRow* paper = nullptr;
+        for (const PaperRow& p : kPaper)
+          if (p.n == n && std::string(p.scenario) == names[sc]) paper = &p;
+        double ps = 0.0;
+        int pi = 0;
+        if (paper && m == CutUpdateMethod::Gmres) ps = paper->gmres, pi = paper->it_gmres;
+        if (paper && m == CutUpdateMethod::BiCgStab) ps = paper->bicgstab, pi = paper->it_bicgstab;
+        if (paper && m == CutUpdateMethod::BiCg) ps = paper->bicg, pi = paper->it_bicg;
+        if (ps > 0.0) {
+          row["paper_seconds"] = ps;
+          row["paper_iterations"] = pi;
+        }
+        rows.push_back(row);
+      }
+      std::reverse(rows.begin(), rows.end());
+      for (const json& row : rows) {
+        const double ps = row.value("paper_seconds", 0.0);
+        std::printf("%6lld %-13s %-9s %11.5f %6d | %9s %5s | %12.1e\n", static_cast<long long>(n), names[sc],
+                    row["method"].get<std::string>().c_str(), row["seconds"].get<double>(), row["iterations"].get<int>(),
+                    ps > 0.0 ? std::to_string(ps).substr(0, 7).c_str() : "-",
+                    ps > 0.0 ? std::to_string(row["paper_iterations"].get<int>()).c_str() : "-", row["agreement_vs_refactor"].get<double>());
+        out.push_back(row);
+      }
+    }
+  }
+  std::printf("  Krylov seconds: the iterations only (as the paper); exact: system + table update (integration apart);\n"
+              "  refactor: re-assembly, LU and table. Agreement: max |x - x_refactor| / max |x_refactor|.\n");
+}
+
+/// Box nearest `equations`: nx = ny = a (>= 8 for the cut's room), nz = b <= a.
+std::array<int, 3> block_near(long long equations) {
+  std::array<int, 3> best{8, 8, 3};
+  long long gap = -1;
+  for (int a = 8; a <= 80; ++a)
+    for (int b = 3; b <= a; ++b) {  // at least 3 cells deep: the cut must not break through
+      const long long n = 12LL * (a * a + 2LL * a * b);
+      const long long d = std::llabs(n - equations);
+      if (gap < 0 || d < gap) {
+        gap = d;
+        best = {a, a, b};
+      }
+    }
+  return best;
+}
+
+void latency(const std::vector<int>& equations, json& out) {
+  std::printf("\nCut-step latency, exact update of system + table (region: 1,000 free elements nearest the cut)\n");
+  std::printf("%7s %7s %8s %11s %11s %11s %9s %11s %9s %6s\n", "n", "region", "d/step", "exact s", "integr. s", "system s", "table s",
+              "refactor s", "agree", "rank");
+  for (int N : equations) {
+    const auto c = block_near(N);
+    const Body body = make_body(c[0], c[1], c[2]);
+    const int extensions = 5;
+    const std::vector<Step> steps = cut_steps(body, extensions);
+    auto t = precompute(body, 1000);
+    const double precompute_s = t->timings().assembly_seconds + t->timings().factorization_seconds + t->timings().table_seconds;
+    std::vector<double> exact, integ, sys, tab;
+    double changed = 0.0;
+    Index rank = 0;
+    std::shared_ptr<const GreensTable> before_last;
+    for (const Step& s : steps) {
+      GreensTableUpdateReport r;
+      before_last = t;
+      t = t->updated(s.mesh, s.delta, {}, &r);
+      exact.push_back(r.total_seconds);
+      integ.push_back(r.integration_seconds);
+      sys.push_back(r.system_seconds);
+      tab.push_back(r.table_seconds);
+      changed += double(s.delta.modified.size() + s.delta.added.size()) / double(steps.size());
+      rank = r.rank;
+    }
+    const auto t0 = SteadyClock::now();
+    auto ref = before_last->recomputed_after(steps.back().mesh, steps.back().delta);
+    const double refactor_s = seconds_since(t0);
+    const double agreement = table_difference(*t, *ref);
+    const Index n = body.mesh->num_dofs();
+    std::printf("%7lld %7zu %8.1f %11.4f %11.4f %11.4f %9.4f %11.3f %9.1e %6lld\n", static_cast<long long>(n), t->region().size(), changed,
+                median(exact), median(integ), median(sys), median(tab), refactor_s, agreement, static_cast<long long>(rank));
+    out.push_back({{"equations", n}, {"block", {c[0], c[1], c[2]}}, {"region_elements", before_last->region().size()},
+                   {"steps", steps.size()}, {"changed_elements_per_step", changed}, {"exact_seconds", median(exact)},
+                   {"exact_seconds_all", exact}, {"integration_seconds", median(integ)}, {"system_seconds", median(sys)},
+                   {"table_seconds", median(tab)}, {"refactor_seconds", refactor_s}, {"precompute_seconds", precompute_s},
+                   {"agreement", agreement}, {"final_rank", rank}});
+  }
+  std::printf("  targets (medians): exact <= 0.020 s at n = 1,584 and <= 0.25 s at n = 9,000. Agreement: max relative\n"
+              "  difference of base state and table from a full refactorisation after the last step.\n");
+}
+
+void gap_study(bool quick, json& out) {
+  std::printf("\nNarrow gaps: solution with default quadrature vs a finer one (far 8, mid 4, order 10, depth 18, polar 20)\n");
+  std::printf("%10s %10s %14s %14s\n", "gap/edge", "equations", "u difference", "t difference");
+  QuadratureOptions fine;
+  fine.far_ratio = 8.0;
+  fine.mid_ratio = 4.0;
+  fine.mid_order = 10;
+  fine.max_depth = 18;
+  fine.polar_order = 20;
+  fine.polar_max_angle = 0.1;
+  const std::vector<double> ratios = quick ? std::vector<double>{0.1} : std::vector<double>{0.0, 0.2, 0.1, 0.05, 0.02, 0.01, 0.005, 0.002};
+  const Body body = make_body(quick ? 6 : 8, quick ? 6 : 8, 3);
+  for (double ratio : ratios) {
+    std::shared_ptr<const TriangleMesh> mesh = body.mesh;
+    Index changed = 0;
+    MeshDelta delta;
+    if (ratio > 0.0) {
+      CutOptions co;
+      co.gap_fraction = ratio;
+      co.min_angle_degrees = 0.05;
+      const std::vector<Step> steps = cut_steps(body, 1, co);
+      mesh = steps.back().mesh;
+    }
+    BoundaryConditions bc(mesh->num_elements());
+    for (Index e = 0; e < body.mesh->num_elements(); ++e)
+      if (body.bc.kind(3 * e) == BcKind::Displacement) bc.prescribe_displacement(e, Vec3::Zero());
+    Eigen::VectorXd x[2];
+    for (int q = 0; q < 2; ++q) {
+      const InfluenceAssembler assembler(*mesh, body.material, q == 0 ? QuadratureOptions() : fine);
+      Eigen::VectorXd g;
+      InfluenceMatrices hg = assembler.assemble(body.gravity, g);
+      const Eigen::VectorXd b = build_right_hand_side(hg, bc, g);
+      const Eigen::MatrixXd A = build_system_matrix_in_place(hg, bc);
+      x[q] = DenseLU(A).solve(b);
+    }
+    double du = 0, su = 0, dt = 0, st = 0;
+    for (Index k = 0; k < x[0].size(); ++k) {
+      const bool u = bc.kind(k) == BcKind::Traction;
+      (u ? du : dt) = std::max(u ? du : dt, std::abs(x[0](k) - x[1](k)));
+      (u ? su : st) = std::max(u ? su : st, std::abs(x[1](k)));
+    }
+    (void)changed;
+    std::printf("%10.3f %10lld %14.2e %14.2e\n", ratio, static_cast<long long>(x[0].size()), du / su, dt / st);
+    out.push_back({{"gap_ratio", ratio}, {"equations", x[0].size()}, {"difference_vs_fine_quadrature", du / su},
+                   {"traction_difference_vs_fine_quadrature", dt / st}});
+  }
+  std::printf("  gap/edge 0: the uncut body (the quadrature's own error). Differences: max over dofs, relative to the largest.\n");
+}
+
+/// The 1-minute load average (/proc/loadavg; -1 where unavailable): on a shared 2-core machine a
+/// load above 2 makes every wall-clock figure proportionally slower, so the report keeps it.
+double load_average() {
+  std::ifstream in("/proc/loadavg");
+  double l = -1.0;
+  in >> l;
+  return in ? l : -1.0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  bool quick = false, gap = true, do_table1 = true, do_latency = true;
+  int repeats = 3;
+  std::string json_path;
+  std::vector<int> equations;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--quick") quick = true;
+    else if (a == "--no-gap") gap = false;
+    else if (a == "--no-table1") do_table1 = false;
+    else if (a == "--no-latency") do_latency = false;
+    else if (a == "--json" && i + 1 < argc) json_path = argv[++i];
+    else if (a == "--repeats" && i + 1 < argc) repeats = std::max(1, std::stoi(argv[++i]));
+    else if (a == "--equations" && i + 1 < argc) {
+      try {
+        equations = bench::parse_int_list(argv[++i]);
+      } catch (const std::exception&) {
+        std::cerr << "bench_cut: --equations expects N1,N2,... (positive integers)\n";
+        return 2;
+      }
+    } else {
+      std::cerr << "usage: bench_cut [--quick] [--json PATH] [--equations N1,N2,...] [--repeats R] [--no-gap] [--no-table1] [--no-latency]\n"
+                << "unknown or incomplete argument: " << a << "\n";
+      return 2;
+    }
+  }
+  if (quick) repeats = 1;
+  if (equations.empty()) equations = quick ? std::vector<int>{1000} : std::vector<int>{1584, 4752, 9000, 15000};
+  std::vector<std::array<int, 3>> sizes = {{4, 4, 2}};  // n = 384
+  if (!quick) sizes = {{6, 3, 8}, {2, 8, 9}, {6, 6, 8}};  // n = 1080, 1272, 1584
+  int threads = 1;
+#ifdef _OPENMP
+  threads = omp_get_max_threads();
+#endif
+#ifdef BEMSURG_HAVE_BLAS
+  const char* backend = "OpenBLAS+LAPACKE";
+#else
+  const char* backend = "Eigen";
+#endif
+  std::printf("bench_cut (%s): %d OpenMP threads, dense back end %s, %d repeats (median), load average %.2f\n", quick ? "quick" : "full",
+              threads, backend, repeats, load_average());
+  json report = {{"benchmark", "bench_cut"}, {"mode", quick ? "quick" : "full"}, {"threads", threads}, {"dense_backend", backend},
+                 {"repeats", repeats}, {"load_average_at_start", load_average()}, {"table1", json::array()}, {"latency", json::array()}, {"gap", json::array()}};
+  try {
+    if (do_table1) table1(sizes, repeats, report["table1"]);
+    if (do_latency) latency(equations, report["latency"]);
+    if (gap) gap_study(quick, report["gap"]);
+  } catch (const std::exception& e) {
+    std::cerr << "bench_cut: " << e.what() << "\n";
+    bench::write_json_file(json_path, report, "bench_cut");
+    return 1;
+  }
+  report["load_average_at_end"] = load_average();
+  std::printf("load average at the end: %.2f\n", load_average());
+  if (!bench::write_json_file(json_path, report, "bench_cut")) return 1;
+  return 0;
+}

@@ -1,0 +1,248 @@
+// bemsurg/cutting/cut_system_update.hpp: the BEM system and the Green's table of a body being cut,
+// updated step by step in one of three ways that must agree (docs/cutting.md; docs/design.md §7,
+// §9; Wang et al. 2007 §5.3 and Table 1):
+//   Exact     bordering by partitioning for the new rows and columns plus a low-rank (Woodbury)
+//             correction for the reshaped elements, on top of the LU kept from the precompute
+//             (GreensTable::updated, solvers/low_rank_updated_lu.hpp);
+//   Gmres, BiCgStab, BiCg
+//             the new system re-solved iteratively, warm-started from the previous solution with
+//             the scene's preconditioner (the paper's Table 1); the explicit A* is kept for it and
+//             updated by the changed rows and columns only;
+//   Refactor  the reference: full re-assembly and a new factorisation.
+// The table is updated exactly after every step in every mode (Refactor: recomputed), so prodding
+// anywhere after a cut feels it. When the accumulated correction rank passes refactor_rank, the
+// table is refactorised from scratch on a background thread and swapped in atomically if no cut
+// happened meanwhile: readers (the force path) call table(), an atomic load of an immutable
+// snapshot, and never wait for, or see, a half-updated table.
+#pragma once
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <atomic>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <utility>
+
+#include "bemsurg/assembly/influence_assembler.hpp"
+#include "bemsurg/assembly/linear_system.hpp"
+#include "bemsurg/cutting/cut_change.hpp"
+#include "bemsurg/cutting/mesh_delta.hpp"
+#include "bemsurg/error.hpp"
+#include "bemsurg/presolution/greens_table.hpp"
+#include "bemsurg/solvers/linear_solve.hpp"
+#include "bemsurg/timing.hpp"
+
+namespace bemsurg {
+
+enum class CutUpdateMethod { Exact, Gmres, BiCgStab, BiCg, Refactor };
+
+/// Names as `bemsurg cut --update` and report.json write them.
+inline const char* to_string(CutUpdateMethod m) {
+  switch (m) {
+    case CutUpdateMethod::Exact: return "exact";
+    case CutUpdateMethod::Gmres: return "gmres";
+    case CutUpdateMethod::BiCgStab: return "bicgstab";
+    case CutUpdateMethod::BiCg: return "bicg";
+    case CutUpdateMethod::Refactor: return "refactor";
+  }
+  return "unknown";
+}
+inline CutUpdateMethod parse_cut_update_method(const std::string& name) {
+  for (CutUpdateMethod m : {CutUpdateMethod::Exact, CutUpdateMethod::Gmres, CutUpdateMethod::BiCgStab, CutUpdateMethod::BiCg,
+                            CutUpdateMethod::Refactor})
+    if (name == to_string(m)) return m;
+  throw InvalidArgumentError("unknown update method '" + name + "' (expected exact, gmres, bicgstab, bicg or refactor)");
+}
+
+struct CutSystemOptions {
+  /// Krylov settings of the iterative modes (method set per step). Full GMRES, block-Jacobi.
+  LinearSolverSettings krylov = [] {
+    LinearSolverSettings s;
+    s.tolerance = 1e-12;
+    s.max_iterations = 2000;
+    return s;
+  }();
+  /// Refactorise when the accumulated correction rank exceeds this; 0 = max(96, n / 10).
+  Index refactor_rank = 0;
+  /// Refactorise on a background thread (else at once, inside apply()).
+  bool background_refactor = true;
+  /// Build the explicit A* at once (the iterative modes need it; built on first use otherwise).
+  bool keep_matrix = false;
+  GreensTableUpdateOptions table;
+};
+
+struct CutStepReport {
+  CutUpdateMethod method = CutUpdateMethod::Exact;
+  int iterations = 0;                // Krylov iterations (0 for exact and refactor)
+  double relative_residual = 0.0;    // Krylov: ||b - A x|| / ||b||
+  double integration_seconds = 0.0;  // rows and columns of the changed elements (refactor: full assembly)
+  double system_seconds = 0.0;       // the system's update and solve (Krylov: the iterations)
+  double table_seconds = 0.0;        // the table's update (refactor: factorisation and table)
+  double total_seconds = 0.0;
+  Index rank = 0;                    // accumulated correction rank after the step
+  bool refactor_started = false;     // a refactorisation was started (or done, if not in background)
+};
+
+class CutSystemUpdate {
+ public:
+  /// `table` must have been computed (has_factorization()): its base state is the system solved.
+  explicit CutSystemUpdate(std::shared_ptr<const GreensTable> table, CutSystemOptions options = {})
+      : options_(std::move(options)), table_(std::move(table)) {
+    if (!table_ || !table_->has_factorization())
+      throw InvalidArgumentError("CutSystemUpdate: the table must be computed (with its factorisation), not read from a file");
+    x_ = solution_of(*table_);
+    if (options_.keep_matrix) build_matrix();
+  }
+  CutSystemUpdate(const CutSystemUpdate&) = delete;
+  CutSystemUpdate& operator=(const CutSystemUpdate&) = delete;
+  ~CutSystemUpdate() { wait_for_refactor(); }
+
+  /// The current table: an immutable snapshot, safe to read from any thread while cuts go on.
+  std::shared_ptr<const GreensTable> table() const { return std::atomic_load(&table_); }
+  /// The unknowns x of the current system A* x = b (the method of the last step's solution).
+  const Eigen::VectorXd& solution() const { return x_; }
+  /// Displacement and traction of every element of the current mesh.
+  BoundarySolution boundary_solution() const { return recover_boundary_solution(table()->base_conditions(), x_); }
+  /// True when a background refactorisation is running.
+  bool refactor_running() const { return busy_.load(); }
+  /// Blocks until a running background refactorisation has finished (and published, if still current).
+  void wait_for_refactor() {
+    if (worker_.joinable()) worker_.join();
+  }
+
+  /// One cut step: `after` is the cut mesh, `delta` what changed from the current mesh.
+  /// On an exception nothing has changed (the current table and solution stay as they were).
+  CutStepReport apply(std::shared_ptr<const TriangleMesh> after, const MeshDelta& delta, CutUpdateMethod method) {
+    const auto t0 = SteadyClock::now();
+    CutStepReport r;
+    r.method = method;
+    const std::shared_ptr<const GreensTable> current = table();
+    std::shared_ptr<const GreensTable> next;
+    Eigen::VectorXd x;
+    Eigen::MatrixXd A;
+    if (method == CutUpdateMethod::Refactor) {
+      const auto ta = SteadyClock::now();
+      next = current->recomputed_after(after, delta, options_.table);
+      r.integration_seconds = next->timings().assembly_seconds;
+      r.table_seconds = seconds_since(ta) - r.integration_seconds;
+      x = solution_of(*next);
+      if (A_.size() > 0) A = updated_matrix(*current, *after, delta, nullptr, r);
+    } else {
+      const CutChange change =
+          integrate_cut_change(*current->mesh(), *after, delta, current->key().material, current->quadrature(), current->key().gravity);
+      r.integration_seconds = change.integration_seconds;
+      GreensTableUpdateReport tr;
+      next = current->updated(after, delta, change, options_.table, &tr);
+      r.table_seconds = tr.table_seconds;
+      r.system_seconds = tr.system_seconds;
+      x = solution_of(*next);
+      if (method != CutUpdateMethod::Exact || A_.size() > 0) {
+        if (A_.size() == 0) {  // first iterative step: the explicit A* of the mesh before the cut
+          const auto tb = SteadyClock::now();
+          build_matrix();
+          r.integration_seconds += seconds_since(tb);
+        }
+        A = updated_matrix(*current, *after, delta, &change, r);
+      }
+      if (method != CutUpdateMethod::Exact) {
+        LinearSolverSettings s = options_.krylov;
+        s.method = method == CutUpdateMethod::Gmres ? SolverMethod::Gmres
+                   : method == CutUpdateMethod::BiCgStab ? SolverMethod::BiCgStab
+                                                         : SolverMethod::BiCg;
+        Eigen::VectorXd x0 = Eigen::VectorXd::Zero(A.rows());
+        x0.head(x_.size()) = x_;
+        LinearSolveSummary summary;
+        const auto ts = SteadyClock::now();
+        x = solve_linear_system(A, next->rhs(), s, summary, after.get(), x0);
+        r.system_seconds = seconds_since(ts);
+        r.iterations = summary.iterations;
+        r.relative_residual = summary.relative_residual;
+      }
+    }
+    r.rank = next->solver()->rank();
+    // Publish: from here on nothing throws.
+    {
+      std::lock_guard<std::mutex> lock(publish_);
+      std::atomic_store(&table_, std::shared_ptr<const GreensTable>(next));
+    }
+    x_.swap(x);
+    if (A.size() > 0) A_.swap(A);
+    const Index limit = options_.refactor_rank > 0 ? options_.refactor_rank : std::max<Index>(96, next->num_dofs() / 10);
+    if (r.rank > limit) r.refactor_started = start_refactor(next, r.rank > 2 * limit || !options_.background_refactor);
+    r.total_seconds = seconds_since(t0);
+    return r;
+  }
+
+ private:
+  static Eigen::VectorXd solution_of(const GreensTable& t) {
+    Eigen::VectorXd x(t.num_dofs());
+    for (Index k = 0; k < t.num_dofs(); ++k)
+      x(k) = t.base_kinds()[static_cast<std::size_t>(k)] == BcKind::Traction ? t.base_displacement()(k) : t.base_traction()(k);
+    return x;
+  }
+
+  void build_matrix() {
+    const std::shared_ptr<const GreensTable> t = table();
+    const InfluenceAssembler assembler(*t->mesh(), t->key().material, t->quadrature());
+    InfluenceMatrices hg = assembler.assemble();
+    A_ = build_system_matrix_in_place(hg, t->base_conditions());
+  }
+
+  /// The explicit A* after the step: blockdiag(A*, I) with the rows and columns D replaced.
+  Eigen::MatrixXd updated_matrix(const GreensTable& current, const TriangleMesh& after, const MeshDelta& delta,
+                                 const CutChange* known, CutStepReport& r) const {
+    CutChange local;
+    if (!known) {
+      local = integrate_cut_change(*current.mesh(), after, delta, current.key().material, current.quadrature(), current.key().gravity);
+      r.integration_seconds += local.integration_seconds;
+      known = &local;
+    }
+    const BoundaryConditions bc = conditions_after_cut(current.base_conditions(), delta);
+    const Index n = A_.rows(), n1 = known->n_after;
+    Eigen::MatrixXd A = Eigen::MatrixXd::Identity(n1, n1);
+    A.topLeftCorner(n, n) = A_;
+    const Eigen::MatrixXd rows = system_rows_after(*known, bc), cols = system_columns_after(*known, bc);
+    for (Index j = 0; j < known->size(); ++j) {
+      const Index k = known->dofs[static_cast<std::size_t>(j)];
+      A.col(k) = cols.col(j);
+      A.row(k) = rows.row(j);
+    }
+    return A;
+  }
+
+  /// Starts (or, when `now`, runs here) a refactorisation of `snapshot`; true when one was started.
+  bool start_refactor(const std::shared_ptr<const GreensTable>& snapshot, bool now) {
+    if (busy_.load()) {
+      if (!now) return false;
+      wait_for_refactor();
+      if (table().get() != snapshot.get()) return false;  // the finished one was for this snapshot and published
+    }
+    wait_for_refactor();  // a finished worker: join it
+    busy_.store(true);
+    auto work = [this, snapshot]() {
+      try {
+        std::shared_ptr<const GreensTable> fresh = snapshot->refactored();
+        std::lock_guard<std::mutex> lock(publish_);
+        if (std::atomic_load(&table_).get() == snapshot.get()) std::atomic_store(&table_, fresh);
+      } catch (...) {
+        // The current table stays valid (only more expensive to update); the next step retries.
+      }
+      busy_.store(false);
+    };
+    if (now) work();
+    else worker_ = std::thread(work);
+    return true;
+  }
+
+  CutSystemOptions options_;
+  std::shared_ptr<const GreensTable> table_;  // read and written with std::atomic_load / atomic_store
+  Eigen::VectorXd x_;
+  Eigen::MatrixXd A_;  // explicit A* (iterative modes only)
+  std::mutex publish_;
+  std::atomic<bool> busy_{false};
+  std::thread worker_;
+};
+
+}  // namespace bemsurg

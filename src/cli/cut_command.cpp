@@ -1,0 +1,281 @@
+// `bemsurg cut SCENE.json --from X,Y,Z --direction DX,DY,DZ --steps K [--update METHOD] [--gap W]
+// -o OUTDIR`: cut a scene's body step by step (Wang et al. 2007 §5.3; docs/design.md §7;
+// docs/cutting.md) and write the cut surface, the solution on it under the scene's loads and a
+// report of every step (docs/cli.md).
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "bemsurg/cutting/cut_system_update.hpp"
+#include "bemsurg/cutting/gap_limit.hpp"
+#include "bemsurg/cutting/surface_cutter.hpp"
+#include "bemsurg/io/results_io.hpp"
+#include "bemsurg/io/scene.hpp"
+#include "bemsurg/mesh/mesh_io.hpp"
+#include "bemsurg/presolution/greens_table.hpp"
+#include "bemsurg/timing.hpp"
+#include "commands.hpp"
+
+namespace {
+
+using bemsurg::cli::UsageError;
+
+constexpr const char* kCutUsage =
+    "usage: bemsurg cut SCENE.json --from X,Y,Z --direction DX,DY,DZ --steps K\n"
+    "                   [--update exact|gmres|bicgstab|bicg|refactor] [--gap W] -o OUTDIR [--quiet]\n"
+    "\n"
+    "Opens a narrow cut at the surface vertex nearest X,Y,Z along the mesh edge best aligned with\n"
+    "the direction, then extends it by one edge per step (K steps in all). After every step the BEM\n"
+    "system and the pre-solution table (region: the 1,000 free elements nearest X,Y,Z) are updated:\n"
+    "  exact     bordering by partitioning + low-rank correction of the kept LU (default)\n"
+    "  gmres, bicgstab, bicg   iterative re-solve warm-started from the previous solution\n"
+    "  refactor  full re-assembly and a new factorisation (the reference)\n"
+    "New cut walls are traction-free; elements with a prescribed displacement or a non-zero\n"
+    "traction are never cut. --gap W: gap width (default 0.1 x the local edge length).\n"
+    "\n"
+    "writes OUTDIR/mesh.obj (the cut surface), OUTDIR/elements.csv (as bemsurg solve, one row per\n"
+    "face of mesh.obj) and OUTDIR/report.json (\"elements\", \"equations\", \"steps\"). A refused step\n"
+    "is reported with its reason; the command then exits 1 after writing what the completed steps\n"
+    "produced.\n";
+
+Eigen::Vector3d parse_vector(const std::string& opt, const std::string& text) {
+  std::stringstream ss(text);
+  std::string item;
+  std::vector<double> v;
+  while (std::getline(ss, item, ',')) {
+    try {
+      std::size_t used = 0;
+      v.push_back(std::stod(item, &used));
+      if (used != item.size()) throw std::invalid_argument(item);
+    } catch (const std::exception&) {
+      throw UsageError("cut: " + opt + " expects three comma-separated numbers, got '" + text + "'");
+    }
+  }
+  if (v.size() != 3 || !std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2]))
+    throw UsageError("cut: " + opt + " expects three comma-separated finite numbers, got '" + text + "'");
+  return {v[0], v[1], v[2]};
+}
+
+struct CutCommandOptions {
+  std::string scene, output;
+  Eigen::Vector3d from = Eigen::Vector3d::Zero(), direction = Eigen::Vector3d::Zero();
+  bool have_from = false, have_direction = false;
+  int steps = -1;
+  bemsurg::CutUpdateMethod update = bemsurg::CutUpdateMethod::Exact;
+  double gap = 0.0;
+  bool quiet = false, help = false;
+};
+
+CutCommandOptions parse_cut_options(int argc, char** argv) {
+  CutCommandOptions o;
+  auto value = [&](int& i, const std::string& opt) -> std::string {
+    if (i + 1 >= argc) throw UsageError("cut: " + opt + " needs a value");
+    return argv[++i];
+  };
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "-h" || a == "--help") {
+      o.help = true;
+      return o;
+    } else if (a == "-q" || a == "--quiet") {
+      o.quiet = true;
+    } else if (a == "-o" || a == "--output") {
+      o.output = value(i, a);
+    } else if (a == "--from") {
+      o.from = parse_vector(a, value(i, a));
+      o.have_from = true;
+    } else if (a == "--direction") {
+      o.direction = parse_vector(a, value(i, a));
+      o.have_direction = true;
+      if (!(o.direction.norm() > 0.0)) throw UsageError("cut: --direction must not be zero");
+    } else if (a == "--steps") {
+      const std::string t = value(i, a);
+      try {
+        std::size_t used = 0;
+        o.steps = std::stoi(t, &used);
+        if (used != t.size()) throw std::invalid_argument(t);
+      } catch (const std::exception&) {
+        throw UsageError("cut: --steps expects a whole number, got '" + t + "'");
+      }
+      if (o.steps < 1) throw UsageError("cut: --steps must be at least 1, got " + t);
+    } else if (a == "--update") {
+      const std::string t = value(i, a);
+      try {
+        o.update = bemsurg::parse_cut_update_method(t);
+      } catch (const bemsurg::Error& e) {
+        throw UsageError(std::string("cut: --update: ") + e.what());
+      }
+    } else if (a == "--gap") {
+      const std::string t = value(i, a);
+      try {
+        std::size_t used = 0;
+        o.gap = std::stod(t, &used);
+        if (used != t.size()) throw std::invalid_argument(t);
+      } catch (const std::exception&) {
+        throw UsageError("cut: --gap expects a number, got '" + t + "'");
+      }
+      if (!(std::isfinite(o.gap) && o.gap > 0.0)) throw UsageError("cut: --gap must be a positive width, got '" + t + "'");
+    } else if (!a.empty() && a[0] == '-') {
+      throw UsageError("cut: unknown option '" + a + "'");
+    } else if (o.scene.empty()) {
+      o.scene = a;
+    } else {
+      throw UsageError("cut: unexpected argument '" + a + "' (one scene file per run)");
+    }
+  }
+  if (o.scene.empty()) throw UsageError("cut: missing the scene file");
+  if (!o.have_from) throw UsageError("cut: missing --from X,Y,Z");
+  if (!o.have_direction) throw UsageError("cut: missing --direction DX,DY,DZ");
+  if (o.steps < 0) throw UsageError("cut: missing --steps K");
+  if (o.output.empty()) throw UsageError("cut: missing the output directory (-o OUTDIR)");
+  return o;
+}
+
+void write_json(const std::string& path, const nlohmann::json& j) {
+  std::ofstream out(path);
+  if (!out) throw bemsurg::IoError("cannot write " + path);
+  out << std::setw(2) << j << "\n";
+  if (!out) throw bemsurg::IoError("writing " + path + " failed");
+}
+
+/// The scene again with its mesh replaced by `obj`: what `bemsurg solve` of such a scene would
+/// prescribe. Returns the first element whose conditions differ from `bc` (-1: none).
+bemsurg::Index first_condition_mismatch(const std::string& scene_path, const std::string& scene_dir, const std::string& obj,
+                                        const bemsurg::BoundaryConditions& bc) {
+  std::ifstream in(scene_path);
+  std::stringstream text;
+  text << in.rdbuf();
+  nlohmann::json root = nlohmann::json::parse(text.str());
+  root["mesh"] = {{"file", std::filesystem::absolute(obj).string()}};
+  const bemsurg::Scene again = bemsurg::load_scene_from_string(root.dump(), scene_dir, scene_path);
+  const bemsurg::BoundaryConditions& other = again.problem.boundary_conditions;
+  if (other.num_dofs() != bc.num_dofs()) return 0;
+  for (bemsurg::Index k = 0; k < bc.num_dofs(); ++k)
+    if (other.kind(k) != bc.kind(k) || other.value(k) != bc.value(k)) return k / 3;
+  return -1;
+}
+
+}  // namespace
+
+int run_cut(int argc, char** argv) {
+  using namespace bemsurg;
+  const CutCommandOptions o = parse_cut_options(argc, argv);
+  if (o.help) {
+    std::cout << kCutUsage;
+    return 0;
+  }
+  const auto t_start = SteadyClock::now();
+  const Scene scene = load_scene(o.scene);
+  for (const std::string& w : scene.warnings) std::cerr << "bemsurg: warning: " << o.scene << ": " << w << "\n";
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::create_directories(o.output, ec);
+  if (ec || !fs::is_directory(o.output))
+    throw IoError("cannot create the output directory '" + o.output + "': " + (ec ? ec.message() : std::string("a file of that name exists")));
+  const fs::path out(o.output);
+
+  const ElastostaticProblem& p = scene.problem;
+  auto mesh = std::make_shared<const TriangleMesh>(p.mesh);
+  const BoundaryConditions& bc = p.boundary_conditions;
+  bc.require_supported(*mesh);
+  const Index E = mesh->num_elements();
+  // Locked: supported or loaded elements (a reshaped element keeps its condition, and a pressure
+  // would no longer be normal to it). Region: the free elements nearest the start of the cut.
+  std::vector<char> locked(static_cast<std::size_t>(E), 0);
+  std::vector<Index> free_elements;
+  for (Index e = 0; e < E; ++e) {
+    const bool loaded = bc.value(3 * e) != 0.0 || bc.value(3 * e + 1) != 0.0 || bc.value(3 * e + 2) != 0.0;
+    locked[static_cast<std::size_t>(e)] = (!bc.is_free(e) || loaded) ? 1 : 0;
+    if (bc.is_free(e)) free_elements.push_back(e);
+  }
+  if (free_elements.empty()) throw BoundaryConditionError("cut: the scene has no free element to cut");
+  std::sort(free_elements.begin(), free_elements.end(), [&](Index a, Index b) {
+    return (mesh->centroid(a) - o.from).squaredNorm() < (mesh->centroid(b) - o.from).squaredNorm();
+  });
+  if (free_elements.size() > 1000) free_elements.resize(1000);
+  std::sort(free_elements.begin(), free_elements.end());
+  GreensTableOptions topt;
+  topt.region = free_elements;
+  topt.gravity = p.gravity;
+  topt.quadrature = p.quadrature;
+  if (!o.quiet)
+    std::cout << "bemsurg cut: " << E << " elements, " << 3 * E << " equations; update " << to_string(o.update) << ", table region "
+              << free_elements.size() << " elements" << std::endl;
+  auto table = std::make_shared<const GreensTable>(GreensTable::compute(mesh, p.material, bc, topt));
+  CutSystemOptions sopt;
+  sopt.krylov = scene.solver;
+  sopt.krylov.tolerance = std::min(scene.solver.tolerance, 1e-12);
+  sopt.krylov.restart = 0;
+  sopt.krylov.max_iterations = std::max(scene.solver.max_iterations, 2000);
+  CutSystemUpdate system(table, sopt);
+  CutOptions copt;
+  copt.gap_width = o.gap;
+  SurfaceCutter cutter(mesh, locked, copt);
+
+  nlohmann::json steps = nlohmann::json::array();
+  std::string refused;
+  for (int i = 0; i < o.steps; ++i) {
+    const auto t0 = SteadyClock::now();
+    const CutStep st = cutter.step(o.from, o.direction);
+    std::string reason = st.accepted ? std::string() : st.reason;
+    if (reason.empty())
+      for (const auto& s : cutter.sections())
+        if (s.split && reason.empty()) reason = narrow_gap_reason(s.width, s.edge_length);
+    CutStepReport r;
+    if (reason.empty()) {
+      try {
+        r = system.apply(cutter.mesh(), st.delta, o.update);
+      } catch (const Error& e) {
+        reason = e.what();
+      }
+    }
+    if (!reason.empty()) {
+      refused = "step " + std::to_string(i + 1) + " refused: " + reason;
+      steps.push_back({{"accepted", false}, {"reason", reason}, {"added", 0}, {"modified", 0}, {"removed", 0},
+                       {"equations", system.table()->num_dofs()}, {"update", to_string(o.update)}, {"iterations", 0},
+                       {"seconds", seconds_since(t0)}, {"integration_seconds", 0.0}});
+      break;
+    }
+    const double seconds = seconds_since(t0);
+    steps.push_back({{"accepted", true}, {"added", st.delta.added.size()}, {"modified", st.delta.modified.size()},
+                     {"removed", st.delta.removed.size()}, {"equations", 3 * st.delta.elements_after},
+                     {"update", to_string(o.update)}, {"iterations", r.iterations}, {"seconds", seconds},
+                     {"integration_seconds", r.integration_seconds}, {"rank", r.rank}, {"refactor_started", r.refactor_started}});
+    if (!o.quiet)
+      std::cout << "  step " << i + 1 << ": +" << st.delta.added.size() << " elements, " << st.delta.modified.size() << " modified, "
+                << 3 * st.delta.elements_after << " equations, " << std::setprecision(3) << seconds << " s (integration "
+                << r.integration_seconds << " s" << (r.iterations > 0 ? ", " + std::to_string(r.iterations) + " iterations" : "")
+                << ")" << std::endl;
+  }
+  system.wait_for_refactor();
+  const std::shared_ptr<const GreensTable> final_table = system.table();
+  const TriangleMesh& cut_mesh = *final_table->mesh();
+  const std::string obj = (out / "mesh.obj").string();
+  write_obj(obj, cut_mesh);
+  write_elements_csv((out / "elements.csv").string(), cut_mesh, system.boundary_solution());
+  nlohmann::json report = {{"scene", o.scene}, {"elements", cut_mesh.num_elements()}, {"equations", cut_mesh.num_dofs()},
+                           {"update", to_string(o.update)}, {"table_region_elements", final_table->region().size()},
+                           {"precompute_seconds", table->timings().assembly_seconds + table->timings().factorization_seconds +
+                                                      table->timings().table_seconds},
+                           {"steps", steps}, {"total_seconds", seconds_since(t_start)}};
+  if (!refused.empty()) report["refused"] = refused;
+  write_json((out / "report.json").string(), report);
+  const Index mismatch = first_condition_mismatch(o.scene, scene.directory, obj, final_table->base_conditions());
+  if (mismatch >= 0)
+    std::cerr << "bemsurg: warning: the scene's rules applied to mesh.obj prescribe other conditions on element " << mismatch
+              << " than the cut carried over; `bemsurg solve` of that scene will not reproduce elements.csv\n";
+  if (!refused.empty()) {
+    std::cerr << "bemsurg: error: cut: " << refused << " (wrote the " << steps.size() - 1 << " completed step(s) to " << o.output << ")\n";
+    return 1;
+  }
+  if (!o.quiet) std::cout << "  wrote " << obj << ", " << (out / "elements.csv").string() << ", " << (out / "report.json").string() << "\n";
+  return 0;
+}
