@@ -753,10 +753,23 @@ OperatingRegion load_operating_region(const json& r, TriangleMesh& mesh, Scene& 
   if (has_inside) {
     // Estimated element count of the graded mesh: each input face's area over the area of an
     // equilateral triangle of the target size at its centroid.
+    // Faces larger than the inside length are sampled on a k x k sub-grid (k <= 16), so a small
+    // region inside one coarse face still counts at its own size.
     double estimate = 0.0;
-    for (Index e = 0; e < mesh.num_elements(); ++e) {
-      const double h = graded_target_size(region, options, mesh.centroid(e));
-      estimate += mesh.area(e) / (0.433 * h * h);
+    for (Index e = 0; e < mesh.num_elements() && estimate <= kMaxGradedElements; ++e) {
+      const auto c = mesh.corners(e);
+      const int k = static_cast<int>(std::min(16.0, std::ceil(2.0 * mesh.diameter(e) / options.inside_edge_length)));
+      const double sub_area = mesh.area(e) / (k * k);
+      for (int i = 0; i < k; ++i)
+        for (int j = 0; j < k - i; ++j)
+          for (int up = 0; up < (j < k - i - 1 ? 2 : 1); ++up) {
+            // Centroid of sub-triangle (i, j) pointing up or down in barycentric grid coordinates.
+            const double a = (up == 0 ? i + 1.0 / 3.0 : i + 2.0 / 3.0) / k;
+            const double b = (up == 0 ? j + 1.0 / 3.0 : j + 2.0 / 3.0) / k;
+            const Vec3 x = c[0] + a * (c[1] - c[0]) + b * (c[2] - c[0]);
+            const double h = graded_target_size(region, options, x);
+            estimate += sub_area / (0.433 * h * h);
+          }
     }
     if (estimate > kMaxGradedElements)
       fail(child(key, "inside_edge_length"),

@@ -200,7 +200,16 @@ GradedRemeshResult graded_remesh(const TriangleMesh& input, const OperatingRegio
 #ifdef BEMSURG_HAVE_GMSH
   const auto start = std::chrono::steady_clock::now();
   GradedRemeshResult result;
-  result.mesh = remesh_with_gmsh(input, region, options);
+  try {
+    result.mesh = remesh_with_gmsh(input, region, options);
+  } catch (const Error&) {
+    throw;
+  } catch (const std::string& what) {  // Gmsh 4.8 throws its messages as std::string
+    throw Error("graded remesh: Gmsh failed: " + what +
+                " (a crease the input mesh does not follow? try a finer input mesh or another feature angle)");
+  } catch (const std::exception& e) {
+    throw Error(std::string("graded remesh: Gmsh failed: ") + e.what());
+  }
   try {
     require_valid_mesh(result.mesh);
   } catch (const InvalidMeshError& e) {

@@ -35,8 +35,10 @@ struct BrainModelOptions {
   /// Amplitude of the gyri-like folds as a fraction of the local radius, and their wavelength (m).
   double fold_amplitude = 0.025;
   double fold_wavelength = 0.03;
-  /// Icosphere subdivisions of the returned mesh: 20 * 4^s faces before clipping (0..7).
-  int subdivisions = 4;
+  /// Icosphere subdivisions of the returned mesh: 20 * 4^s faces (0..7). 5 (20480 faces, ~2.3 mm)
+  /// is what the remesher needs: at 4 the rim of the underside, which cuts across the icosphere's
+  /// triangles, is too jagged for Gmsh's crease detection at 40 degrees (docs/graded.md).
+  int subdivisions = 5;
 };
 
 /// The closed, outward-oriented brain surface; its underside is the disc-like flat part on the
