@@ -12,6 +12,7 @@
 #include <Eigen/Core>
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <vector>
 
 #include "bemsurg/mesh/brain_model.hpp"
@@ -59,12 +60,15 @@ inline PressResult press(const TriangleMesh& mesh, const PressCase& c) {
   for (Index e : region.elements_of(mesh))
     if (base.is_free(e)) options.region.push_back(e);
   r.region_elements = static_cast<Index>(options.region.size());
-  const GreensTable table = GreensTable::compute(mesh, c.material, base, options);
+  // Shared snapshots, as the contact solver takes them (docs/design.md §9).
+  auto snapshot = std::make_shared<const TriangleMesh>(mesh);
+  auto table_ptr = std::make_shared<const GreensTable>(GreensTable::compute(mesh, c.material, base, options));
+  const GreensTable& table = *table_ptr;
   r.timings = table.timings();
   r.precompute_seconds = r.timings.assembly_seconds + r.timings.factorization_seconds + r.timings.table_seconds;
   r.peak_bytes = GreensTable::estimate_bytes(mesh.num_elements(), r.region_elements);
   r.table_bytes = static_cast<double>(table.bytes());
-  ToolContactSolver solver(mesh, table);
+  ToolContactSolver solver(snapshot, table_ptr);
   const int tool = solver.add_tool(ToolSpec::sphere(c.tool_radius));
   if (!solver.engage(tool, c.region_center + Vec3(0, 0, 0.05), Vec3(0, 0, -1)))
     throw ContactError("graded comparison: the tool missed the brain");

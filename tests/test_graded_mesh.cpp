@@ -2,9 +2,8 @@
 // mesh/operating_region.hpp, mesh/brain_model.hpp, docs/graded.md): graded meshes are closed,
 // oriented, well shaped and graded within the stated bound; creases are kept; in the operating
 // region a graded model answers a tool like a uniformly fine one; bad input is refused by name.
-// Self-intersection is not checked here: the shared checker (mesh/self_intersection.hpp) had not
-// landed when this was written; the brain model is self-intersection-free by construction (a
-// radial graph) and the remeshed surfaces are checked for closure, orientation and volume.
+// Self-intersection is checked with mesh/self_intersection.hpp on the input brain (free of it by
+// construction: a radial graph) and on every remeshed surface.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -20,6 +19,7 @@
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/mesh/mesh_topology.hpp"
 #include "bemsurg/mesh/mesh_validation.hpp"
+#include "bemsurg/mesh/self_intersection.hpp"
 
 using namespace bemsurg;
 namespace fs = std::filesystem;
@@ -74,6 +74,7 @@ TEST_CASE("The brain model is a valid, deterministic, mirror-symmetric surface w
   const BrainModelOptions o = test_brain();
   const TriangleMesh a = brain_mesh(o), b = brain_mesh(o);
   REQUIRE_NOTHROW(require_valid_mesh(a));
+  CHECK(find_self_intersections(a).empty());
   CHECK(a.vertices() == b.vertices());  // bit for bit
   CHECK(a.faces() == b.faces());
   // Two hemispheres: the vertex set maps onto itself under y -> -y (icosphere and radial function
@@ -114,6 +115,7 @@ TEST_CASE("A graded remesh of the brain is closed, oriented, well shaped and gra
   const MeshTopology topo(r.mesh);
   CHECK(topo.num_shells() == 1);
   CHECK(topo.is_closed_and_oriented());
+  CHECK(find_self_intersections(r.mesh).empty());
   // Coarse (30 mm) chords cut the folds and the curvature: measured 6.3 % less volume.
   CHECK(r.mesh.enclosed_volume() == Approx(input.enclosed_volume()).epsilon(0.09));
   // Shape: Frontal-Delaunay gives ~30 degrees at worst (measured 30-33).
@@ -147,6 +149,7 @@ TEST_CASE("A graded remesh keeps the creases of a box and both shells of a hollo
   REQUIRE_NOTHROW(require_valid_mesh(r.mesh));
   // Edges and corners kept: the volume of a polyhedron with the box's faces is the box's, exactly
   // up to rounding, and the bounding box is unchanged.
+  CHECK(find_self_intersections(r.mesh).empty());
   CHECK(r.mesh.enclosed_volume() == Approx(0.1 * 0.1 * 0.05).epsilon(1e-9));
   CHECK((r.mesh.bounding_box() - box.bounding_box()).cwiseAbs().maxCoeff() < 1e-12);
   CHECK(r.quality.max_neighbour_size_ratio < 1.6);
@@ -157,6 +160,7 @@ TEST_CASE("A graded remesh keeps the creases of a box and both shells of a hollo
   REQUIRE_NOTHROW(require_valid_mesh(h.mesh));  // includes: the cavity's normals point into it
   const MeshTopology topo(h.mesh);
   CHECK(topo.num_shells() == 2);
+  CHECK(find_self_intersections(h.mesh).empty());
   CHECK(h.mesh.enclosed_volume() == Approx(hollow.enclosed_volume()).epsilon(0.03));
 }
 
@@ -170,6 +174,8 @@ TEST_CASE("In the operating region a graded brain answers a sphere tool like a u
   const TriangleMesh fine = graded_remesh(input, region, lengths(0.009, 0.009)).mesh;
   const TriangleMesh grad = graded_remesh(input, region, lengths(0.009, 0.027)).mesh;
   REQUIRE(grad.num_elements() < fine.num_elements() / 2);
+  CHECK(find_self_intersections(fine).empty());
+  CHECK(find_self_intersections(grad).empty());
   const graded::PressResult rf = graded::press(fine, c);
   const graded::PressResult rg = graded::press(grad, c);
   const double force = (rg.force - rf.force).norm() / rf.force.norm();
@@ -253,6 +259,7 @@ TEST_CASE("The brain scene is graded around its operating region and held on its
   CHECK(s.graded == graded_remesher_available());
   CHECK(s.warnings.empty() == graded_remesher_available());
   REQUIRE_NOTHROW(require_valid_mesh(s.problem.mesh));
+  CHECK(find_self_intersections(s.problem.mesh).empty());
   if (s.graded) {
     CHECK(s.problem.mesh.num_elements() < 1200);  // test-sized: precompute in seconds (measured 680)
     CHECK(s.mesh_quality.max_neighbour_size_ratio < 1.6);

@@ -26,6 +26,7 @@
 #include "bemsurg/elastostatic_solver.hpp"
 #include "bemsurg/post/interior_evaluator.hpp"
 #include "bemsurg/mesh/bvh.hpp"
+#include "bemsurg/mesh/self_intersection.hpp"
 #include "bemsurg/presolution/greens_table.hpp"
 #include "bemsurg/presolution/capacitance_contact.hpp"
 #include "bemsurg/presolution/paper_lookup_table.hpp"
@@ -34,3 +35,5 @@
 #include "bemsurg/io/element_selector.hpp"
 #include "bemsurg/io/results_io.hpp"
 #include "bemsurg/io/scene.hpp"
+#include "bemsurg/cutting/mesh_delta.hpp"
+#include "bemsurg/cutting/surface_cutter.hpp"

@@ -1,0 +1,117 @@
+// Tests for `bemsurg session` (src/cli/session_command.cpp, docs/cli.md, docs/actions.md): the
+// trace has one row per tool per tick with the documented columns, report.json carries the loop
+// statistics under the documented keys, and bad scripts, cuts without the cutting module and bad
+// command lines are refused with messages naming the fault.
+#include <catch2/catch.hpp>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+#include "support/temp_dir.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+int run(const std::string& args, std::string* err = nullptr, const fs::path& errfile = {}) {
+  const std::string cmd = std::string(BEMSURG_CLI_PATH) + " " + args + " > /dev/null 2> " +
+                          (errfile.empty() ? std::string("/dev/null") : errfile.string());
+  const int status = std::system(cmd.c_str());
+  if (err && !errfile.empty()) {
+    std::ifstream in(errfile);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    *err = ss.str();
+  }
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+const char* kScene = R"({"mesh": {"generator": "box", "min": [0, 0, 0], "max": [0.1, 0.1, 0.05], "divisions": [6, 6, 3]},
+  "material": {"young_modulus": 3000, "poisson_ratio": 0.45, "density": 1000},
+  "boundary_conditions": {"rules": [{"select": {"plane": {"point": [0, 0, 0], "normal": [0, 0, 1]}}, "displacement": [0, 0, 0]}]}})";
+
+const char* kScript = R"({"format": "bemsurg-actions", "version": 1, "rate_hz": 1000,
+  "tools": [{"name": "punch", "shape": "flat", "radius": 0.02}, {"name": "grasper", "shape": "pinch"}],
+  "actions": [
+    {"time": 0.0, "tool": "punch", "type": "press", "at": [0.05, 0.05, 0.08], "direction": [0, 0, -1], "depth": 0.001, "duration": 0.1},
+    {"time": 0.0, "tool": "grasper", "type": "pinch", "at": [0.08, 0.08, 0.08], "direction": [0, 0, -1]},
+    {"time": 0.0, "tool": "grasper", "type": "move", "to": [0.08, 0.08, 0.051], "duration": 0.1},
+    {"time": 0.15, "tool": "grasper", "type": "release"}
+  ]})";
+}  // namespace
+
+TEST_CASE("bemsurg session writes the force trace and report.json with the loop statistics", "[haptics][cli]") {
+  const bemsurg_test::TempDir temp("bemsurg_test_session_");
+  const std::string scene = temp.write("scene.json", kScene), script = temp.write("actions.json", kScript);
+  const std::string out = temp.file("out");
+  std::string err;
+  REQUIRE(run("session " + scene + " --script " + script + " -o " + out + " --virtual-clock", &err, temp.path / "err.txt") == 0);
+  std::ifstream fj(fs::path(out) / "report.json");
+  const nlohmann::json j = nlohmann::json::parse(fj);
+  for (const char* key : {"rate_hz", "overruns", "max_force_jump_fraction"}) CHECK(j.contains(key));
+  for (const char* group : {"jitter_us", "force_us"})
+    for (const char* p : {"p50", "p99", "p999"}) CHECK(j.at(group).contains(p));
+  const long ticks = j.at("ticks").get<long>();
+  CHECK(ticks == 251);  // 0 .. 0.25 s (release at 0.15 s + 0.1 s) at 1 kHz
+  CHECK(j.at("rate_hz").get<double>() == Approx(1000.0));  // virtual clock: exact
+  CHECK(j.at("faults").get<long>() == 0);
+  // The trace: a header and one row per tool per tick.
+  std::ifstream trace(fs::path(out) / "force_trace.csv");
+  std::string line;
+  REQUIRE(std::getline(trace, line));
+  CHECK(line.rfind("time,tool,fx,fy,fz,force,contact_elements,", 0) == 0);
+  long rows = 0, punch_pushed = 0, grasper_pulled = 0;
+  while (std::getline(trace, line)) {
+    ++rows;
+    std::stringstream ss(line);
+    std::string time, tool, fx, fy, fz, f, k;
+    std::getline(ss, time, ',');
+    std::getline(ss, tool, ',');
+    std::getline(ss, fx, ',');
+    std::getline(ss, fy, ',');
+    std::getline(ss, fz, ',');
+    std::getline(ss, f, ',');
+    std::getline(ss, k, ',');
+    CHECK(std::stod(f) <= 3.3 + 1e-9);  // the device limit
+    if (tool == "punch" && std::stod(fz) > 0.01 && std::stoi(k) > 0) ++punch_pushed;
+    if (tool == "grasper" && std::stod(fz) < -0.01 && std::stoi(k) == 1) ++grasper_pulled;
+  }
+  CHECK(rows == 2 * ticks);
+  CHECK(punch_pushed > 50);
+  CHECK(grasper_pulled > 50);
+}
+
+TEST_CASE("bemsurg session runs in real time on the haptic thread", "[haptics][cli]") {
+  const bemsurg_test::TempDir temp("bemsurg_test_session_rt_");
+  const std::string scene = temp.write("scene.json", kScene), script = temp.write("actions.json", kScript);
+  REQUIRE(run("session " + scene + " --script " + script + " -o " + temp.file("out") + " -q") == 0);
+  std::ifstream fj(temp.path / "out" / "report.json");
+  const nlohmann::json j = nlohmann::json::parse(fj);
+  CHECK(j.at("clock") == "realtime");
+  CHECK(j.at("ticks").get<long>() > 0);
+  CHECK(j.at("faults").get<long>() == 0);
+}
+
+TEST_CASE("bemsurg session refuses cuts without the cutting module and bad scripts, naming the fault", "[haptics][cli]") {
+  const bemsurg_test::TempDir temp("bemsurg_test_session_bad_");
+  const std::string scene = temp.write("scene.json", kScene);
+  std::string err;
+  std::string text = kScript;
+  text.replace(text.find("\"shape\": \"pinch\"}"), 17, "\"shape\": \"pinch\"}, {\"name\": \"scalpel\", \"shape\": \"blade\"}");
+  text.replace(text.rfind(']'), 1, ", {\"time\": 0.2, \"tool\": \"scalpel\", \"type\": \"cut\", \"from\": [0, 0, 0.05], \"direction\": [1, 0, 0], \"steps\": 2}]");
+  const std::string cut = temp.write("cut.json", text);
+  CHECK(run("session " + scene + " --script " + cut + " -o " + temp.file("o1"), &err, temp.path / "e1.txt") == 1);
+  CHECK(err.find("the cut of tool 'scalpel' at t = 0.2") != std::string::npos);
+  CHECK(err.find("cutting module") != std::string::npos);
+  std::string bad = kScript;
+  bad.replace(bad.find("\"depth\": 0.001"), 14, "\"depth\": \"deep\"");
+  const std::string badf = temp.write("bad.json", bad);
+  CHECK(run("session " + scene + " --script " + badf + " -o " + temp.file("o2"), &err, temp.path / "e2.txt") == 1);
+  CHECK(err.find("actions[0].depth: expected a number, got a string") != std::string::npos);
+  CHECK(run("session " + scene + " -o " + temp.file("o3"), &err, temp.path / "e3.txt") == 2);
+  CHECK(err.find("missing --script") != std::string::npos);
+  CHECK(run("session " + scene + " --script " + badf + " --bogus", &err, temp.path / "e4.txt") == 2);
+}
