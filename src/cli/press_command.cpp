@@ -178,6 +178,9 @@ int run_press(int argc, char** argv) {
   bemsurg::GreensTableOptions table_options;
   table_options.gravity = p.gravity;
   table_options.quadrature = p.quadrature;
+  // The scene's operating_region, when it has one, is where tools may act: the table holds only
+  // its columns (empty: every free element). docs/graded.md
+  table_options.region = scene.operating_elements;
   const bemsurg::GreensTableKey key =
       bemsurg::make_greens_table_key(p.mesh, p.material, p.boundary_conditions, p.gravity, p.quadrature);
   bemsurg::GreensTable table;

@@ -21,6 +21,8 @@
 #include "bemsurg/elastostatic_solver.hpp"
 #include "bemsurg/io/element_selector.hpp"
 #include "bemsurg/memory_budget.hpp"
+#include "bemsurg/mesh/brain_model.hpp"
+#include "bemsurg/mesh/graded_remesher.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/mesh/mesh_io.hpp"
 #include "bemsurg/mesh/mesh_thickness.hpp"
@@ -323,6 +325,27 @@ TriangleMesh generate_mesh(const json& m, std::string& source, std::vector<std::
       require_generated_size("mesh.subdivisions", "the hollow sphere", 20.0 * (std::pow(4.0, si) + std::pow(4.0, so)));
       return hollow_sphere_mesh(center(), a, b, si, so);
     }
+    if (kind == "brain") {
+      note_unknown_keys(m, "mesh",
+                        {"generator", "size", "subdivisions", "fissure_depth", "fissure_half_width", "fold_amplitude",
+                         "fold_wavelength"},
+                        warnings);
+      BrainModelOptions o;
+      if (optional(m, "size")) {
+        o.size = as_vec3(m["size"], "mesh.size");
+        for (int c = 0; c < 3; ++c) positive(o.size(c), item("mesh.size", static_cast<std::size_t>(c)));
+      }
+      o.subdivisions = subdivisions("subdivisions", o.subdivisions);
+      const auto number = [&](const char* name, double& value) {
+        if (optional(m, name)) value = as_number(m[name], child("mesh", name));
+      };
+      number("fissure_depth", o.fissure_depth);
+      number("fissure_half_width", o.fissure_half_width);
+      number("fold_amplitude", o.fold_amplitude);
+      number("fold_wavelength", o.fold_wavelength);
+      source = "brain generator, subdivisions " + std::to_string(o.subdivisions);
+      return brain_mesh(o);
+    }
   } catch (const SceneError&) {
     throw;
   } catch (const ResourceError&) {
@@ -330,7 +353,8 @@ TriangleMesh generate_mesh(const json& m, std::string& source, std::vector<std::
   } catch (const Error& e) {
     fail("mesh", std::string("generator '") + kind + "' failed: " + e.what());
   }
-  fail("mesh.generator", "unknown generator '" + kind + "' (expected box, box_grid, icosphere, ellipsoid or hollow_sphere)");
+  fail("mesh.generator",
+       "unknown generator '" + kind + "' (expected box, box_grid, icosphere, ellipsoid, hollow_sphere or brain)");
 }
 
 TriangleMesh load_mesh(const json& m, const std::string& directory, std::string& source, std::vector<std::string>& warnings) {
@@ -687,21 +711,177 @@ RowMatrixX3d load_interior_points(const json& ip, const std::string& directory, 
   return out;
 }
 
+// ---- operating region ------------------------------------------------------------------------
+
+// A graded mesh of more elements than this would give a dense system (3E unknowns) of more than
+// 10^11 entries: refused before Gmsh spends minutes producing it.
+constexpr double kMaxGradedElements = 60000.0;
+
+/// Reads "operating_region" (docs/scene-format.md#operating_region) against the mesh as generated
+/// or read; remeshes it when edge lengths are given. Returns the region; `mesh` may be replaced.
+OperatingRegion load_operating_region(const json& r, TriangleMesh& mesh, Scene& scene) {
+  const std::string key = "operating_region";
+  require_object(r, key);
+  note_unknown_keys(r, key,
+                    {"sphere", "box", "elements", "inside_edge_length", "outside_edge_length", "growth", "feature_angle"},
+                    scene.warnings);
+  const int shapes = int(r.contains("sphere")) + int(r.contains("box")) + int(r.contains("elements"));
+  if (shapes != 1) fail(key, "expected exactly one of \"sphere\", \"box\" or \"elements\", got " + std::to_string(shapes));
+  OperatingRegion region;
+  if (const json* s = optional(r, "sphere")) {
+    const std::string k = child(key, "sphere");
+    require_object(*s, k);
+    note_unknown_keys(*s, k, {"center", "radius"}, scene.warnings);
+    const Vec3 c = as_vec3(required(*s, "center", k), child(k, "center"));
+    const double radius = positive(as_number(required(*s, "radius", k), child(k, "radius")), child(k, "radius"));
+    region = OperatingRegion::sphere(c, radius);
+  } else if (const json* b = optional(r, "box")) {
+    const std::string k = child(key, "box");
+    require_object(*b, k);
+    note_unknown_keys(*b, k, {"min", "max"}, scene.warnings);
+    const Vec3 lo = as_vec3(required(*b, "min", k), child(k, "min"));
+    const Vec3 hi = as_vec3(required(*b, "max", k), child(k, "max"));
+    if (!(lo.array() < hi.array()).all()) fail(child(k, "max"), "must exceed " + child(k, "min") + " in every component");
+    region = OperatingRegion::box(lo, hi);
+  } else {
+    const std::string k = child(key, "elements");
+    const json& e = r["elements"];
+    if (!e.is_array() || e.empty()) fail(k, "expected a non-empty array of element indices");
+    std::vector<Index> ids;
+    for (std::size_t i = 0; i < e.size(); ++i) {
+      const long long id = as_integer(e[i], item(k, i));
+      if (id < 0 || id >= mesh.num_elements())
+        fail(item(k, i), "element " + std::to_string(id) + " out of range (mesh has " +
+                             std::to_string(mesh.num_elements()) + " elements)");
+      ids.push_back(static_cast<Index>(id));
+    }
+    region = OperatingRegion::element_set(mesh, ids);
+  }
+
+  const bool has_inside = r.contains("inside_edge_length"), has_outside = r.contains("outside_edge_length");
+  if (has_inside != has_outside)
+    fail(child(key, has_inside ? "outside_edge_length" : "inside_edge_length"),
+         "missing (inside_edge_length and outside_edge_length come together: they ask for a graded remesh)");
+  GradedRemeshOptions options;
+  if (has_inside) {
+    const std::string ki = child(key, "inside_edge_length"), ko = child(key, "outside_edge_length");
+    options.inside_edge_length = positive(as_number(r["inside_edge_length"], ki), ki);
+    options.outside_edge_length = positive(as_number(r["outside_edge_length"], ko), ko);
+    if (options.inside_edge_length > options.outside_edge_length)
+      fail(ki, "is larger than " + ko + " (" + json(options.inside_edge_length).dump() + " > " +
+                   json(options.outside_edge_length).dump() + "): the operating region must be the finer part");
+    if (const json* g = optional(r, "growth")) {
+      options.growth = as_number(*g, child(key, "growth"));
+      if (!(options.growth > 1.0 && options.growth <= 2.0))
+        fail(child(key, "growth"), "must lie in (1, 2], got " + g->dump());
+    }
+    if (const json* a = optional(r, "feature_angle")) {
+      options.feature_angle_degrees = as_number(*a, child(key, "feature_angle"));
+      if (!(options.feature_angle_degrees > 0.0 && options.feature_angle_degrees < 180.0))
+        fail(child(key, "feature_angle"), "must lie in (0, 180) degrees, got " + a->dump());
+    }
+  } else {
+    for (const char* k : {"growth", "feature_angle"})
+      if (r.contains(k))
+        scene.warnings.push_back(child(key, k) + ": ignored without inside_edge_length and outside_edge_length");
+  }
+
+  try {
+    region.require_meets_surface(mesh, has_inside ? 0.5 * options.inside_edge_length : 0.0);
+  } catch (const Error& e) {
+    std::string what = e.what();
+    if (what.rfind("operating region: ", 0) == 0) what.erase(0, 18);
+    fail(key, what);
+  }
+
+  scene.input_elements = mesh.num_elements();
+  if (has_inside) {
+    // Estimated element count of the graded mesh: each input face's area over the area of an
+    // equilateral triangle of the target size at its centroid.
+    // Faces larger than the inside length are sampled on a k x k sub-grid (k <= 16), so a small
+    // region inside one coarse face still counts at its own size.
+    double estimate = 0.0;
+    for (Index e = 0; e < mesh.num_elements() && estimate <= kMaxGradedElements; ++e) {
+      const auto c = mesh.corners(e);
+      const int k = static_cast<int>(std::min(16.0, std::ceil(2.0 * mesh.diameter(e) / options.inside_edge_length)));
+      const double sub_area = mesh.area(e) / (k * k);
+      for (int i = 0; i < k; ++i)
+        for (int j = 0; j < k - i; ++j)
+          for (int up = 0; up < (j < k - i - 1 ? 2 : 1); ++up) {
+            // Centroid of sub-triangle (i, j) pointing up or down in barycentric grid coordinates.
+            const double a = (up == 0 ? i + 1.0 / 3.0 : i + 2.0 / 3.0) / k;
+            const double b = (up == 0 ? j + 1.0 / 3.0 : j + 2.0 / 3.0) / k;
+            const Vec3 x = c[0] + a * (c[1] - c[0]) + b * (c[2] - c[0]);
+            const double h = graded_target_size(region, options, x);
+            estimate += sub_area / (0.433 * h * h);
+          }
+    }
+    if (estimate > kMaxGradedElements)
+      fail(child(key, "inside_edge_length"),
+           "would give about " + std::to_string(static_cast<long long>(estimate)) + " elements (limit " +
+               std::to_string(static_cast<long long>(kMaxGradedElements)) +
+               "): the dense BEM system would not fit in memory; use longer edges");
+    if (!graded_remesher_available()) {
+      scene.warnings.push_back(key + ": this build of bemsurg has no remesher (BEMSURG_WITH_REMESHER=OFF): the mesh is "
+                                     "used as generated or read, not graded");
+    } else {
+      try {
+        GradedRemeshResult g = graded_remesh(mesh, region, options);
+        mesh = std::move(g.mesh);
+        scene.graded = true;
+        scene.remesh_seconds = g.seconds;
+        scene.mesh_source += ", graded remesh (inside " + json(options.inside_edge_length).dump() + " m, outside " +
+                             json(options.outside_edge_length).dump() + " m)";
+      } catch (const Error& e) {
+        fail(key, std::string("remeshing failed: ") + e.what());
+      }
+    }
+  }
+  return region;
+}
+
 Scene build_scene(const json& root, const std::string& directory, const std::string& name) {
   if (!root.is_object()) throw SceneError(name + ": expected a JSON object at the top level, got " + describe_type(root));
   Scene scene;
   scene.path = name;
   scene.directory = directory;
   note_unknown_keys(root, "",
-                    {"mesh", "material", "gravity", "boundary_conditions", "interior_points", "solver", "quadrature"},
+                    {"mesh", "material", "gravity", "boundary_conditions", "interior_points", "solver", "quadrature",
+                     "operating_region"},
                     scene.warnings);
 
   ElastostaticProblem& problem = scene.problem;
   if (const json* g = optional(root, "gravity")) problem.gravity = as_vec3(*g, "gravity");
   problem.material = load_material(required(root, "material", ""), !problem.gravity.isZero(0.0), scene.warnings);
   problem.mesh = load_mesh(required(root, "mesh", ""), directory, scene.mesh_source, scene.warnings);
+  scene.input_elements = problem.mesh.num_elements();
+  // The operating region comes before the boundary conditions: it may remesh, and the rules then
+  // select on the mesh that is solved.
+  if (const json* r = optional(root, "operating_region")) {
+    scene.operating_region = load_operating_region(*r, problem.mesh, scene);
+    scene.has_operating_region = true;
+  }
+  scene.mesh_quality = measure_mesh_quality(problem.mesh);
   problem.boundary_conditions =
       load_boundary_conditions(required(root, "boundary_conditions", ""), directory, problem.mesh, scene.warnings);
+  if (scene.has_operating_region) {
+    // A remeshed element set is matched by distance: the new elements covering the old ones have
+    // their centroids on (within a tenth of an element of) the old triangles.
+    // Otherwise a slack of rounding only (a centroid's distance to its own triangle is ~1e-18, not 0).
+    const double slack = scene.graded && scene.operating_region.kind() == OperatingRegion::Kind::Elements
+                             ? 0.1 * scene.mesh_quality.min_size
+                             : 1e-9 * (problem.mesh.bounding_box().col(1) - problem.mesh.bounding_box().col(0)).norm();
+    std::size_t held = 0;
+    for (Index e : scene.operating_region.elements_of(problem.mesh, slack)) {
+      if (problem.boundary_conditions.is_free(e))
+        scene.operating_elements.push_back(e);
+      else
+        ++held;
+    }
+    if (scene.operating_elements.empty())
+      fail("operating_region", "holds no free element of the mesh (" + std::to_string(held) +
+                                   " elements inside are displacement-prescribed, and a Green's table needs free ones)");
+  }
   if (const json* q = optional(root, "quadrature")) problem.quadrature = load_quadrature(*q, scene.warnings);
   if (const json* s = optional(root, "solver")) scene.solver = load_solver(*s, scene.warnings);
   if (const json* ip = optional(root, "interior_points")) {

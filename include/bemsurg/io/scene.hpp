@@ -1,6 +1,7 @@
 // bemsurg/io/scene.hpp: a scene file (JSON) read into a ready-to-solve elastostatic problem:
 // mesh (file or generator), material, gravity, boundary conditions (rules and/or a CSV file),
-// linear-solver settings and optional interior points. The format is specified key by key in
+// linear-solver settings, optional interior points and an optional operating region (where tools
+// act: it grades the mesh and is the Green's table region, docs/graded.md). The format is specified key by key in
 // docs/scene-format.md; the physics it feeds is docs/design.md §2-§5 (Wang et al. 2007, eq. 6).
 //
 // Every error is a SceneError whose message starts with the JSON key path or the file and line
@@ -14,6 +15,8 @@
 #include <vector>
 
 #include "bemsurg/elastostatic_solver.hpp"
+#include "bemsurg/mesh/mesh_quality.hpp"
+#include "bemsurg/mesh/operating_region.hpp"
 #include "bemsurg/solvers/linear_solve.hpp"
 
 namespace bemsurg {
@@ -28,6 +31,22 @@ struct Scene {
   /// the body (checked when loading). Empty when the scene asks for none.
   RowMatrixX3d interior_points = RowMatrixX3d(0, 3);
   bool has_interior_points = false;
+
+  /// The "operating_region" key, said once for both of its uses (docs/graded.md): when it gives
+  /// inside/outside edge lengths the mesh above is the graded remesh of the generated or read
+  /// surface, and `operating_elements` are the free elements of that mesh inside the region, in
+  /// increasing order: pass them as GreensTableOptions::region so pre-solutions are computed only
+  /// where tools may act. Without the key: has_operating_region false, operating_elements empty
+  /// (a Green's table then covers every free element).
+  bool has_operating_region = false;
+  OperatingRegion operating_region;
+  std::vector<Index> operating_elements;
+  /// Whether the mesh was remeshed (graded), with its quality and the remeshing time.
+  bool graded = false;
+  MeshQuality mesh_quality;
+  double remesh_seconds = 0.0;
+  /// Elements of the mesh before remeshing (equal to the mesh's count when not graded).
+  Index input_elements = 0;
 
   /// The scene file as given and the directory relative paths in it are resolved against.
   std::string path;
