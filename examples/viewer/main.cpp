@@ -14,7 +14,7 @@
 namespace {
 
 constexpr const char* kUsage =
-    "usage: bemsurg-viewer [--scene FILE] [--record FILE]\n"
+    "usage: bemsurg-viewer [--scene FILE] [--record FILE] [--quit-after SECONDS]\n"
     "       bemsurg-viewer [--scene FILE] --script ACTIONS.json --frames N --screenshot OUT.png\n"
     "                      [--shots F1,F2,...] [--fps F] [--size WxH]\n"
     "\n"
@@ -88,6 +88,16 @@ int main(int argc, char** argv) {
         if (x == std::string::npos) throw UsageError("--size expects WxH, got '" + v + "'");
         o.width = parse_int("--size", v.substr(0, x), 320, 8192);
         o.height = parse_int("--size", v.substr(x + 1), 240, 8192);
+      } else if (arg == "--quit-after") {
+        const std::string v = value();
+        std::size_t used = 0;
+        double q = 0.0;
+        try {
+          q = std::stod(v, &used);
+        } catch (const std::exception&) {
+        }
+        if (used != v.size() || !(q > 0.0) || !std::isfinite(q)) throw UsageError("--quit-after expects positive seconds, got '" + v + "'");
+        o.quit_after = q;
       } else if (arg == "--record") {
         o.record = value();
       } else {

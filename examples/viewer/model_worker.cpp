@@ -277,7 +277,14 @@ void ModelWorker::do_load(const std::string& path) {
   reference_.reset();
   cuts_ = 0;
   auto l = std::make_shared<Loaded>();
-  l->scene = path.empty() ? default_cuboid_scene() : load_scene(path);
+  try {
+    l->scene = path.empty() ? default_cuboid_scene() : load_scene(path);
+  } catch (const SceneError& e) {
+    // Name the file in every message (the window shows it without the command line beside it).
+    const std::string what = e.what();
+    if (what.rfind(path, 0) == 0) throw;
+    throw SceneError(path + ": " + what);
+  }
   l->name = path.empty() ? "default cuboid (12 x 10 x 5 cm, bottom held)" : path;
   const ElastostaticProblem& p = l->scene.problem;
   l->mesh = std::make_shared<const TriangleMesh>(p.mesh);

@@ -346,6 +346,7 @@ void haptic_loop(App* app) {
 const char* kToolNames[] = {"point", "sphere", "flat", "pinch", "retract (plate)", "cut"};
 
 void colour_bar(App& app, int width, int height) {
+  (void)height;
   if (app.colour_by == 0 || !app.field.physics) return;
   const float hi = app.colour_by == 1 ? app.u_hi : app.t_hi;
   ImGui::SetNextWindowPos(ImVec2(float(width) - 120.0f, 60.0f), ImGuiCond_Always);
@@ -408,6 +409,7 @@ void gui(App& app, int width, int height) {
       else
         ImGui::TextColored(ImVec4(0.7f, 0.35f, 0.0f, 1.0f), "cut shown; exact tables being computed...");
     }
+    if (app.cuts.accepted() + app.cuts.refused() > 0 && app.tool != ToolKind::Cut) ImGui::TextWrapped("%s", app.cuts.status_line().c_str());
     if (!st.error.empty()) {
       ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(0.8f, 0.1f, 0.1f, 1.0f));
       ImGui::TextWrapped("error: %s", st.error.c_str());
@@ -924,7 +926,19 @@ int run_viewer(const ViewerOptions& o) {
   } else {
     app->haptic_run = true;
     app->haptic_thread = std::thread(haptic_loop, app.get());
+    const auto opened = Clock::now();
+    double graphics_sum = 0.0, haptic_sum = 0.0;
+    int rate_samples = 0;
     while (!glfwWindowShouldClose(app->window)) {
+      if (o.quit_after > 0.0) {
+        const double t = seconds_since(opened);
+        if (t > 0.5 * o.quit_after && app->field.physics && app->field.physics->table) {
+          graphics_sum += app->graphics_rate.rate();
+          haptic_sum += app->haptic_rate.rate();
+          ++rate_samples;
+        }
+        if (t > o.quit_after) break;
+      }
       glfwPollEvents();
       handle_mouse(*app);
       app->settings_buffer.back() = app->settings;
@@ -952,6 +966,15 @@ int run_viewer(const ViewerOptions& o) {
     }
     app->haptic_run = false;
     app->haptic_thread.join();
+    if (o.quit_after > 0.0) {
+      if (rate_samples > 0)
+        std::cerr << "bemsurg-viewer: mean rates over the second half: graphics " << std::fixed << std::setprecision(1)
+                  << graphics_sum / rate_samples << " Hz, haptic " << haptic_sum / rate_samples << " Hz\n";
+      else
+        std::cerr << "bemsurg-viewer: the table was not ready within --quit-after; no rates measured\n";
+      const WorkerStatus st = app->worker.status();
+      if (!st.error.empty()) std::cerr << "bemsurg-viewer: error shown in the window: " << st.error << "\n";
+    }
     if (!o.record.empty() && !app->recorder.actions.empty()) {
       std::string err;
       if (!app->recorder.save(o.record, app->scene_input, err)) std::cerr << "bemsurg-viewer: " << err << "\n";
