@@ -53,9 +53,12 @@ struct CutOptions {
   /// ends narrow with depth (about 4 degrees at one level, 2.6 at two); 2 degrees admits those
   /// and refuses needles.
   double min_angle_degrees = 2.0;
-  /// A path vertex whose surrounding faces turn more than this from its mean normal sits on a
-  /// sharp feature (another cut's wall, a thin edge); the step is refused there.
-  double max_normal_deviation_degrees = 60.0;
+  /// A path vertex whose surrounding faces turn more than this from their mean normal sits on a
+  /// sharp feature: another cut's rim (wall and surface meet at 90 degrees), a box edge (45
+  /// degrees from the mean each side) or a thin edge. "Perpendicular to the surface" has no
+  /// meaning there, so the step is refused. Smooth parts of a 1,280-face sphere turn by a few
+  /// degrees.
+  double max_normal_deviation_degrees = 40.0;
 };
 
 struct CutStep {
@@ -114,6 +117,7 @@ class SurfaceCutter {
   CutStep commit(Work& w);
   bool open(Work& w, const Vec3& from, const Vec3& direction, std::string& reason) const;
   bool extend(Work& w, const Vec3& direction, std::string& reason) const;
+  bool touches_lock(const Work& w, Index v, std::string& reason) const;
   bool split_section(Work& w, std::size_t i, std::string& reason) const;
   void rebuild_groove(Work& w) const;
   bool check(Work& w, std::string& reason) const;

@@ -102,6 +102,25 @@ struct SurfaceCutter::Work {
     return out;
   }
 
+  // Whether the faces around v (the groove's own excepted) turn by more than `limit_degrees` from
+  // their mean normal: v sits on a sharp edge or on another cut's wall, where a groove cut
+  // "perpendicular to the surface" has no meaning.
+  bool sharp_at(Index v, double limit_degrees, std::string& reason) const {
+    const auto around = fan(v, -1, reason);
+    if (around.empty()) return true;
+    const Vec3 n = fan_normal(around, true);
+    const double cos_limit = std::cos(limit_degrees * detail::kCutPi / 180.0);
+    for (const auto& x : around)
+      if (!groove[static_cast<std::size_t>(x.face)] && face_normal_area(x.face).normalized().dot(n) < cos_limit) {
+        std::ostringstream msg;
+        msg << "the surface turns by more than " << limit_degrees << " degrees around vertex " << v << " (face "
+            << x.face << "): the cut would run onto a sharp edge or another cut's wall";
+        reason = msg.str();
+        return true;
+      }
+    return false;
+  }
+
   Vec3 fan_normal(const std::vector<detail::CutFanFace>& fan, bool surface_only) const {
     Vec3 n = Vec3::Zero();
     for (const auto& x : fan)
@@ -230,6 +249,10 @@ inline bool SurfaceCutter::open(Work& w, const Vec3& from, const Vec3& direction
       b = x.a;
     }
   }
+  if (touches_lock(w, a, reason) || touches_lock(w, b, reason) ||
+      w.sharp_at(a, options_.max_normal_deviation_degrees, reason) ||
+      w.sharp_at(b, options_.max_normal_deviation_degrees, reason))
+    return false;
   // Split that edge at its midpoint, so the cut has an inner vertex to open; each split triangle
   // keeps one half under its id and appends the other (cutting/mesh_delta.hpp).
   Index f1 = -1, f2 = -1, x1 = -1, x2 = -1;
@@ -260,6 +283,15 @@ inline bool SurfaceCutter::open(Work& w, const Vec3& from, const Vec3& direction
   w.segment_length = {length, length};
   w.levels = 1;
   return split_section(w, 1, reason);
+}
+
+inline bool SurfaceCutter::touches_lock(const Work& w, Index v, std::string& reason) const {
+  for (std::size_t f = 0; f < w.F.size() && f < locked_.size(); ++f)
+    if (locked_[f] && std::find(w.F[f].begin(), w.F[f].end(), v) != w.F[f].end()) {
+      reason = "the cut would reach supported element " + std::to_string(f) + " at vertex " + std::to_string(v);
+      return true;
+    }
+  return false;
 }
 
 inline bool SurfaceCutter::extend(Work& w, const Vec3& direction, std::string& reason) const {
@@ -293,6 +325,7 @@ inline bool SurfaceCutter::extend(Work& w, const Vec3& direction, std::string& r
     reason = "the direction turns the cut back on itself at vertex " + std::to_string(v) + " (more than 90 degrees)";
     return false;
   }
+  if (touches_lock(w, b, reason) || w.sharp_at(b, options_.max_normal_deviation_degrees, reason)) return false;
   Section s;
   s.vertex = b;
   s.center = w.pos(b);
@@ -333,16 +366,12 @@ inline bool SurfaceCutter::split_section(Work& w, std::size_t i, std::string& re
     reason = "the surface around vertex " + std::to_string(v) + " cannot be divided into the two sides of the cut";
     return false;
   }
-  for (Index f : left)
-    if (locked_[static_cast<std::size_t>(f)]) {
-      reason = "the cut would reach supported element " + std::to_string(f);
-      return false;
-    }
-  for (Index f : right)
-    if (locked_[static_cast<std::size_t>(f)]) {
-      reason = "the cut would reach supported element " + std::to_string(f);
-      return false;
-    }
+  for (const auto* side : {&left, &right})
+    for (Index f : *side)  // faces appended by this step (f beyond the locks) are new, never locked
+      if (static_cast<std::size_t>(f) < locked_.size() && locked_[static_cast<std::size_t>(f)]) {
+        reason = "the cut would reach supported element " + std::to_string(f);
+        return false;
+      }
   // Depth direction: the mean outward normal of the surface around v (the groove is cut along it).
   Vec3 n = Vec3::Zero();
   for (Index f : left) n += w.face_normal_area(f);
