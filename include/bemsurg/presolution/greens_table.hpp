@@ -12,17 +12,27 @@
 // which is contiguous (measured here: three columns ~1 us, three rows of a column-major
 // n = 4752 table ~100 us).
 // Rows of displacement-prescribed dofs hold the prescribed change, zero.
+//
+// After a cut (docs/design.md §7, §9) the table is not recomputed: updated() returns a NEW table
+// (an immutable snapshot, version() + 1) for the cut mesh whose base state and columns equal those
+// computed from scratch, integrating only the rows and columns of the changed elements. For that
+// a computed table keeps the LU factors and pivots of A* (n^2 doubles, in estimate_bytes), the
+// right-hand side, the mesh snapshot and the reaction rows (see below); a table read from a file
+// has none of these and cannot be updated (has_factorization() is false).
 #pragma once
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "bemsurg/assembly/boundary_conditions.hpp"
+#include "bemsurg/cutting/mesh_delta.hpp"
 #include "bemsurg/material.hpp"
 #include "bemsurg/mesh/triangle_mesh.hpp"
 #include "bemsurg/quadrature/element_quadrature.hpp"
+#include "bemsurg/solvers/low_rank_updated_lu.hpp"
 #include "bemsurg/solvers/lu_in_place.hpp"
 
 namespace bemsurg {
@@ -43,6 +53,24 @@ struct PrecomputeTimings {
   double assembly_seconds = 0.0;       // H, G, gravity, A* and the right-hand sides
   double factorization_seconds = 0.0;  // LU of A* (LAPACK dgetrf when BLAS is linked)
   double table_seconds = 0.0;          // multi-right-hand-side back-substitution (dgetrs)
+};
+
+/// How updated() treats a cut step.
+struct GreensTableUpdateOptions {
+  /// New (cut-wall) elements join the region when the region holds every free element, or when
+  /// their centroid lies within this distance of a region element's centroid. 0: three times the
+  /// largest diameter among the step's changed elements.
+  double join_distance = 0.0;
+};
+
+/// Wall-clock seconds of one updated() call, by phase.
+struct GreensTableUpdateReport {
+  double integration_seconds = 0.0;  // rows and columns of the changed elements, both meshes
+  double system_seconds = 0.0;       // low-rank update of the factorisation and the base state
+  double table_seconds = 0.0;        // the table's columns (old ones corrected, new ones solved)
+  double total_seconds = 0.0;
+  Index rank = 0;                    // accumulated rank of the correction after the step
+  Index added_region_elements = 0;   // new elements that joined the region
 };
 
 /// What a table was computed for; a saved table is used only when all of it matches.
@@ -70,8 +98,10 @@ class GreensTable {
  public:
   GreensTable() = default;
 
-  /// Bytes the precomputation needs at its peak: H and G during assembly plus A* (3 n^2 doubles
-  /// at most at once), and the table n x 3|region| with the base state.
+  /// Bytes the precomputation needs at its peak: A* (built in H's storage) and G during assembly
+  /// (2 n^2 doubles, as solve_elastostatic), the right-hand sides n x (3|region| + 1), O(n)
+  /// vectors and the pivots; what is kept afterwards (the LU factors, n^2, and the table) fits in
+  /// that peak.
   static double estimate_bytes(Index num_elements, Index region_elements);
   /// The default limit: 80 % of this machine's physical memory (bemsurg/memory_budget.hpp).
   static double default_memory_limit_bytes();
@@ -81,6 +111,36 @@ class GreensTable {
   /// unsupported body or a region element that is not free, SolverError for a singular A*.
   static GreensTable compute(const TriangleMesh& mesh, const Material& material, const BoundaryConditions& base,
                              const GreensTableOptions& options = {});
+  /// The same for a mesh snapshot shared with its other users (no copy of the mesh kept).
+  static GreensTable compute(std::shared_ptr<const TriangleMesh> mesh, const Material& material, const BoundaryConditions& base,
+                             const GreensTableOptions& options = {});
+
+  /// The exact table of the cut mesh `after` (a new snapshot, version() + 1): `delta` says what
+  /// changed (cutting/mesh_delta.hpp). Modified elements keep their boundary condition, added
+  /// ones are traction-free; the region keeps its elements in their slots and appends the added
+  /// elements near it (GreensTableUpdateOptions). Cost: the rows and columns of the changed
+  /// elements are integrated anew, 2 n^2 (2|M| + |N|) x 3 flops of LU solves plus GEMMs of the
+  /// table against the step's rank (docs/cutting.md). Throws InvalidArgumentError for a delta
+  /// that does not fit (or removes elements) or a table without factorisation, SolverError when
+  /// the cut system is singular. `this` is not changed.
+  std::shared_ptr<const GreensTable> updated(std::shared_ptr<const TriangleMesh> after, const MeshDelta& delta,
+                                             const GreensTableUpdateOptions& options = {},
+                                             GreensTableUpdateReport* report = nullptr) const;
+
+  /// Snapshot number: 0 from compute() or a file, +1 per updated().
+  std::uint64_t version() const { return version_; }
+  /// True when the table kept what updated() needs (computed, not read from a file).
+  bool has_factorization() const { return solver_ != nullptr && mesh_ != nullptr; }
+  /// The mesh the table was computed for (null for a table read from a file).
+  const std::shared_ptr<const TriangleMesh>& mesh() const { return mesh_; }
+  /// The solver of A* (the kept LU plus the low-rank correction of the cuts since); null when none.
+  const std::shared_ptr<const LowRankUpdatedLu>& solver() const { return solver_; }
+  /// The base boundary conditions (kinds and values).
+  BoundaryConditions base_conditions() const;
+  /// R_bc + R_G of the base state (n).
+  const Eigen::VectorXd& rhs() const { return rhs_; }
+  /// The quadrature the table was integrated with.
+  const QuadratureOptions& quadrature() const { return quadrature_; }
 
   /// From stored parts (the table file reader); checks that the sizes agree.
   GreensTable(GreensTableKey key, std::vector<Index> region, Eigen::VectorXd base_displacement,
@@ -113,9 +173,16 @@ class GreensTable {
   const double* column_data(Index col) const { return columns_.data() + 3 * region_slot(col) * columns_.rows(); }
 
   const PrecomputeTimings& timings() const { return timings_; }
+  /// Bytes held: the table, the base state, the reaction rows and, when kept, the solver (the LU
+  /// factors are shared between a table and the tables updated from it).
   std::size_t bytes() const {
-    return static_cast<std::size_t>(columns_.size() + 2 * base_displacement_.size()) * sizeof(double);
+    return static_cast<std::size_t>(columns_.size() + reactions_.size() + 4 * base_displacement_.size()) * sizeof(double) +
+           (solver_ ? solver_->bytes() + solver_->base()->bytes() : 0);
   }
+  /// Traction on the displacement-prescribed dofs (reaction_dofs(), in order) per unit traction on
+  /// each region dof: the rows that columns() holds as zero (|reaction_dofs| x 3|region|).
+  const Eigen::MatrixXd& reactions() const { return reactions_; }
+  const std::vector<Index>& reaction_dofs() const { return reaction_dofs_; }
 
   /// u = u_g + sum_c G_{:,c} t_c for extra tractions `tractions` (k x 3 rows) on region elements
   /// `elements`: the full field after contact, O(n k). `u` must have n entries (not resized).
@@ -123,6 +190,7 @@ class GreensTable {
 
  private:
   void build_slots();
+  void set_columns_from_solution(Eigen::MatrixXd&& X);
 
   GreensTableKey key_;
   std::vector<Index> region_;
@@ -132,6 +200,15 @@ class GreensTable {
   std::vector<BcKind> base_kinds_;
   Eigen::MatrixXd columns_;
   PrecomputeTimings timings_;
+  // Kept for updated() (empty for a table read from a file).
+  std::uint64_t version_ = 0;
+  std::shared_ptr<const TriangleMesh> mesh_;
+  std::shared_ptr<const LowRankUpdatedLu> solver_;
+  QuadratureOptions quadrature_;
+  Eigen::VectorXd base_values_;
+  Eigen::VectorXd rhs_;
+  std::vector<Index> reaction_dofs_;
+  Eigen::MatrixXd reactions_;
 };
 
 

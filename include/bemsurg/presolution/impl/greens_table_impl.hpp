@@ -7,9 +7,11 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <memory>
 
 #include "bemsurg/assembly/influence_assembler.hpp"
 #include "bemsurg/assembly/linear_system.hpp"
+#include "bemsurg/cutting/cut_change.hpp"
 #include "bemsurg/error.hpp"
 #include "bemsurg/memory_budget.hpp"
 #include "bemsurg/solvers/dense_lu.hpp"
@@ -67,14 +69,23 @@ inline BoundaryConditions supported_base_conditions(Index num_elements, const st
 
 inline double GreensTable::estimate_bytes(Index num_elements, Index region_elements) {
   const double n = 3.0 * double(num_elements);
-  // Peak: H and G (assembly) and A* live together briefly; then A* and the right-hand sides.
-  return 8.0 * (3.0 * n * n + n * (3.0 * double(region_elements) + 1.0) + 4.0 * n);
+  // Peak: A* (built in H's storage) and G during assembly, with the right-hand sides (region
+  // columns and the base state) and O(n) vectors; G is released before the factorisation, whose
+  // factors (kept, n^2) take A*'s storage. Pivots: one int per equation.
+  return 8.0 * (2.0 * n * n + n * (3.0 * double(region_elements) + 1.0) + 8.0 * n) + 4.0 * n;
 }
 
 inline double GreensTable::default_memory_limit_bytes() { return bemsurg::default_memory_limit_bytes(); }
 
 inline GreensTable GreensTable::compute(const TriangleMesh& mesh, const Material& material, const BoundaryConditions& base,
                                  const GreensTableOptions& options) {
+  return compute(std::make_shared<const TriangleMesh>(mesh), material, base, options);
+}
+
+inline GreensTable GreensTable::compute(std::shared_ptr<const TriangleMesh> mesh_ptr, const Material& material,
+                                        const BoundaryConditions& base, const GreensTableOptions& options) {
+  if (!mesh_ptr) throw InvalidArgumentError("GreensTable: no mesh");
+  const TriangleMesh& mesh = *mesh_ptr;
   material.validate();
   if (mesh.num_elements() == 0) throw InvalidMeshError("GreensTable: the mesh has no elements");
   if (!options.gravity.allFinite()) throw BoundaryConditionError("GreensTable: gravity is not finite");
@@ -110,7 +121,7 @@ inline GreensTable GreensTable::compute(const TriangleMesh& mesh, const Material
   if (need > limit)
     throw ResourceError("GreensTable: the precomputation for " + std::to_string(E) + " elements (" + std::to_string(n) +
                         " equations) with a region of " + std::to_string(R) + " elements needs about " + format_gib(need) +
-                        " (A*, H and G: " + format_gib(8.0 * 3.0 * double(n) * double(n)) + "; table: " +
+                        " (A* and G: " + format_gib(8.0 * 2.0 * double(n) * double(n)) + "; table: " +
                         format_gib(8.0 * double(n) * 3.0 * double(R)) + "), more than the limit of " + format_gib(limit) +
                         "; restrict the region to where tools act, or coarsen the mesh away from it");
 
@@ -126,8 +137,15 @@ inline GreensTable GreensTable::compute(const TriangleMesh& mesh, const Material
     A = build_system_matrix_in_place(hg, base);
   }
   table.timings_.assembly_seconds = seconds_since(t0);
-  lu_factor_and_solve_in_place(A, B, &table.timings_.factorization_seconds, &table.timings_.table_seconds);
-  A.resize(0, 0);
+  table.rhs_ = B.col(3 * R);
+  auto lu = std::make_shared<const LuFactors>(LuFactors::factor(std::move(A), &table.timings_.factorization_seconds));
+  t0 = SteadyClock::now();
+  lu->solve_in_place(B);
+  table.timings_.table_seconds = seconds_since(t0);
+  table.solver_ = std::make_shared<const LowRankUpdatedLu>(lu);
+  table.mesh_ = std::move(mesh_ptr);
+  table.quadrature_ = options.quadrature;
+  table.base_values_ = base.values();
 
   // Unknown x_k is u_k on traction dofs and t_k on displacement dofs: split into the two fields.
   table.base_displacement_.resize(n);
@@ -138,12 +156,168 @@ inline GreensTable GreensTable::compute(const TriangleMesh& mesh, const Material
     table.base_traction_(k) = t_known ? base.value(k) : B(k, 3 * R);
   }
   B.conservativeResize(n, 3 * R);
-  for (Index k = 0; k < n; ++k)
-    if (base.kind(k) == BcKind::Displacement) B.row(k).setZero();  // prescribed u does not change
   if (!B.allFinite()) throw SolverError("GreensTable: the table has non-finite entries");
-  table.columns_.swap(B);
+  table.set_columns_from_solution(std::move(B));
   table.build_slots();
   return table;
+}
+
+inline void GreensTable::set_columns_from_solution(Eigen::MatrixXd&& X) {
+  // Rows of displacement-prescribed dofs: the solution there is a traction (kept as reactions_,
+  // which updated() needs); the table holds the change of the prescribed displacement, zero.
+  const Index n = X.rows();
+  reaction_dofs_.clear();
+  for (Index k = 0; k < n; ++k)
+    if (base_kinds_[static_cast<std::size_t>(k)] == BcKind::Displacement) reaction_dofs_.push_back(k);
+  reactions_.resize(static_cast<Index>(reaction_dofs_.size()), X.cols());
+  for (std::size_t i = 0; i < reaction_dofs_.size(); ++i) {
+    reactions_.row(static_cast<Index>(i)) = X.row(reaction_dofs_[i]);
+    X.row(reaction_dofs_[i]).setZero();
+  }
+  columns_.swap(X);
+}
+
+inline BoundaryConditions GreensTable::base_conditions() const {
+  BoundaryConditions bc(key_.num_elements);
+  for (Index k = 0; k < num_dofs(); ++k)
+    bc.prescribe_component(k / 3, static_cast<int>(k % 3), base_kinds_[static_cast<std::size_t>(k)],
+                           base_values_.size() == num_dofs() ? base_values_(k) : 0.0);
+  return bc;
+}
+
+inline std::shared_ptr<const GreensTable> GreensTable::updated(std::shared_ptr<const TriangleMesh> after, const MeshDelta& delta,
+                                                               const GreensTableUpdateOptions& options,
+                                                               GreensTableUpdateReport* report) const {
+  const auto t_start = SteadyClock::now();
+  if (!has_factorization())
+    throw InvalidArgumentError("GreensTable::updated: this table kept no factorisation (it was read from a file); recompute it");
+  if (!after) throw InvalidArgumentError("GreensTable::updated: no mesh");
+  const TriangleMesh& before_mesh = *mesh_;
+  const BoundaryConditions before = base_conditions();
+  const BoundaryConditions bc = conditions_after_cut(before, delta);  // checks ids only; the delta is checked below
+  const CutChange change = integrate_cut_change(before_mesh, *after, delta, key_.material, quadrature_, key_.gravity);
+  const auto t_system = SteadyClock::now();
+  const Index n = num_dofs(), n1 = change.n_after, d = change.size();
+
+  // A*_after = blockdiag(A*_before, I) + U_s V_s^T with U_s = [E_D, Y], V_s = [X^T, E_D]:
+  // X = the change of the rows D, Y = the change of the columns D outside the rows D.
+  Eigen::MatrixXd X = system_rows_after(change, bc) - system_rows_before(change, before);
+  Eigen::MatrixXd Y = system_columns_after(change, bc) - system_columns_before(change, before);
+  for (Index j = 0; j < d; ++j) Y.row(change.dofs[static_cast<std::size_t>(j)]).setZero();
+  Eigen::MatrixXd Us = Eigen::MatrixXd::Zero(n1, 2 * d), Vs = Eigen::MatrixXd::Zero(n1, 2 * d);
+  for (Index j = 0; j < d; ++j) {
+    Us(change.dofs[static_cast<std::size_t>(j)], j) = 1.0;
+    Vs(change.dofs[static_cast<std::size_t>(j)], d + j) = 1.0;
+  }
+  Us.rightCols(d) = Y;
+  Vs.leftCols(d) = X.transpose();
+  Eigen::MatrixXd Z;  // K^-1 U_s, then A*_after^-1 U_s (push-through: no further LU solve)
+  auto solver = std::make_shared<const LowRankUpdatedLu>(solver_->updated(n1, Us, Vs, &Z));
+  solver->finish_solve(Z);
+
+  auto out = std::make_shared<GreensTable>();
+  GreensTable& t = *out;
+  t.version_ = version_ + 1;
+  t.mesh_ = std::move(after);
+  t.solver_ = solver;
+  t.quadrature_ = quadrature_;
+  t.key_ = make_greens_table_key(*t.mesh_, key_.material, bc, key_.gravity, quadrature_);
+  t.base_kinds_ = bc.kinds();
+  t.base_values_ = bc.values();
+  t.rhs_ = rhs_after_cut(change, rhs_, before, bc);
+  {
+    const Eigen::VectorXd x = solver->solve(t.rhs_);
+    t.base_displacement_.resize(n1);
+    t.base_traction_.resize(n1);
+    for (Index k = 0; k < n1; ++k) {
+      const bool t_known = bc.kind(k) == BcKind::Traction;
+      t.base_displacement_(k) = t_known ? x(k) : bc.value(k);
+      t.base_traction_(k) = t_known ? bc.value(k) : x(k);
+    }
+  }
+  const auto t_table = SteadyClock::now();
+
+  // Region: old elements keep their slots; added elements near the region join at the end.
+  t.region_ = region_;
+  {
+    Index free_count = 0;
+    for (Index e = 0; e < key_.num_elements; ++e) free_count += is_free(e) ? 1 : 0;
+    const bool all_free = free_count == static_cast<Index>(region_.size());
+    double reach = options.join_distance;
+    if (!(reach > 0.0)) {
+      double largest = 0.0;
+      for (Index e : change.elements) largest = std::max(largest, t.mesh_->diameter(e));
+      reach = 3.0 * largest;
+    }
+    for (Index e : delta.added) {
+      if (!bc.is_free(e)) continue;
+      bool join = all_free;
+      for (std::size_t s = 0; !join && s < region_.size(); ++s)
+        join = (t.mesh_->centroid(e) - t.mesh_->centroid(region_[s])).squaredNorm() <= reach * reach;
+      if (join) t.region_.push_back(e);
+    }
+  }
+  const Index R0 = static_cast<Index>(region_.size()), R1 = static_cast<Index>(t.region_.size());
+
+  // The old columns: T' = T + A'^-1 (B' - A' T) with T extended by zero rows. The residual is
+  // E_D (dB_D - X T) - Y T_D + F (F: whole columns of reshaped region elements outside rows D),
+  // so T' = T + Z_E (dB_D - X T) - Z_Y T_D + A'^-1 F, Z = A'^-1 U_s.
+  Eigen::MatrixXd T = Eigen::MatrixXd::Zero(n1, 3 * R1);
+  T.topLeftCorner(n, 3 * R0) = columns_;
+  for (std::size_t i = 0; i < reaction_dofs_.size(); ++i) T.row(reaction_dofs_[i]).head(3 * R0) = reactions_.row(static_cast<Index>(i));
+  Eigen::MatrixXd TD(d, 3 * R0);
+  for (Index j = 0; j < d; ++j) TD.row(j) = T.row(change.dofs[static_cast<std::size_t>(j)]).head(3 * R0);
+  Eigen::MatrixXd coef(d, 3 * R0);
+  coef.noalias() = -X.leftCols(n) * T.topLeftCorner(n, 3 * R0);
+  std::vector<Index> position(static_cast<std::size_t>(n1), -1);  // dof -> index in D
+  for (Index j = 0; j < d; ++j) position[static_cast<std::size_t>(change.dofs[static_cast<std::size_t>(j)])] = j;
+  for (Index s = 0; s < R0; ++s)
+    for (int a = 0; a < 3; ++a) {
+      const Index k = 3 * region_[static_cast<std::size_t>(s)] + a, col = 3 * s + a;
+      coef.col(col).noalias() += change.rows_G.col(k);  // B'_D: the rows D of G' in column k
+      if (k < n) coef.col(col).head(change.num_modified_dofs) -= change.old_rows_G.col(k);
+    }
+  // Columns to solve afresh: F for reshaped region elements, G' columns for joining elements.
+  std::vector<Index> fresh_cols;
+  std::vector<Index> fresh_source;  // index j in D of the column's element dof
+  for (Index s = 0; s < R1; ++s)
+    for (int a = 0; a < 3; ++a) {
+      const Index k = 3 * t.region_[static_cast<std::size_t>(s)] + a, p = position[static_cast<std::size_t>(k)];
+      if (p >= 0) {
+        fresh_cols.push_back(3 * s + a);
+        fresh_source.push_back(p);
+      }
+    }
+  Eigen::MatrixXd F = Eigen::MatrixXd::Zero(n1, static_cast<Index>(fresh_cols.size()));
+  for (std::size_t i = 0; i < fresh_cols.size(); ++i) {
+    const Index j = fresh_source[i], col = static_cast<Index>(i);
+    F.col(col) = change.cols_G.col(j);
+    if (fresh_cols[i] < 3 * R0) {  // an old column whose element was reshaped: its change only
+      F.col(col).head(n) -= change.old_cols_G.col(j);
+      for (Index q = 0; q < d; ++q) F(change.dofs[static_cast<std::size_t>(q)], col) = 0.0;  // in coef already
+    }
+  }
+  solver->solve_in_place(F);
+  T.leftCols(3 * R0).noalias() += Z.leftCols(d) * coef;
+  T.leftCols(3 * R0).noalias() -= Z.rightCols(d) * TD;
+  for (std::size_t i = 0; i < fresh_cols.size(); ++i) {
+    if (fresh_cols[i] < 3 * R0) T.col(fresh_cols[i]) += F.col(static_cast<Index>(i));
+    else T.col(fresh_cols[i]) = F.col(static_cast<Index>(i));
+  }
+  if (!T.allFinite()) throw SolverError("GreensTable::updated: the table has non-finite entries");
+  t.set_columns_from_solution(std::move(T));
+  t.build_slots();
+  t.timings_ = timings_;
+
+  if (report) {
+    report->integration_seconds = change.integration_seconds;
+    report->system_seconds = seconds_between(t_system, t_table);
+    report->table_seconds = seconds_since(t_table);
+    report->total_seconds = seconds_since(t_start);
+    report->rank = solver->rank();
+    report->added_region_elements = R1 - R0;
+  }
+  return out;
 }
 
 inline GreensTable::GreensTable(GreensTableKey key, std::vector<Index> region, Eigen::VectorXd base_displacement,
@@ -158,6 +332,9 @@ inline GreensTable::GreensTable(GreensTableKey key, std::vector<Index> region, E
   if (base_displacement_.size() != n || base_traction_.size() != n || static_cast<Index>(base_kinds_.size()) != n ||
       columns_.rows() != n || columns_.cols() != 3 * static_cast<Index>(region_.size()))
     throw ResourceError("GreensTable: stored parts have inconsistent sizes");
+  base_values_.resize(n);
+  for (Index k = 0; k < n; ++k)
+    base_values_(k) = base_kinds_[static_cast<std::size_t>(k)] == BcKind::Traction ? base_traction_(k) : base_displacement_(k);
   for (Index e : region_)
     if (e < 0 || e >= key_.num_elements) throw ResourceError("GreensTable: stored region element out of range");
   build_slots();

@@ -1,0 +1,143 @@
+// bemsurg/solvers/low_rank_updated_lu.hpp: the solver of a system that a cut has grown and
+// reshaped, kept as the precompute's LU plus an accumulated low-rank correction (docs/design.md §7).
+//
+//   A = K + U V^T,   K = blockdiag(A0, I)
+//
+// A0 (n0 x n0) is the matrix factorised once (LuFactors); dofs added later extend K by identity;
+// every change since (new rows and columns: bordering; reshaped elements: their rows and columns
+// replaced) is a term U_s V_s^T appended to U V^T. Solves use Woodbury:
+//   A^-1 b = y - W C^-1 (V^T y),  y = K^-1 b,  W = K^-1 U,  C = I + V^T W (r x r, factorised).
+// For dofs added by a step, K^-1 is the identity, so bordering new rows and columns costs one
+// LU solve per new column (Q): this is the paper's inversion by partitioning (Wang et al. 2007
+// eqs. 11-13, 2 n^2 m flops), in factorised form: the capacitance C restricted to the new block
+// is, up to a permutation of its block structure, S - P A0^-1 Q (tests/test_cut_algebra.cpp
+// checks it against solvers/partitioned_inverse.hpp and against a direct inverse).
+// Objects are immutable once built: updated() returns a new one (snapshots, docs/design.md §9).
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/LU>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "bemsurg/error.hpp"
+#include "bemsurg/solvers/lu_factors.hpp"
+#include "bemsurg/types.hpp"
+
+namespace bemsurg {
+
+class LowRankUpdatedLu {
+ public:
+  LowRankUpdatedLu() = default;
+  explicit LowRankUpdatedLu(std::shared_ptr<const LuFactors> base) : base_(std::move(base)) {
+    if (!base_ || base_->empty()) throw SolverError("LowRankUpdatedLu: no factorisation");
+    n_ = base_->size();
+  }
+
+  bool empty() const { return !base_; }
+  Index size() const { return n_; }
+  Index base_size() const { return base_ ? base_->size() : 0; }
+  /// Rank of the accumulated correction U V^T (columns of U).
+  Index rank() const { return U_.cols(); }
+  const std::shared_ptr<const LuFactors>& base() const { return base_; }
+  /// Bytes held beyond the shared base factorisation: U, V, W (n x r each) and C (r x r, twice).
+  std::size_t bytes() const {
+    return static_cast<std::size_t>(3 * U_.size() + 2 * C_.size()) * sizeof(double);
+  }
+
+  /// B <- K^-1 B in place: the LU solve on the first n0 rows (only for the columns that have
+  /// anything there), identity on the rest.
+  void apply_base_inverse(Eigen::MatrixXd& B) const {
+    check_rows(B.rows(), "apply_base_inverse");
+    const Index n0 = base_->size();
+    std::vector<Index> busy;
+    busy.reserve(static_cast<std::size_t>(B.cols()));
+    for (Index j = 0; j < B.cols(); ++j)
+      if (!B.col(j).head(n0).isZero(0.0)) busy.push_back(j);
+    if (busy.empty()) return;
+    if (static_cast<Index>(busy.size()) == B.cols()) {
+      base_->solve_in_place(B.topRows(n0));
+      return;
+    }
+    Eigen::MatrixXd top(n0, static_cast<Index>(busy.size()));
+    for (std::size_t c = 0; c < busy.size(); ++c) top.col(static_cast<Index>(c)) = B.col(busy[c]).head(n0);
+    base_->solve_in_place(top);
+    for (std::size_t c = 0; c < busy.size(); ++c) B.col(busy[c]).head(n0) = top.col(static_cast<Index>(c));
+  }
+
+  /// Given Y = K^-1 B, completes the Woodbury solve: Y <- A^-1 B.
+  void finish_solve(Eigen::MatrixXd& Y) const {
+    check_rows(Y.rows(), "finish_solve");
+    if (rank() == 0 || Y.cols() == 0) return;
+    Eigen::MatrixXd t = V_.transpose() * Y;
+    t = C_lu_.solve(t);
+    Y.noalias() -= W_ * t;
+  }
+
+  /// B <- A^-1 B.
+  void solve_in_place(Eigen::MatrixXd& B) const {
+    apply_base_inverse(B);
+    finish_solve(B);
+  }
+  Eigen::VectorXd solve(const Eigen::VectorXd& b) const {
+    Eigen::MatrixXd x = b;
+    solve_in_place(x);
+    return x.col(0);
+  }
+
+  /// A new solver for A_new = blockdiag(A, I_{new_size - size()}) + Us Vs^T (Us, Vs: new_size x k).
+  /// `kinv_us` (optional) receives K_new^-1 Us, which the caller can finish into A_new^-1 Us
+  /// with the new object's finish_solve (the push-through identity), at no further LU cost.
+  /// Throws SolverError when the new capacitance matrix is singular (A_new singular).
+  LowRankUpdatedLu updated(Index new_size, const Eigen::MatrixXd& Us, const Eigen::MatrixXd& Vs,
+                           Eigen::MatrixXd* kinv_us = nullptr) const {
+    if (empty()) throw SolverError("LowRankUpdatedLu::updated: no factorisation");
+    if (new_size < n_) throw InvalidArgumentError("LowRankUpdatedLu::updated: the system cannot shrink");
+    if (Us.rows() != new_size || Vs.rows() != new_size || Us.cols() != Vs.cols())
+      throw InvalidArgumentError("LowRankUpdatedLu::updated: Us and Vs must both be new_size x k");
+    LowRankUpdatedLu out;
+    out.base_ = base_;
+    out.n_ = new_size;
+    const Index r0 = rank(), k = Us.cols(), r = r0 + k;
+    Eigen::MatrixXd Ws = Us;
+    out.apply_base_inverse(Ws);
+    auto grow = [&](const Eigen::MatrixXd& old, const Eigen::MatrixXd& add) {
+      Eigen::MatrixXd m = Eigen::MatrixXd::Zero(new_size, r);
+      m.topLeftCorner(n_, r0) = old;
+      m.rightCols(k) = add;
+      return m;
+    };
+    out.U_ = grow(U_, Us);
+    out.V_ = grow(V_, Vs);
+    out.W_ = grow(W_, Ws);
+    // C_new = I + V_new^T W_new, grown by blocks: the old block is kept as it was.
+    out.C_.resize(r, r);
+    out.C_.topLeftCorner(r0, r0) = C_;
+    out.C_.topRightCorner(r0, k).noalias() = out.V_.leftCols(r0).transpose() * Ws;
+    out.C_.bottomRows(k).noalias() = Vs.transpose() * out.W_;
+    out.C_.bottomRightCorner(k, k).diagonal().array() += 1.0;
+    out.C_lu_.compute(out.C_);
+    const double rc = r > 0 ? out.C_lu_.rcond() : 1.0;
+    if (!(rc > 1e-15))
+      throw SolverError("the updated system is singular to working precision (capacitance reciprocal condition " + std::to_string(rc) + ")");
+    if (kinv_us) *kinv_us = std::move(Ws);
+    return out;
+  }
+
+ private:
+  void check_rows(Index rows, const char* where) const {
+    if (empty()) throw SolverError(std::string("LowRankUpdatedLu::") + where + ": no factorisation");
+    if (rows != n_)
+      throw InvalidArgumentError(std::string("LowRankUpdatedLu::") + where + ": " + std::to_string(rows) + " rows, expected " + std::to_string(n_));
+  }
+
+  std::shared_ptr<const LuFactors> base_;
+  Index n_ = 0;
+  Eigen::MatrixXd U_, V_, W_;  // n x r
+  Eigen::MatrixXd C_;          // r x r: I + V^T W
+  Eigen::PartialPivLU<Eigen::MatrixXd> C_lu_;
+};
+
+}  // namespace bemsurg
