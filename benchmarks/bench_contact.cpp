@@ -16,6 +16,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -113,6 +114,9 @@ int main(int argc, char** argv) {
     // 1. Precompute, then the bare baseline on the same A* with the same right-hand sides.
     const auto t_pre = Clock::now();
     const GreensTable table = GreensTable::compute(mesh, material, base, options);
+    // The contact holds shared immutable snapshots (docs/design.md §9).
+    const auto mesh_ptr = std::make_shared<const TriangleMesh>(mesh);
+    const auto table_ptr = std::make_shared<const GreensTable>(table);
     const double pre_total = seconds(t_pre);
     const PrecomputeTimings& pt = table.timings();
     double bare_f = 0.0, bare_s = 0.0;
@@ -155,7 +159,7 @@ int main(int argc, char** argv) {
         std::printf("  k = %d: skipped (the top face has only %zu elements at this size)\n", k, region.size());
         continue;
       }
-      CapacitanceContact contact(mesh, table, 3 * 64);
+      CapacitanceContact contact(mesh_ptr, table_ptr, 3 * 64);
       for (int i = 0; i < k; ++i) contact.add_bonded(region[static_cast<std::size_t>(i)]);
       const Index rows = contact.num_rows();
       std::vector<double> base_targets(static_cast<std::size_t>(rows));

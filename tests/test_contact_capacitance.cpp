@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <atomic>
 #include <catch2/catch.hpp>
+#include <memory>
 #include <cstdlib>
 #include <new>
 
@@ -47,7 +48,11 @@ struct Fixture {
     options.region = top;
     options.gravity = gravity;
     table = GreensTable::compute(mesh, material, base, options);
+    mesh_ptr = std::make_shared<const TriangleMesh>(mesh);  // CapacitanceContact holds shared snapshots
+    table_ptr = std::make_shared<const GreensTable>(table);
   }
+  std::shared_ptr<const TriangleMesh> mesh_ptr;
+  std::shared_ptr<const GreensTable> table_ptr;
 
   /// The reference: the whole BEM system solved again with these conditions.
   BoundarySolution full_solve(const BoundaryConditions& bc) const {
@@ -86,7 +91,7 @@ TEST_CASE("base state of the table equals a direct solve with gravity", "[contac
 TEST_CASE("bonded capacitance contact equals a full re-solve for 1, 7 and 50 elements", "[contact]") {
   Fixture& f = fixture();
   for (int k : {1, 7, 50}) {
-    CapacitanceContact contact(f.mesh, f.table, 200);
+    CapacitanceContact contact(f.mesh_ptr, f.table_ptr, 200);
     BoundaryConditions bc = f.base;
     for (int i = 0; i < k; ++i) {
       const Index e = f.top[static_cast<std::size_t>(i)];
@@ -123,7 +128,7 @@ TEST_CASE("bonded capacitance contact equals a full re-solve for 1, 7 and 50 ele
 TEST_CASE("frictionless capacitance contact equals a full re-solve for 1, 7 and 50 elements", "[contact]") {
   Fixture& f = fixture();
   for (int k : {1, 7, 50}) {
-    CapacitanceContact contact(f.mesh, f.table, 200);
+    CapacitanceContact contact(f.mesh_ptr, f.table_ptr, 200);
     BoundaryConditions bc = f.base;
     for (int i = 0; i < k; ++i) {
       const Index e = f.top[static_cast<std::size_t>(i)];
@@ -153,7 +158,7 @@ TEST_CASE("frictionless capacitance contact equals a full re-solve for 1, 7 and 
 
 TEST_CASE("incremental updates of the capacitance matrix match a fresh factorisation", "[contact]") {
   Fixture& f = fixture();
-  CapacitanceContact inc(f.mesh, f.table, 200), fresh(f.mesh, f.table, 200);
+  CapacitanceContact inc(f.mesh_ptr, f.table_ptr, 200), fresh(f.mesh_ptr, f.table_ptr, 200);
   // Grow one element at a time (bordering), shrink by removing every third, then compare with a
   // set built in one go and with refactor().
   for (int i = 0; i < 30; ++i) inc.add_bonded(f.top[static_cast<std::size_t>(i)]);
@@ -182,7 +187,7 @@ TEST_CASE("incremental updates of the capacitance matrix match a fresh factorisa
 
 TEST_CASE("the force path allocates nothing", "[contact]") {
   Fixture& f = fixture();
-  CapacitanceContact c(f.mesh, f.table, 200);
+  CapacitanceContact c(f.mesh_ptr, f.table_ptr, 200);
   for (int i = 0; i < 7; ++i) c.add_bonded(f.top[static_cast<std::size_t>(i)]);
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   const long allocations = bemsurg_test::allocations_during([&] {
@@ -202,7 +207,7 @@ TEST_CASE("the force path allocates nothing", "[contact]") {
 
 TEST_CASE("contact on an element outside the region or twice is refused, the set unchanged", "[contact]") {
   Fixture& f = fixture();
-  CapacitanceContact c(f.mesh, f.table, 6);
+  CapacitanceContact c(f.mesh_ptr, f.table_ptr, 6);
   c.add_bonded(f.top[0]);
   CHECK_THROWS_WITH(c.add_bonded(f.top[0]), Catch::Contains("already in the contact set"));
   CHECK_THROWS_WITH(c.add_bonded(f.bottom[0]), Catch::Contains("outside the table's region"));
@@ -227,7 +232,7 @@ TEST_CASE("paper mode (Up/Tp, eq. 10) equals single-element capacitance contact"
   for (int i : {0, 5, 20}) {
     const Index j = f.top[static_cast<std::size_t>(i)];
     const Eigen::Vector3d push(0.002, -0.001, -0.01);
-    CapacitanceContact c(f.mesh, f.table, 3);
+    CapacitanceContact c(f.mesh_ptr, f.table_ptr, 3);
     c.add_bonded(j);
     const Eigen::Vector3d target = f.table.base_displacement().segment<3>(3 * j) + push;
     for (Index a = 0; a < 3; ++a) c.set_target(a, c.row(a).direction.dot(target));

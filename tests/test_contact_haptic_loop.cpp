@@ -63,9 +63,9 @@ TEST_CASE("null device: scripted pose in, limited force out, and it says why it 
   DeviceState s;
   s.position = Eigen::Vector3d(0.01, 0.02, 0.03);
   null->set_state(s);
-  CHECK(device->read().position == s.position);
-  ForceLimiter limit(device->max_force(), 1e9);
-  device->write_force(limit(Eigen::Vector3d(0.0, 0.0, 100.0)));
+  CHECK(device->read(0.0).position == s.position);
+  ForceLimiter limit(device->max_force(), 1e12);
+  device->write_force(limit(Eigen::Vector3d(0.0, 0.0, 100.0), 1e-3));
   CHECK(null->last_force().norm() == Approx(device->max_force()));
   CHECK(null->writes() == 1);
 }

@@ -2,6 +2,7 @@
 // Boussinesq's flat punch and Hertz's sphere on a large graded block (closed-form forces),
 // pinch sign reversal, plate retractor, two tools at once, unilateral release.
 #include <catch2/catch.hpp>
+#include <memory>
 #include <cmath>
 #include <iostream>
 #include <limits>
@@ -31,7 +32,11 @@ struct Block {
     GreensTableOptions options;
     options.region = region;  // columns only where the tool acts: n x 3|region| memory
     table = GreensTable::compute(mesh, m, supported_base_conditions(mesh.num_elements(), bottom), options);
+    mesh_ptr = std::make_shared<const TriangleMesh>(mesh);  // the solvers hold shared snapshots
+    table_ptr = std::make_shared<const GreensTable>(table);
   }
+  std::shared_ptr<const TriangleMesh> mesh_ptr;
+  std::shared_ptr<const GreensTable> table_ptr;
 };
 
 double contact_area(const ToolContactSolver& s, const TriangleMesh& mesh, int tool) {
@@ -53,7 +58,11 @@ struct SmallBox {
     GreensTableOptions options;
     options.gravity = Eigen::Vector3d(0, 0, -9.81);
     table = GreensTable::compute(mesh, material, supported_base_conditions(mesh.num_elements(), bottom), options);
+    mesh_ptr = std::make_shared<const TriangleMesh>(mesh);  // the solvers hold shared snapshots
+    table_ptr = std::make_shared<const GreensTable>(table);
   }
+  std::shared_ptr<const TriangleMesh> mesh_ptr;
+  std::shared_ptr<const GreensTable> table_ptr;
 };
 SmallBox& small_box() {
   static SmallBox b;
@@ -76,7 +85,7 @@ TEST_CASE("frictionless flat punch converges towards Boussinesq 2aEd/(1-nu^2) as
   double bonded_ratio = 0.0;
   for (const Level& lv : levels) {
     Block block(lv.L, lv.h, lv.growth, lv.h_max, a, 1.5 * a, m);
-    ToolContactSolver solver(block.mesh, block.table, 400);
+    ToolContactSolver solver(block.mesh_ptr, block.table_ptr, 400);
     const int punch = solver.add_tool(ToolSpec::flat(a, ContactMode::Frictionless));
     solver.place(punch, Vec3(0, 0, 0), Vec3(0, 0, -1));
     solver.set_depth(punch, d);
@@ -110,7 +119,7 @@ TEST_CASE("sphere: Hertz force and a contact set that grows as sqrt(R d)", "[con
   const Material m{1.0, 0.3, 0.0};
   const double R = 8.0;
   Block block(14.0, 0.3, 2.2, 6.0, 0.9, 1.6, m);
-  ToolContactSolver solver(block.mesh, block.table, 400);
+  ToolContactSolver solver(block.mesh_ptr, block.table_ptr, 400);
   const int sphere = solver.add_tool(ToolSpec::sphere(R));
   solver.place(sphere, Vec3(0, 0, R), Vec3(0, 0, -1));  // touching the top face z = 0 at the origin
   Index last_count = 0;
@@ -139,7 +148,7 @@ TEST_CASE("sphere: Hertz force and a contact set that grows as sqrt(R d)", "[con
 
 TEST_CASE("pinch: the contact sticks and pulling reverses the force exactly", "[contact][pinch]") {
   SmallBox& b = small_box();
-  ToolContactSolver solver(b.mesh, b.table);
+  ToolContactSolver solver(b.mesh_ptr, b.table_ptr);
   const int pinch = solver.add_tool(ToolSpec::pinch(0.1));
   REQUIRE(solver.engage(pinch, Vec3(0.52, 0.47, 2.0), Vec3(0, 0, -1)));
   REQUIRE(solver.contact_elements(pinch) == 0);  // not yet updated
@@ -161,7 +170,7 @@ TEST_CASE("pinch: the contact sticks and pulling reverses the force exactly", "[
 
 TEST_CASE("point tool: its element takes the tool displacement as in the paper and is released when pulled back", "[contact][point]") {
   SmallBox& b = small_box();
-  ToolContactSolver solver(b.mesh, b.table);
+  ToolContactSolver solver(b.mesh_ptr, b.table_ptr);
   const int point = solver.add_tool(ToolSpec::point(ContactMode::Bonded));
   REQUIRE(solver.engage(point, Vec3(0.5, 0.5, 3.0), Vec3(0, 0, -1)));
   solver.set_depth(point, 0.01);
@@ -189,7 +198,7 @@ TEST_CASE("point tool: its element takes the tool displacement as in the paper a
 
 TEST_CASE("plate retractor: the elements it touches move with it", "[contact][plate]") {
   SmallBox& b = small_box();
-  ToolContactSolver solver(b.mesh, b.table);
+  ToolContactSolver solver(b.mesh_ptr, b.table_ptr);
   // A square plate against the x = 1 side face, pushing along -x.
   const std::vector<Eigen::Vector3d> poly = {Vec3(1, 0.3, 0.15), Vec3(1, 0.7, 0.15), Vec3(1, 0.7, 0.4), Vec3(1, 0.3, 0.4)};
   const int plate = solver.add_tool(ToolSpec::plate(poly, 0.01));
@@ -247,7 +256,7 @@ TEST_CASE("plate retractor turned by a small rotation: the rigid motion, and the
     INFO((frictionless ? "frictionless" : "bonded"));
     // Force of the plate at a pose, with the list of its elements and their displacement increments.
     auto pose = [&](const Vec3& translation, const Vec3& rotation, std::vector<Index>& list, Eigen::VectorXd& u) {
-      ToolContactSolver solver(b.mesh, b.table);
+      ToolContactSolver solver(b.mesh_ptr, b.table_ptr);
       const int plate = solver.add_tool(ToolSpec::plate(poly, 0.01, frictionless ? ContactMode::Frictionless : ContactMode::Bonded));
       REQUIRE(solver.engage(plate, Vec3(1, 0.5, 0.3), w));
       solver.set_translation(plate, translation);
@@ -301,7 +310,7 @@ TEST_CASE("plate retractor turned by a small rotation: the rigid motion, and the
 
 TEST_CASE("two tools at once interact through the body", "[contact][two-hands]") {
   SmallBox& b = small_box();
-  ToolContactSolver solver(b.mesh, b.table);
+  ToolContactSolver solver(b.mesh_ptr, b.table_ptr);
   const int left = solver.add_tool(ToolSpec::flat(0.12));
   const int right = solver.add_tool(ToolSpec::flat(0.12));
   REQUIRE(solver.engage(left, Vec3(0.35, 0.5, 1.0), Vec3(0, 0, -1)));
@@ -326,7 +335,7 @@ TEST_CASE("two tools at once interact through the body", "[contact][two-hands]")
 TEST_CASE("a flat punch narrower than the elements presses the element its axis lands on, like a bonded point",
           "[contact][punch]") {
   SmallBox& b = small_box();  // top elements are about 0.17 wide: a 0.01-radius disc covers no centroid
-  ToolContactSolver solver(b.mesh, b.table);
+  ToolContactSolver solver(b.mesh_ptr, b.table_ptr);
   const int narrow = solver.add_tool(ToolSpec::flat(0.01, ContactMode::Bonded));
   REQUIRE(solver.engage(narrow, Vec3(0.51, 0.52, 3.0), Vec3(0, 0, -1)));
   solver.set_depth(narrow, 0.01);
@@ -344,7 +353,7 @@ TEST_CASE("a flat punch narrower than the elements presses the element its axis 
 
 TEST_CASE("a sphere that covers no element centroid is not engaged (no NaN pose)", "[contact][sphere]") {
   SmallBox& b = small_box();
-  ToolContactSolver solver(b.mesh, b.table);
+  ToolContactSolver solver(b.mesh_ptr, b.table_ptr);
   const int far = solver.add_tool(ToolSpec::sphere(0.01));
   const int big_far = solver.add_tool(ToolSpec::sphere(0.3));
   // Far from the body: no candidate, so no first contact (it used to report success at inf/NaN).
@@ -373,7 +382,7 @@ TEST_CASE("a sphere that covers no element centroid is not engaged (no NaN pose)
 TEST_CASE("an update past the capacity throws and leaves the solver consistent", "[contact][capacity]") {
   SmallBox& b = small_box();
   const Index capacity = 12;  // a frictionless R = 1 sphere takes 8 rows at depth 0.01, over 24 at 0.08
-  ToolContactSolver solver(b.mesh, b.table, capacity);
+  ToolContactSolver solver(b.mesh_ptr, b.table_ptr, capacity);
   const int s = solver.add_tool(ToolSpec::sphere(1.0));
   REQUIRE(solver.engage(s, Vec3(0.5, 0.5, 2.0), Vec3(0, 0, -1)));
   solver.set_depth(s, 0.08);
@@ -383,7 +392,7 @@ TEST_CASE("an update past the capacity throws and leaves the solver consistent",
   solver.set_depth(s, 0.01);
   const ContactUpdateReport report = solver.update();
   REQUIRE(report.consistent);
-  ToolContactSolver fresh(b.mesh, b.table, capacity);
+  ToolContactSolver fresh(b.mesh_ptr, b.table_ptr, capacity);
   const int f = fresh.add_tool(ToolSpec::sphere(1.0));
   REQUIRE(fresh.engage(f, Vec3(0.5, 0.5, 2.0), Vec3(0, 0, -1)));
   fresh.set_depth(f, 0.01);
@@ -401,7 +410,7 @@ TEST_CASE("an update past the capacity throws and leaves the solver consistent",
 
 TEST_CASE("a non-finite tool pose is refused, naming the argument", "[contact][pose]") {
   SmallBox& b = small_box();
-  ToolContactSolver solver(b.mesh, b.table);
+  ToolContactSolver solver(b.mesh_ptr, b.table_ptr);
   const int tool = solver.add_tool(ToolSpec::flat(0.12));
   REQUIRE(solver.engage(tool, Vec3(0.5, 0.5, 1.0), Vec3(0, 0, -1)));
   const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
@@ -420,7 +429,7 @@ TEST_CASE("a non-finite tool pose is refused, naming the argument", "[contact][p
 
 TEST_CASE("approach directions with tiny or huge components are normalised stably", "[contact][pose]") {
   SmallBox& b = small_box();
-  ToolContactSolver solver(b.mesh, b.table);
+  ToolContactSolver solver(b.mesh_ptr, b.table_ptr);
   const int ref = solver.add_tool(ToolSpec::point(ContactMode::Bonded));
   REQUIRE(solver.engage(ref, Vec3(0.5, 0.5, 3.0), Vec3(0, 0, -1)));
   solver.set_depth(ref, 0.01);
@@ -446,7 +455,7 @@ TEST_CASE("a sphere inside the body below a face does not touch it", "[contact][
   // each centroid's normal line crosses it behind the centroid, so delta_n < 0, but no centroid
   // is inside the sphere and nothing is in contact.
   SmallBox& b = small_box();
-  ToolContactSolver solver(b.mesh, b.table);
+  ToolContactSolver solver(b.mesh_ptr, b.table_ptr);
   const int s = solver.add_tool(ToolSpec::sphere(0.15));
   solver.place(s, Vec3(0.5, 0.5, 0.2), Vec3(0, 0, -1));
   solver.update();

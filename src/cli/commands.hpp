@@ -22,3 +22,6 @@ int run_solve(int argc, char** argv);
 
 /// bemsurg press ...  (src/cli/press_command.cpp)
 int run_press(int argc, char** argv);
+
+/// bemsurg session SCENE.json --script ACTIONS.json -o OUTDIR  (src/cli/session_command.cpp)
+int run_session(int argc, char** argv);

@@ -19,6 +19,8 @@ constexpr const char* kUsage =
     "commands:\n"
     "  solve SCENE.json -o OUTDIR   solve a scene; write elements.csv, interior.csv, surface.vtk, report.json\n"
     "  press ...                    press a tool into a scene and report the force (bemsurg press --help)\n"
+    "  session SCENE.json --script ACTIONS.json -o OUTDIR\n"
+    "                               run an action script through the haptic loop (bemsurg session --help)\n"
     "\n"
     "Run 'bemsurg <command> --help' for a command's options. Scene format: docs/scene-format.md.\n";
 
@@ -44,6 +46,7 @@ int main(int argc, char** argv) {
     // The sub-command sees itself as argv[0], like a program's main.
     if (command == "solve") return run_solve(argc - 1, argv + 1);
     if (command == "press") return run_press(argc - 1, argv + 1);
+    if (command == "session") return run_session(argc - 1, argv + 1);
     return usage_error("unknown command '" + command + "'");
   } catch (const bemsurg::cli::UsageError& e) {
     return usage_error(e.what());

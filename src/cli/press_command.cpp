@@ -10,6 +10,7 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
@@ -186,7 +187,11 @@ int run_press(int argc, char** argv) {
     if (!o.table_file.empty()) bemsurg::save_greens_table(o.table_file, table);
   }
 
-  bemsurg::ToolContactSolver solver(p.mesh, table, std::max<bemsurg::Index>(300, 3 * p.mesh.num_elements() / 4));
+  // The solver holds shared immutable snapshots of the mesh and the table (docs/design.md §9).
+  const auto mesh_ptr = std::make_shared<const bemsurg::TriangleMesh>(p.mesh);
+  const auto table_ptr = std::make_shared<const bemsurg::GreensTable>(std::move(table));
+  const bemsurg::GreensTable& table_ref = *table_ptr;
+  bemsurg::ToolContactSolver solver(mesh_ptr, table_ptr, std::max<bemsurg::Index>(300, 3 * p.mesh.num_elements() / 4));
   const int tool = solver.add_tool(o.tool);
   if (!solver.engage(tool, o.at, o.direction))
     throw bemsurg::ContactError("press: a tool coming along (" + std::to_string(o.direction.x()) + ", " +
@@ -222,7 +227,7 @@ int run_press(int argc, char** argv) {
   bemsurg::BoundarySolution out{bemsurg::RowMatrixX3d(E, 3), bemsurg::RowMatrixX3d(E, 3)};
   for (bemsurg::Index e = 0; e < E; ++e) {
     out.displacement.row(e) = u.segment<3>(3 * e).transpose();
-    out.traction.row(e) = (contact.contains(e) ? contact.traction(e) : table.base_traction().segment<3>(3 * e)).transpose();
+    out.traction.row(e) = (contact.contains(e) ? contact.traction(e) : table_ref.base_traction().segment<3>(3 * e)).transpose();
   }
   std::filesystem::create_directories(o.output);
   bemsurg::write_elements_csv((std::filesystem::path(o.output) / "elements.csv").string(), p.mesh, out);
@@ -238,9 +243,9 @@ int run_press(int argc, char** argv) {
   j["active_set_consistent"] = report.consistent;
   j["equations"] = 3 * E;
   j["table"] = {{"loaded_from_file", loaded},
-                {"assembly_seconds", table.timings().assembly_seconds},
-                {"factorization_seconds", table.timings().factorization_seconds},
-                {"table_seconds", table.timings().table_seconds}};
+                {"assembly_seconds", table_ref.timings().assembly_seconds},
+                {"factorization_seconds", table_ref.timings().factorization_seconds},
+                {"table_seconds", table_ref.timings().table_seconds}};
   j["total_seconds"] = bemsurg::seconds_since(t_start);
   const std::string json_path = (std::filesystem::path(o.output) / "force.json").string();
   std::ofstream js(json_path);

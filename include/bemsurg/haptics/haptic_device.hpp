@@ -1,10 +1,13 @@
 // bemsurg/haptics/haptic_device.hpp: the one abstract haptic device the simulation talks to
-// (Wang et al. 2007 §6 used a PHANToM at about 1 kHz; docs/design.md §1 "haptics" module), and a
-// NullDevice so every program runs without hardware (CHAI3D's habit). A missing device is
-// reported with the reason, never as a silent "zero devices".
+// (Wang et al. 2007 §6 used a PHANToM at about 1 kHz; docs/design.md §1 "haptics" module), the
+// workspace mapping from the device's frame into the model's, and a NullDevice so every program
+// runs without hardware (CHAI3D's habit). A missing device is reported with the reason, never as a
+// silent "zero devices". Other devices: scripted_device.hpp, recording_device.hpp, udp_device.hpp.
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstdint>
 #include <memory>
 #include <string>
 
@@ -12,9 +15,28 @@ namespace bemsurg::haptics {
 
 /// What the device reports each haptic tick.
 struct DeviceState {
-  Eigen::Vector3d position = Eigen::Vector3d::Zero();   // tool tip, metres, simulation frame
-  Eigen::Vector3d direction = -Eigen::Vector3d::UnitZ();  // tool axis (unit)
-  bool button = false;                                   // e.g. close the pinch / start a cut
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();        // tool tip, metres
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  // handle orientation
+  Eigen::Vector3d direction = -Eigen::Vector3d::UnitZ();     // tool axis (unit)
+  std::uint32_t buttons = 0;                                 // bit i: button i is down
+  /// False when the device has no fresh state (unplugged, its bridge went silent): the loop sends
+  /// zero force to it and its tool does not move.
+  bool connected = true;
+  bool button(int i = 0) const { return (buttons >> i) & 1U; }
+};
+
+/// Device frame -> model frame: x_model = scale * x_device + offset; directions and orientations
+/// are not scaled. Forces go back as force_scale * F (1: the model's newtons are the hand's).
+struct Workspace {
+  double scale = 1.0;
+  Eigen::Vector3d offset = Eigen::Vector3d::Zero();
+  double force_scale = 1.0;
+  DeviceState to_model(const DeviceState& s) const noexcept {
+    DeviceState m = s;
+    m.position = scale * s.position + offset;
+    return m;
+  }
+  Eigen::Vector3d to_device_force(const Eigen::Vector3d& f) const noexcept { return force_scale * f; }
 };
 
 class HapticDevice {
@@ -25,22 +47,26 @@ class HapticDevice {
   /// Whether the device is usable; when not, `why()` says what is missing.
   virtual bool available() const = 0;
   virtual std::string why() const = 0;
-  /// Called from the haptic thread: must not block or allocate.
-  virtual DeviceState read() = 0;
+  /// Called from the haptic thread with the session time in seconds (scripted devices play their
+  /// trajectory at it; hardware ignores it): must not block, allocate or throw.
+  virtual DeviceState read(double session_time) = 0;
+  /// Called from the haptic thread: must not block, allocate or throw.
   virtual void write_force(const Eigen::Vector3d& force) = 0;
   /// The largest force the device can render, newtons (feeds ForceLimiter).
   virtual double max_force() const = 0;
+  /// Input the device refused (network bridges: malformed, late, out-of-order, foreign packets).
+  virtual std::uint64_t dropped_packets() const { return 0; }
 };
 
-/// A device with no hardware: the pose is set by the program (scripted experiments, tests, the
-/// viewer's mouse) and the last force written is kept for inspection.
+/// A device with no hardware: the pose is set by the program (tests, the viewer's mouse) and the
+/// last force written is kept for inspection. set_state and read must be called from one thread.
 class NullDevice : public HapticDevice {
  public:
   explicit NullDevice(double max_force = 10.0) : max_force_(max_force) {}
   std::string name() const override { return "null device"; }
   bool available() const override { return true; }
   std::string why() const override { return "no hardware: the pose is scripted"; }
-  DeviceState read() override { return state_; }
+  DeviceState read(double) override { return state_; }
   void write_force(const Eigen::Vector3d& force) override {
     last_force_ = force;
     ++writes_;

@@ -15,9 +15,17 @@
 //
 // Real-time discipline: after construction nothing here allocates (every buffer is sized for
 // `capacity` rows) and nothing locks; solve() and force() are the haptic path, O(k^2) and O(k).
+//
+// Ownership (docs/design.md §9): the mesh and the table are immutable snapshots held by
+// std::shared_ptr<const ...>, so a cut that builds a new table never pulls them from under a live
+// contact. One thread owns a CapacitanceContact at a time (the haptic thread while it computes
+// forces); other threads do not read it while it changes: the graphics thread takes the published
+// (contact elements, tractions) of contact_tractions() and computes the field from the read-only
+// table with its own buffers (GreensTable::displacement_field).
 #pragma once
 
 #include <Eigen/Core>
+#include <memory>
 #include <vector>
 
 #include "bemsurg/mesh/triangle_mesh.hpp"
@@ -33,9 +41,11 @@ struct ContactRow {
 
 class CapacitanceContact {
  public:
-  /// `mesh` gives areas (the force) and must be the table's mesh; both must outlive this object.
+  /// `mesh` gives areas (the force) and must be the table's mesh; both are shared snapshots.
   /// `capacity`: the most constraint rows at once (bonded elements take 3, frictionless 1).
-  CapacitanceContact(const TriangleMesh& mesh, const GreensTable& table, Index capacity = 300);
+  /// Throws ContactError for a null or empty table, a mesh that is not the table's, capacity < 1.
+  CapacitanceContact(std::shared_ptr<const TriangleMesh> mesh, std::shared_ptr<const GreensTable> table,
+                     Index capacity = 300);
 
   Index capacity() const { return capacity_; }
   Index num_rows() const { return k_; }
@@ -49,11 +59,16 @@ class CapacitanceContact {
   /// outside the table's region, an element already in the set, a full set, or rows that make
   /// S singular (then nothing changes).
   void add_rows(const ContactRow* rows, Index m);
+  /// The haptic-thread form of add_rows for rows already known valid (in the table's region, not
+  /// yet in the set, unit directions): never throws or allocates; returns false and changes
+  /// nothing when the rows exceed the capacity or make S singular.
+  bool try_add_rows(const ContactRow* rows, Index m) noexcept;
   void add_bonded(Index element, int tag = 0);
   void add_normal(Index element, const Eigen::Vector3d& direction, int tag = 0);
   /// Drops every row of `element` (no-op when absent): P' = P_KK - P_KJ P_JJ^{-1} P_JK.
-  void remove_element(Index element);
+  void remove_element(Index element) noexcept;
   /// Recomputes P from S from scratch (O(k^3)); resets the round-off of many incremental updates.
+  /// Throws SolverError when S is singular.
   void refactor();
   /// Number of incremental updates since the last refactor().
   Index updates_since_refactor() const { return updates_; }
@@ -84,23 +99,30 @@ class CapacitanceContact {
   Eigen::Vector3d traction(Index element) const;
   /// Displacement of any element after solve(): u_g,e + sum_a G_{e,e_a} w_a lambda_a, O(k).
   Eigen::Vector3d displacement_of(Index element) const;
-  /// The full field (n entries, u must be sized): u_g + G_{:,C} t_C, O(n k).
+  /// The full field (n entries, u must be sized): u_g + G_{:,C} t_C, O(n k). Allocates its own
+  /// small buffers per call (graphics rate; it writes nothing shared). Another thread must not
+  /// call it while the owner changes this object: publish contact_tractions() instead.
   void displacement_field(Eigen::VectorXd& u) const;
   /// Extra (contact) tractions per distinct contact element: elements and 3 values each; returns
-  /// the count. Buffers must hold num_elements() entries.
-  Index contact_tractions(Index* elements, double* tractions) const;
+  /// the count. Buffers must hold num_elements() entries. Allocation-free: this is what the
+  /// haptic thread publishes for the graphics thread.
+  Index contact_tractions(Index* elements, double* tractions) const noexcept;
 
-  const TriangleMesh& mesh() const { return mesh_; }
-  const GreensTable& table() const { return table_; }
+  const TriangleMesh& mesh() const { return *mesh_; }
+  const GreensTable& table() const { return *table_; }
+  const std::shared_ptr<const TriangleMesh>& mesh_ptr() const { return mesh_; }
+  const std::shared_ptr<const GreensTable>& table_ptr() const { return table_; }
 
  private:
   double s_entry(const ContactRow& a, const ContactRow& b) const;
-  void invert_into(double* m, double* inv, Index size);  // Gauss-Jordan, m destroyed
+  bool invert_into(double* m, double* inv, Index size) noexcept;  // Gauss-Jordan, m destroyed; false: singular
+  bool add_rows_unchecked(const ContactRow* rows, Index m) noexcept;
+  bool refactor_unchecked() noexcept;
   void swap_rows(Index i, Index j);
   void update_force_operator();
 
-  const TriangleMesh& mesh_;
-  const GreensTable& table_;
+  std::shared_ptr<const TriangleMesh> mesh_;
+  std::shared_ptr<const GreensTable> table_;
   Index capacity_;
   Index k_ = 0;
   Index num_elements_ = 0;
@@ -114,8 +136,6 @@ class CapacitanceContact {
   std::vector<double> row_base_;      // per row: w_a . u_g(e_a)
   std::vector<double> force_op_;      // 3 x capacity (component-major): K = -(A W)^T P
   Eigen::Vector3d base_force_ = Eigen::Vector3d::Zero();  // -sum a_c t_base,c over contact elements
-  mutable std::vector<Index> element_scratch_;
-  mutable std::vector<double> traction_scratch_;
 };
 
 }  // namespace bemsurg

@@ -21,9 +21,16 @@
 //
 // Conventions: a unilateral row's direction w points into the body (the pushing direction) and
 // its traction multiplier lambda > 0 is compression. Forces are on the tool: -sum area * traction.
+//
+// Threads (docs/design.md §9): engagement (engage, place, release, add_tool) allocates and throws
+// and is done off the haptic thread; the per-tick path — try_set_translation / try_set_rotation
+// and step() — never allocates, throws or locks and returns a ContactStatus. The mesh and table
+// are shared immutable snapshots; a cut builds a new solver on the new snapshots, engages the
+// tools there and hands it to the haptic thread whole (haptics/haptic_loop.hpp).
 #pragma once
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -46,15 +53,29 @@ struct ToolSpec {
   std::vector<Eigen::Vector3d> polygon;
   /// plate: elements whose centroid lies within this distance of the plate's plane are touched.
   double plate_tolerance = 0.0;
+  /// sphere, flat: extra radius around the axis within which elements are candidates, so the
+  /// tool can slide this far sideways from where it was engaged or placed before it must be
+  /// placed again (0: only the elements under the tool where it was engaged).
+  double slide_margin = 0.0;
 
-  static ToolSpec point(ContactMode m = ContactMode::Bonded) { return {ToolShape::Point, m, 0.0, {}, 0.0}; }
-  static ToolSpec flat(double a, ContactMode m = ContactMode::Frictionless) { return {ToolShape::FlatPunch, m, a, {}, 0.0}; }
-  static ToolSpec sphere(double r, ContactMode m = ContactMode::Frictionless) { return {ToolShape::Sphere, m, r, {}, 0.0}; }
-  static ToolSpec pinch(double jaw = 0.0) { return {ToolShape::Pinch, ContactMode::Bonded, jaw, {}, 0.0}; }
+  static ToolSpec point(ContactMode m = ContactMode::Bonded) { return {ToolShape::Point, m, 0.0, {}, 0.0, 0.0}; }
+  static ToolSpec flat(double a, ContactMode m = ContactMode::Frictionless) { return {ToolShape::FlatPunch, m, a, {}, 0.0, 0.0}; }
+  static ToolSpec sphere(double r, ContactMode m = ContactMode::Frictionless) { return {ToolShape::Sphere, m, r, {}, 0.0, 0.0}; }
+  static ToolSpec pinch(double jaw = 0.0) { return {ToolShape::Pinch, ContactMode::Bonded, jaw, {}, 0.0, 0.0}; }
   static ToolSpec plate(std::vector<Eigen::Vector3d> poly, double tolerance, ContactMode m = ContactMode::Bonded) {
-    return {ToolShape::Plate, m, 0.0, std::move(poly), tolerance};
+    return {ToolShape::Plate, m, 0.0, std::move(poly), tolerance, 0.0};
   }
 };
+
+/// What the haptic-thread step returns instead of throwing.
+enum class ContactStatus : std::uint8_t {
+  Ok = 0,
+  Unsettled,         // the active set did not settle within the iteration limit (force usable)
+  CapacityExceeded,  // the contact set needs more rows than reserved: set unchanged, force stale
+  Singular,          // the new rows made the small system singular: set unchanged, force stale
+  NonFinitePose,     // a NaN/inf pose was refused: the tool keeps its last pose
+};
+const char* to_string(ContactStatus status) noexcept;
 
 /// What one update() did.
 struct ContactUpdateReport {
@@ -67,7 +88,9 @@ struct ContactUpdateReport {
 class ToolContactSolver {
  public:
   /// `capacity_rows`: the most constraint rows of all tools together (bonded elements take 3).
-  ToolContactSolver(const TriangleMesh& mesh, const GreensTable& table, Index capacity_rows = 600);
+  /// The mesh and table are shared snapshots (throws ContactError when null or mismatched).
+  ToolContactSolver(std::shared_ptr<const TriangleMesh> mesh, std::shared_ptr<const GreensTable> table,
+                    Index capacity_rows = 600);
 
   /// Adds a tool (not yet touching); returns its id (the tag of its rows).
   int add_tool(const ToolSpec& spec);
@@ -85,6 +108,13 @@ class ToolContactSolver {
   void place(int tool, const Eigen::Vector3d& position, const Eigen::Vector3d& direction);
   void release(int tool);
   bool engaged(int tool) const { return tools_[static_cast<std::size_t>(tool)].engaged; }
+  /// Where the tool's translation is zero: the first-contact point (point, pinch), the sphere's
+  /// centre or the disc face's centre where it was engaged or placed, the plate's centroid.
+  const Eigen::Vector3d& origin(int tool) const { return tools_[static_cast<std::size_t>(tool)].origin; }
+  /// The approach direction (unit) of the last engagement or placement.
+  const Eigen::Vector3d& direction(int tool) const { return tools_[static_cast<std::size_t>(tool)].direction; }
+  const Eigen::Vector3d& translation(int tool) const { return tools_[static_cast<std::size_t>(tool)].delta; }
+  const ToolSpec& spec(int tool) const { return tools_[static_cast<std::size_t>(tool)].spec; }
 
   /// Tool pose relative to where it was engaged or placed (the plate also turns by `rotation`,
   /// a small rotation vector about the polygon's centroid).
@@ -93,6 +123,10 @@ class ToolContactSolver {
   void set_rotation(int tool, const Eigen::Vector3d& rotation);
   /// Convenience: translation `depth` along the approach direction (throws when not finite).
   void set_depth(int tool, double depth);
+  /// Haptic-thread forms: false (pose unchanged) for a non-finite argument or a tool id out of
+  /// range; never throw or allocate.
+  bool try_set_translation(int tool, const Eigen::Vector3d& delta) noexcept;
+  bool try_set_rotation(int tool, const Eigen::Vector3d& rotation) noexcept;
 
   /// The haptic-rate step: brings the contact set up to date with the poses (incremental
   /// capacitance updates), solves, and runs the active set of unilateral tools. Allocation-free
@@ -101,9 +135,15 @@ class ToolContactSolver {
   /// singular small system); the contact set and the solver's bookkeeping are then left as they
   /// were before the failed additions, so a later update() at a reachable pose is correct.
   ContactUpdateReport update(int max_active_set_iterations = 50);
+  /// The same step for the haptic thread: never allocates, throws, locks or builds a message.
+  /// CapacityExceeded / Singular leave the contact set as it was before the failed additions (the
+  /// force of the last good step stays in force()); Unsettled means the iteration limit was hit.
+  ContactStatus step(ContactUpdateReport& report, int max_active_set_iterations = 50) noexcept;
 
   /// Force on one tool (after update()).
   Eigen::Vector3d force(int tool) const { return contact_.force_of_tag(tool); }
+  /// Rows the last failed step needed in all (CapacityExceeded), for the caller's message.
+  Index rows_needed() const { return rows_needed_; }
   Index contact_elements(int tool) const;
   /// Elements in contact with `tool`, appended to out.
   void contact_element_list(int tool, std::vector<Index>& out) const;
@@ -136,7 +176,7 @@ class ToolContactSolver {
     return t.spec.shape == ToolShape::FlatPunch || t.spec.shape == ToolShape::Sphere || t.spec.shape == ToolShape::Point;
   }
   Eigen::Vector3d base_position(Index e) const {
-    return mesh_.centroid(e) + table_.base_displacement().segment<3>(3 * e);
+    return mesh_->centroid(e) + table_->base_displacement().segment<3>(3 * e);
   }
   /// Whether candidate element e of tool t is geometrically in contact at the current pose, and
   /// the displacement target: the displacement change from the base state it must undergo.
@@ -146,9 +186,10 @@ class ToolContactSolver {
   void set_targets();
   void rollback_additions();  // after a failed addition: unclaim the elements in add_buffer_
 
-  const TriangleMesh& mesh_;
-  const GreensTable& table_;
+  std::shared_ptr<const TriangleMesh> mesh_;
+  std::shared_ptr<const GreensTable> table_;
   CapacitanceContact contact_;
+  Index rows_needed_ = 0;
   TriangleBvh bvh_;
   std::vector<Tool> tools_;
   std::vector<int> owner_;  // per element: tool id in contact, or -1

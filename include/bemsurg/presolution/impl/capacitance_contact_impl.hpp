@@ -32,8 +32,12 @@ inline void gemm(Index m, Index n, Index k, double alpha, const double* A, Index
 }
 }  // namespace detail
 
-inline CapacitanceContact::CapacitanceContact(const TriangleMesh& mesh, const GreensTable& table, Index capacity)
-    : mesh_(mesh), table_(table), capacity_(capacity) {
+inline CapacitanceContact::CapacitanceContact(std::shared_ptr<const TriangleMesh> mesh_ptr,
+                                              std::shared_ptr<const GreensTable> table_ptr, Index capacity)
+    : mesh_(std::move(mesh_ptr)), table_(std::move(table_ptr)), capacity_(capacity) {
+  if (!mesh_ || !table_) throw ContactError("CapacitanceContact: the mesh or the Green's-function table is missing (null)");
+  const TriangleMesh& mesh = *mesh_;
+  const GreensTable& table = *table_;
   if (table.empty()) throw ContactError("CapacitanceContact: the Green's-function table is empty");
   if (mesh.num_elements() != table.num_elements() || hash_mesh(mesh) != table.key().mesh_hash)
     throw ContactError("CapacitanceContact: the mesh is not the one the table was computed for");
@@ -52,8 +56,6 @@ inline CapacitanceContact::CapacitanceContact(const TriangleMesh& mesh, const Gr
   first_row_.assign(cap, 0);
   row_base_.assign(cap, 0.0);
   force_op_.assign(3 * cap, 0.0);
-  element_scratch_.assign(cap, 0);
-  traction_scratch_.assign(3 * cap, 0.0);
 }
 
 inline void CapacitanceContact::clear() {
@@ -65,8 +67,8 @@ inline void CapacitanceContact::clear() {
 }
 
 inline double CapacitanceContact::s_entry(const ContactRow& a, const ContactRow& b) const {
-  const Index ld = table_.columns().rows();
-  const double* col = table_.column_data(b.element);
+  const Index ld = table_->columns().rows();
+  const double* col = table_->column_data(b.element);
   const Index r = 3 * a.element;
   double s = 0.0;
   for (int j = 0; j < 3; ++j) {
@@ -78,10 +80,10 @@ inline double CapacitanceContact::s_entry(const ContactRow& a, const ContactRow&
 
 inline double CapacitanceContact::base_target(Index a) const {
   const ContactRow& r = rows_[static_cast<std::size_t>(a)];
-  return r.direction.dot(table_.base_displacement().segment<3>(3 * r.element));
+  return r.direction.dot(table_->base_displacement().segment<3>(3 * r.element));
 }
 
-inline void CapacitanceContact::invert_into(double* M, double* inv, Index m) {
+inline bool CapacitanceContact::invert_into(double* M, double* inv, Index m) noexcept {
   const Index ld = capacity_;
   double scale = 0.0;
   for (Index j = 0; j < m; ++j)
@@ -93,9 +95,7 @@ inline void CapacitanceContact::invert_into(double* M, double* inv, Index m) {
     for (Index r = c + 1; r < m; ++r)
       if (std::abs(M[r + c * ld]) > std::abs(M[p + c * ld])) p = r;
     const double pivot = M[p + c * ld];
-    if (!(std::abs(pivot) > 1e-13 * scale) || !std::isfinite(pivot))
-      throw SolverError("CapacitanceContact: the contact rows are dependent (the same element and direction twice, or "
-                        "rows on supported elements): the small system G_CC is singular");
+    if (!(std::abs(pivot) > 1e-13 * scale) || !std::isfinite(pivot)) return false;
     if (p != c)
       for (Index j = 0; j < m; ++j) {
         std::swap(M[p + j * ld], M[c + j * ld]);
@@ -125,7 +125,15 @@ inline void CapacitanceContact::invert_into(double* M, double* inv, Index m) {
       M[r + c * ld] = 0.0;
     }
   }
+  return true;
 }
+
+namespace detail {
+[[noreturn]] inline void throw_singular_contact() {
+  throw SolverError("CapacitanceContact: the contact rows are dependent (the same element and direction twice, or "
+                    "rows on supported elements): the small system G_CC is singular");
+}
+}  // namespace detail
 
 inline void CapacitanceContact::add_rows(const ContactRow* rows, Index m) {
   if (m <= 0) return;
@@ -135,9 +143,9 @@ inline void CapacitanceContact::add_rows(const ContactRow* rows, Index m) {
   // Validate first: a throw must leave the set as it was.
   for (Index i = 0; i < m; ++i) {
     const Index e = rows[i].element;
-    if (e < 0 || e >= mesh_.num_elements())
+    if (e < 0 || e >= mesh_->num_elements())
       throw ContactError("CapacitanceContact: element " + std::to_string(e) + " is out of range");
-    if (table_.region_slot(e) < 0)
+    if (table_->region_slot(e) < 0)
       throw ContactError("CapacitanceContact: element " + std::to_string(e) +
                   " is outside the table's region (no column was precomputed for it)");
     if (rows_of_[static_cast<std::size_t>(e)] > 0)
@@ -148,6 +156,16 @@ inline void CapacitanceContact::add_rows(const ContactRow* rows, Index m) {
     const double len = rows[i].direction.norm();
     if (!(std::abs(len - 1.0) < 1e-9)) throw ContactError("CapacitanceContact: a row direction is not a unit vector");
   }
+  if (!add_rows_unchecked(rows, m)) detail::throw_singular_contact();
+}
+
+inline bool CapacitanceContact::try_add_rows(const ContactRow* rows, Index m) noexcept {
+  if (m <= 0) return true;
+  if (k_ + m > capacity_) return false;
+  return add_rows_unchecked(rows, m);
+}
+
+inline bool CapacitanceContact::add_rows_unchecked(const ContactRow* rows, Index m) noexcept {
   const Index k = k_, ld = capacity_;
   double* X = work_a_.data();  // P b      (k x m)
   double* Y = work_b_.data();  // c P      (m x k)
@@ -174,7 +192,7 @@ inline void CapacitanceContact::add_rows(const ContactRow* rows, Index m) {
   for (Index j = 0; j < m; ++j)
     for (Index i = 0; i < m; ++i) Z[i + j * ld] = s_entry(rows[i], rows[j]);
   detail::gemm(m, m, k, -1.0, C, ld, X, ld, 1.0, Z, ld);
-  invert_into(Z, Zi, m);  // overwrites C; throws before anything is committed
+  if (!invert_into(Z, Zi, m)) return false;  // overwrites C; nothing is committed yet
   // W = X Zi (k x m) into Z's buffer (Z no longer needed).
   double* W = Z;
   detail::gemm(k, m, m, 1.0, X, ld, Zi, ld, 0.0, W, ld);
@@ -201,6 +219,7 @@ inline void CapacitanceContact::add_rows(const ContactRow* rows, Index m) {
   }
   ++updates_;
   update_force_operator();
+  return true;
 }
 
 inline void CapacitanceContact::add_bonded(Index element, int tag) {
@@ -231,8 +250,8 @@ inline void CapacitanceContact::swap_rows(Index i, Index j) {
 inline void CapacitanceContact::update_force_operator() {
   // K(c, b) = -sum_a area(e_a) w_a(c) P(a, b): O(k^2), once per structure change.
   const Index k = k_, ld = capacity_;
-  const double* area = mesh_.areas().data();
-  const double* tb = table_.base_traction().data();
+  const double* area = mesh_->areas().data();
+  const double* tb = table_->base_traction().data();
   base_force_.setZero();
   for (Index b = 0; b < k; ++b) {
     const double* pc = P_.data() + b * ld;
@@ -270,8 +289,8 @@ inline Eigen::Vector3d CapacitanceContact::force_for_targets() const {
   return base_force_ + Eigen::Vector3d(fx, fy, fz);
 }
 
-inline void CapacitanceContact::remove_element(Index element) {
-  if (element < 0 || element >= mesh_.num_elements() || rows_of_[static_cast<std::size_t>(element)] == 0) return;
+inline void CapacitanceContact::remove_element(Index element) noexcept {
+  if (element < 0 || element >= mesh_->num_elements() || rows_of_[static_cast<std::size_t>(element)] == 0) return;
   // Move the element's rows to the end (a symmetric permutation of S permutes P the same way).
   Index tail = k_;
   for (Index a = k_ - 1; a >= 0; --a)
@@ -281,7 +300,16 @@ inline void CapacitanceContact::remove_element(Index element) {
   double* Qi = work_d_.data();
   for (Index j = 0; j < m; ++j)
     for (Index i = 0; i < m; ++i) PJJ[i + j * ld] = P_[static_cast<std::size_t>(k + i + (k + j) * ld)];
-  invert_into(PJJ, Qi, m);
+  if (!invert_into(PJJ, Qi, m)) {
+    // P_JJ of a non-singular S cannot be singular; round-off after very many updates can make
+    // it look so. Drop the rows and rebuild P from S (O(k^3)); if even that fails, empty the set
+    // (the force falls to the base state's, and the owner sees the set change).
+    rows_of_[static_cast<std::size_t>(element)] = 0;
+    --num_elements_;
+    k_ = k;
+    if (!refactor_unchecked()) clear();
+    return;
+  }
   // W = P_KJ Qi (k x m); P_KK -= W P_JK.
   double* W = work_a_.data();
   detail::gemm(k, m, m, 1.0, P_.data() + k * ld, ld, Qi, ld, 0.0, W, ld);
@@ -294,16 +322,21 @@ inline void CapacitanceContact::remove_element(Index element) {
 }
 
 inline void CapacitanceContact::refactor() {
+  if (!refactor_unchecked()) detail::throw_singular_contact();
+}
+
+inline bool CapacitanceContact::refactor_unchecked() noexcept {
   const Index k = k_, ld = capacity_;
   double* S = work_c_.data();
   for (Index j = 0; j < k; ++j)
     for (Index i = 0; i < k; ++i) S[i + j * ld] = s_entry(rows_[static_cast<std::size_t>(i)], rows_[static_cast<std::size_t>(j)]);
   double* inv = work_d_.data();
-  invert_into(S, inv, k);
+  if (!invert_into(S, inv, k)) return false;
   for (Index j = 0; j < k; ++j)
     for (Index i = 0; i < k; ++i) P_[static_cast<std::size_t>(i + j * ld)] = inv[i + j * ld];
   updates_ = 0;
   update_force_operator();
+  return true;
 }
 
 inline void CapacitanceContact::solve() {
@@ -333,8 +366,8 @@ inline void CapacitanceContact::solve() {
 
 inline Eigen::Vector3d CapacitanceContact::force_of_tag(int tag) const {
   Eigen::Vector3d f = Eigen::Vector3d::Zero();
-  const double* tb = table_.base_traction().data();
-  const double* area = mesh_.areas().data();
+  const double* tb = table_->base_traction().data();
+  const double* area = mesh_->areas().data();
   for (Index a = 0; a < k_; ++a) {
     const ContactRow& r = rows_[static_cast<std::size_t>(a)];
     if (tag >= 0 && r.tag != tag) continue;
@@ -352,7 +385,7 @@ inline Eigen::Vector3d CapacitanceContact::force_of_tag(int tag) const {
 }
 
 inline Eigen::Vector3d CapacitanceContact::traction(Index element) const {
-  Eigen::Vector3d t = table_.base_traction().segment<3>(3 * element);
+  Eigen::Vector3d t = table_->base_traction().segment<3>(3 * element);
   for (Index a = 0; a < k_; ++a) {
     const ContactRow& r = rows_[static_cast<std::size_t>(a)];
     if (r.element == element) t += lambda_[static_cast<std::size_t>(a)] * r.direction;
@@ -361,11 +394,11 @@ inline Eigen::Vector3d CapacitanceContact::traction(Index element) const {
 }
 
 inline Eigen::Vector3d CapacitanceContact::displacement_of(Index element) const {
-  Eigen::Vector3d u = table_.base_displacement().segment<3>(3 * element);
-  const Index ld = table_.columns().rows();
+  Eigen::Vector3d u = table_->base_displacement().segment<3>(3 * element);
+  const Index ld = table_->columns().rows();
   for (Index a = 0; a < k_; ++a) {
     const ContactRow& r = rows_[static_cast<std::size_t>(a)];
-    const double* col = table_.column_data(r.element) + 3 * element;
+    const double* col = table_->column_data(r.element) + 3 * element;
     const double l = lambda_[static_cast<std::size_t>(a)];
     for (int j = 0; j < 3; ++j) {
       const double f = l * r.direction(j);
@@ -379,7 +412,7 @@ inline Eigen::Vector3d CapacitanceContact::displacement_of(Index element) const 
   return u;
 }
 
-inline Index CapacitanceContact::contact_tractions(Index* elements, double* tractions) const {
+inline Index CapacitanceContact::contact_tractions(Index* elements, double* tractions) const noexcept {
   Index count = 0;
   for (Index a = 0; a < k_; ++a) {
     const ContactRow& r = rows_[static_cast<std::size_t>(a)];
@@ -401,8 +434,11 @@ inline Index CapacitanceContact::contact_tractions(Index* elements, double* trac
 }
 
 inline void CapacitanceContact::displacement_field(Eigen::VectorXd& u) const {
-  const Index count = contact_tractions(element_scratch_.data(), traction_scratch_.data());
-  table_.displacement_field(element_scratch_.data(), traction_scratch_.data(), count, u);
+  // Local buffers: a const method that wrote member scratch would race with any other reader.
+  std::vector<Index> elements(static_cast<std::size_t>(std::max<Index>(num_elements_, 1)));
+  std::vector<double> tractions(3 * elements.size());
+  const Index count = contact_tractions(elements.data(), tractions.data());
+  table_->displacement_field(elements.data(), tractions.data(), count, u);
 }
 
 }  // namespace bemsurg

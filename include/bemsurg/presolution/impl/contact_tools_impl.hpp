@@ -34,12 +34,24 @@ inline bool inside_polygon(const std::vector<Eigen::Vector3d>& poly, const Eigen
 }
 }  // namespace detail
 
-inline ToolContactSolver::ToolContactSolver(const TriangleMesh& mesh, const GreensTable& table, Index capacity_rows)
+inline const char* to_string(ContactStatus status) noexcept {
+  switch (status) {
+    case ContactStatus::Ok: return "ok";
+    case ContactStatus::Unsettled: return "active set unsettled";
+    case ContactStatus::CapacityExceeded: return "contact capacity exceeded";
+    case ContactStatus::Singular: return "singular contact system";
+    case ContactStatus::NonFinitePose: return "non-finite pose";
+  }
+  return "?";
+}
+
+inline ToolContactSolver::ToolContactSolver(std::shared_ptr<const TriangleMesh> mesh, std::shared_ptr<const GreensTable> table,
+                                            Index capacity_rows)
     : mesh_(mesh),
       table_(table),
-      contact_(mesh, table, capacity_rows),
-      bvh_(deformed_vertices(mesh, table.base_displacement()), mesh.faces()),
-      owner_(static_cast<std::size_t>(mesh.num_elements()), -1) {
+      contact_(std::move(mesh), std::move(table), capacity_rows),  // throws for null / mismatched snapshots
+      bvh_(deformed_vertices(*mesh_, table_->base_displacement()), mesh_->faces()),
+      owner_(static_cast<std::size_t>(mesh_->num_elements()), -1) {
   add_buffer_.reserve(static_cast<std::size_t>(capacity_rows));
 }
 
@@ -50,6 +62,8 @@ inline int ToolContactSolver::add_tool(const ToolSpec& spec) {
     throw ContactError("contact tool: the pinch jaw radius must be finite and non-negative");
   if (spec.shape == ToolShape::Plate && (spec.polygon.size() < 3 || !(spec.plate_tolerance > 0.0)))
     throw ContactError("contact tool: a plate needs a polygon of at least 3 vertices and a positive plate_tolerance");
+  if (!(spec.slide_margin >= 0.0 && std::isfinite(spec.slide_margin)))
+    throw ContactError("contact tool: slide_margin must be finite and non-negative");
   if (spec.shape == ToolShape::Pinch && spec.mode != ContactMode::Bonded)
     throw ContactError("contact tool: a pinch holds the tissue, so it is bonded");
   Tool t;
@@ -70,6 +84,18 @@ inline void ToolContactSolver::set_rotation(int tool, const Eigen::Vector3d& rot
   t.rotation = rotation;
 }
 
+inline bool ToolContactSolver::try_set_translation(int tool, const Eigen::Vector3d& delta) noexcept {
+  if (tool < 0 || tool >= static_cast<int>(tools_.size()) || !delta.allFinite()) return false;
+  tools_[static_cast<std::size_t>(tool)].delta = delta;
+  return true;
+}
+
+inline bool ToolContactSolver::try_set_rotation(int tool, const Eigen::Vector3d& rotation) noexcept {
+  if (tool < 0 || tool >= static_cast<int>(tools_.size()) || !rotation.allFinite()) return false;
+  tools_[static_cast<std::size_t>(tool)].rotation = rotation;
+  return true;
+}
+
 inline void ToolContactSolver::set_depth(int tool, double depth) {
   Tool& t = tools_.at(static_cast<std::size_t>(tool));
   if (!std::isfinite(depth)) throw ContactError("contact tool: set_depth: the depth `depth` is not finite");
@@ -78,16 +104,16 @@ inline void ToolContactSolver::set_depth(int tool, double depth) {
 
 inline void ToolContactSolver::collect_candidates(Tool& t) {
   t.candidates.clear();
-  const Eigen::Matrix<double, 3, 2> box = mesh_.bounding_box();
+  const Eigen::Matrix<double, 3, 2> box = mesh_->bounding_box();
   const double L = 2.0 * (box.col(1) - box.col(0)).norm() + (t.origin - box.col(0)).norm();
-  const double r = t.spec.radius;  // the tip, punch or sphere radius; the pinch jaw's too
+  const double r = t.spec.radius + t.spec.slide_margin;  // the tip, punch or sphere radius (+ slide room)
   const Eigen::Vector3d a = t.origin - L * t.direction, b = t.origin + L * t.direction;
   const Eigen::Vector3d lo = a.cwiseMin(b).array() - r, hi = a.cwiseMax(b).array() + r;
   std::vector<Index> found;
   bvh_.query_box(lo, hi, found);
   for (Index e : found) {
-    if (table_.region_slot(e) < 0) continue;
-    if (mesh_.normal(e).dot(t.direction) >= 0.0) continue;  // faces away from the tool
+    if (table_->region_slot(e) < 0) continue;
+    if (mesh_->normal(e).dot(t.direction) >= 0.0) continue;  // faces away from the tool
     const Eigen::Vector3d x = base_position(e) - t.origin;
     const double rho = (x - x.dot(t.direction) * t.direction).norm();
     if (rho <= r) t.candidates.push_back(e);
@@ -103,14 +129,14 @@ inline bool ToolContactSolver::engage(int tool, const Eigen::Vector3d& at, const
   t.rotation.setZero();
   t.candidates.clear();
   t.reach = t.spec.radius;
-  const Eigen::Matrix<double, 3, 2> box = mesh_.bounding_box();
+  const Eigen::Matrix<double, 3, 2> box = mesh_->bounding_box();
   const double L = 2.0 * (box.col(1) - box.col(0)).norm() + (at - box.col(0)).norm();
   switch (t.spec.shape) {
     case ToolShape::Point:
     case ToolShape::Pinch: {
       RayHit hit;
       if (!bvh_.intersect_ray(at - L * t.direction, t.direction, hit, 2.0 * L, true)) return false;
-      if (table_.region_slot(hit.element) < 0)
+      if (table_->region_slot(hit.element) < 0)
         throw ContactError("contact tool: the tool touches element " + std::to_string(hit.element) +
                     ", outside the table's region");
       t.origin = hit.point;
@@ -120,7 +146,7 @@ inline bool ToolContactSolver::engage(int tool, const Eigen::Vector3d& at, const
         const Eigen::Vector3d r = Eigen::Vector3d::Constant(t.spec.radius);
         bvh_.query_box(hit.point - r, hit.point + r, found);
         for (Index e : found)
-          if (e != hit.element && table_.region_slot(e) >= 0 && mesh_.normal(e).dot(t.direction) < 0.0 &&
+          if (e != hit.element && table_->region_slot(e) >= 0 && mesh_->normal(e).dot(t.direction) < 0.0 &&
               (base_position(e) - hit.point).norm() <= t.spec.radius)
             t.candidates.push_back(e);
       }
@@ -135,7 +161,7 @@ inline bool ToolContactSolver::engage(int tool, const Eigen::Vector3d& at, const
         // element its axis lands on rather than missing the body.
         RayHit hit;
         if (!bvh_.intersect_ray(at - L * t.direction, t.direction, hit, 2.0 * L, true)) return false;
-        if (table_.region_slot(hit.element) < 0) return false;
+        if (table_->region_slot(hit.element) < 0) return false;
         const Eigen::Vector3d x = base_position(hit.element) - at;
         t.reach = (1.0 + 1e-9) * (x - x.dot(t.direction) * t.direction).norm();
         t.candidates.push_back(hit.element);
@@ -176,7 +202,7 @@ inline bool ToolContactSolver::engage(int tool, const Eigen::Vector3d& at, const
       bvh_.query_box(lo.array() - t.spec.plate_tolerance, hi.array() + t.spec.plate_tolerance, found);
       for (Index e : found) {
         const Eigen::Vector3d x = base_position(e);
-        if (table_.region_slot(e) < 0) continue;
+        if (table_->region_slot(e) < 0) continue;
         if (std::abs((x - c).dot(t.direction)) > t.spec.plate_tolerance) continue;
         if (!detail::inside_polygon(t.spec.polygon, t.direction, x)) continue;
         t.candidates.push_back(e);
@@ -222,7 +248,7 @@ inline void ToolContactSolver::release(int tool) {
 }
 
 inline bool ToolContactSolver::geometric_contact(const Tool& t, Index e, Eigen::Vector3d& push, Eigen::Vector3d& w) const {
-  const Eigen::Vector3d n = mesh_.normal(e);
+  const Eigen::Vector3d n = mesh_->normal(e);
   switch (t.spec.shape) {
     case ToolShape::Point: {
       w = -n;
@@ -268,7 +294,7 @@ inline bool ToolContactSolver::geometric_contact(const Tool& t, Index e, Eigen::
 
 inline void ToolContactSolver::set_targets() {
   const Index k = contact_.num_rows();
-  const double* ug = table_.base_displacement().data();
+  const double* ug = table_->base_displacement().data();
   for (Index a = 0; a < k; ++a) {
     const ContactRow& r = contact_.row(a);
     const Tool& t = tools_[static_cast<std::size_t>(r.tag)];
@@ -296,6 +322,19 @@ inline void ToolContactSolver::rollback_additions() {
 
 inline ContactUpdateReport ToolContactSolver::update(int max_iterations) {
   ContactUpdateReport report;
+  switch (step(report, max_iterations)) {
+    case ContactStatus::CapacityExceeded:
+      throw CapacityError("contact tools: the contact set needs at least " + std::to_string(rows_needed_) +
+                          " constraint rows, more than the capacity of " + std::to_string(contact_.capacity()) +
+                          " (construct the ToolContactSolver with a larger capacity_rows); the contact set is unchanged");
+    case ContactStatus::Singular: detail::throw_singular_contact();
+    default: break;
+  }
+  return report;
+}
+
+inline ContactStatus ToolContactSolver::step(ContactUpdateReport& report, int max_iterations) noexcept {
+  report = ContactUpdateReport{};
   report.consistent = false;
   for (int iter = 0; iter < std::max(1, max_iterations); ++iter) {
     report.active_set_iterations = iter + 1;
@@ -334,12 +373,11 @@ inline ContactUpdateReport ToolContactSolver::update(int max_iterations) {
         if (owner != -1) continue;  // already in contact (with this tool or another)
         const Index need = t.spec.mode == ContactMode::Bonded ? 3 : 1;
         if (static_cast<Index>(add_buffer_.size()) + need > free_rows) {
-          const Index wanted_rows = static_cast<Index>(add_buffer_.size()) + need;
+          rows_needed_ = contact_.num_rows() + static_cast<Index>(add_buffer_.size()) + need;
           rollback_additions();
-          throw CapacityError("contact tools: the contact set needs at least " +
-                      std::to_string(contact_.num_rows() + wanted_rows) + " constraint rows, more than the capacity of " +
-                      std::to_string(contact_.capacity()) +
-                      " (construct the ToolContactSolver with a larger capacity_rows); the contact set is unchanged");
+          report.rows = contact_.num_rows();
+          report.elements = contact_.num_elements();
+          return ContactStatus::CapacityExceeded;
         }
         Eigen::Vector3d push, w;
         geometric_contact(t, e, push, w);
@@ -347,11 +385,11 @@ inline ContactUpdateReport ToolContactSolver::update(int max_iterations) {
         owner = tag;  // claimed, so no other tool adds it too; rolled back if add_rows throws
       }
     }
-    try {
-      contact_.add_rows(add_buffer_.data(), static_cast<Index>(add_buffer_.size()));
-    } catch (...) {
+    if (!contact_.try_add_rows(add_buffer_.data(), static_cast<Index>(add_buffer_.size()))) {
       rollback_additions();
-      throw;
+      report.rows = contact_.num_rows();
+      report.elements = contact_.num_elements();
+      return ContactStatus::Singular;
     }
     // 2. Targets from the poses, then the small solve.
     set_targets();
@@ -368,8 +406,8 @@ inline ContactUpdateReport ToolContactSolver::update(int max_iterations) {
       for (std::size_t i = 0; i < t.candidates.size(); ++i) {
         const Index e = t.candidates[i];
         if (owner_[static_cast<std::size_t>(e)] != static_cast<int>(ti)) continue;
-        const Eigen::Vector3d tr = contact_.traction(e) - table_.base_traction().segment<3>(3 * e);
-        if (tr.dot(mesh_.normal(e)) > tol) {
+        const Eigen::Vector3d tr = contact_.traction(e) - table_->base_traction().segment<3>(3 * e);
+        if (tr.dot(mesh_->normal(e)) > tol) {
           t.released[i] = 1;
           released_any = true;
         }
@@ -385,7 +423,7 @@ inline ContactUpdateReport ToolContactSolver::update(int max_iterations) {
         const Index e = t.candidates[i];
         Eigen::Vector3d push, w;
         if (!geometric_contact(t, e, push, w)) continue;
-        const Eigen::Vector3d moved = contact_.displacement_of(e) - table_.base_displacement().segment<3>(3 * e);
+        const Eigen::Vector3d moved = contact_.displacement_of(e) - table_->base_displacement().segment<3>(3 * e);
         // Penetration: the element has not moved as far into the body as the tool demands.
         const double need = push.dot(w);
         if (moved.dot(w) < need - 1e-9 * std::abs(need)) {
@@ -401,7 +439,7 @@ inline ContactUpdateReport ToolContactSolver::update(int max_iterations) {
   }
   report.rows = contact_.num_rows();
   report.elements = contact_.num_elements();
-  return report;
+  return report.consistent ? ContactStatus::Ok : ContactStatus::Unsettled;
 }
 
 inline Index ToolContactSolver::contact_elements(int tool) const {

@@ -1,0 +1,135 @@
+// bemsurg/haptics/session.hpp: a scripted surgical session (docs/actions.md, docs/haptics.md) —
+// the action script becomes keyframes of scripted devices (one per tool channel), the haptic loop
+// renders their forces from the contact model, and the simulation side (this object, on the
+// calling thread) turns button edges into engagements, re-places sliding tools, runs cuts, builds
+// new contact models and hands them to the loop whole, and computes the displacement field at the
+// graphics rate from the contact the loop publishes. `bemsurg session`, the benchmark and the
+// viewer's headless mode all run sessions through this class.
+#pragma once
+
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "bemsurg/haptics/haptic_loop.hpp"
+#include "bemsurg/haptics/scripted_device.hpp"
+#include "bemsurg/io/action_script.hpp"
+
+namespace bemsurg::haptics {
+
+/// One cut increment to compute (docs/design.md §7): on the current snapshots, from the surface
+/// point nearest `from` along `direction`; `step` counts from 0 within the action.
+struct CutRequest {
+  std::shared_ptr<const TriangleMesh> mesh;
+  std::shared_ptr<const GreensTable> table;
+  Eigen::Vector3d from = Eigen::Vector3d::Zero();
+  Eigen::Vector3d direction = Eigen::Vector3d::UnitX();
+  int step = 0;
+  int action = 0;  // index into ActionScript::actions
+};
+/// The new snapshots after the cut (new objects: the old ones stay valid for whoever holds them).
+struct CutResult {
+  std::shared_ptr<const TriangleMesh> mesh;
+  std::shared_ptr<const GreensTable> table;
+};
+/// The cutting module's entry point for sessions. Unset: a session refuses scripts with cuts.
+using CutHook = std::function<CutResult(const CutRequest&)>;
+
+struct SessionOptions {
+  /// true: ticks run back to back in session time on the calling thread, the simulation side
+  /// every few ticks — deterministic (tests, reproducible traces); false: the loop's own thread
+  /// in real time.
+  bool virtual_clock = false;
+  double simulation_hz = 250.0;  // events, re-placement, cuts, trace draining
+  double graphics_hz = 60.0;     // field from the published contact (0: not computed)
+  /// Sphere and flat tools may slide this many radii sideways before they are placed again.
+  double slide_margin_radii = 1.0;
+  HapticLoopSettings loop;       // rate_hz is taken from the script
+  CutHook cut_hook;
+};
+
+/// Receives what the session produces, on the simulation side's thread.
+class SessionObserver {
+ public:
+  virtual ~SessionObserver() = default;
+  virtual void on_sample(const TickSample&) {}
+  /// After cut number `index` (from 1) was applied: the new mesh.
+  virtual void on_cut(int /*index*/, const TriangleMesh&) {}
+};
+
+struct SessionResult {
+  LoopStatistics loop;
+  /// Largest |F_k - F_(k-1)| / max(|F_k|, |F_(k-1)|) of a tool's contact-model force between
+  /// consecutive ticks, over pairs where both magnitudes are at least 10 % of that tool's peak.
+  double max_force_jump_fraction = 0.0;
+  std::vector<double> peak_force;  // per tool, N (model force)
+  int models_built = 0;
+  int cuts = 0;
+  int field_updates = 0;
+  Percentiles field_ms;  // time of one displacement-field update (graphics side), in ms
+  double session_seconds = 0.0;
+};
+
+class Session {
+ public:
+  /// Checks the script against the model (tools on channels 0..3, no cut without a hook: the
+  /// error names the first cut action) and resolves where presses and pinches first touch the
+  /// surface into keyframes. Throws SceneError / ContactError with the action at fault.
+  Session(std::shared_ptr<const TriangleMesh> mesh, std::shared_ptr<const GreensTable> table, ActionScript script,
+          SessionOptions options = {});
+  ~Session();
+
+  /// Runs the whole script; the loop's devices get zero force at the start and the end.
+  SessionResult run(SessionObserver* observer = nullptr);
+
+  const ActionScript& script() const { return script_; }
+  const std::vector<Keyframe>& keyframes(int tool) const { return keyframes_[static_cast<std::size_t>(tool)]; }
+  /// The device channel of each tool.
+  int channel_of(int tool) const { return script_.tools[static_cast<std::size_t>(tool)].device; }
+
+ private:
+  struct Engagement {
+    bool active = false;
+    Eigen::Vector3d at = Eigen::Vector3d::Zero();
+    Eigen::Vector3d direction = -Eigen::Vector3d::UnitZ();
+    Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
+    bool placed = false;  // sphere / flat: placed at `at`
+  };
+  struct ScheduledCut {
+    double time;
+    int action;
+    int step;
+    bool done = false;
+  };
+  ToolSpec contact_spec(int tool) const;
+  void build_keyframes();
+  void simulation_step(HapticLoop& loop, SessionObserver* observer, SessionResult& result);
+  std::unique_ptr<ContactModel> build_model();
+  void drain(HapticLoop& loop, SessionObserver* observer);
+
+  std::shared_ptr<const TriangleMesh> mesh_;
+  std::shared_ptr<const GreensTable> table_;
+  ActionScript script_;
+  SessionOptions options_;
+  std::vector<std::vector<Keyframe>> keyframes_;
+  std::vector<Engagement> engagement_;
+  std::vector<ScheduledCut> cuts_;
+  std::vector<Eigen::Vector3d> position_;  // latest device position per tool (model frame)
+  std::vector<Eigen::Vector3d> direction_;
+  std::uint64_t next_version_ = 1;
+  bool dirty_ = true;
+  std::map<std::uint64_t, std::shared_ptr<const GreensTable>> tables_;  // by model version (graphics)
+  // continuity tracking
+  std::vector<Eigen::Vector3d> last_force_;
+  std::vector<bool> have_last_;
+  std::vector<std::pair<double, double>> jumps_;  // (jump fraction, smaller magnitude) per tool pair
+  std::vector<int> jump_tool_;
+  std::vector<double> peak_;
+  double next_graphics_ = 0.0;
+  Eigen::VectorXd field_;
+  std::vector<double> field_ms_;
+};
+
+}  // namespace bemsurg::haptics

@@ -1,0 +1,216 @@
+// `bemsurg session SCENE.json --script ACTIONS.json -o OUTDIR`: a scripted surgical session
+// (docs/actions.md, docs/haptics.md): the script drives scripted haptic devices, the haptic loop
+// renders the tools' forces from the pre-solution table at the script's rate, and the command
+// writes OUTDIR/force_trace.csv (one row per tool per tick), OUTDIR/report.json (the loop's
+// statistics) and OUTDIR/mesh_after_cut_N.obj after each cut.
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "bemsurg/haptics/session.hpp"
+#include "bemsurg/io/action_script.hpp"
+#include "bemsurg/io/scene.hpp"
+#include "bemsurg/mesh/mesh_io.hpp"
+#include "bemsurg/presolution/greens_table.hpp"
+#include "bemsurg/presolution/table_file.hpp"
+#include "commands.hpp"
+
+namespace {
+
+using bemsurg::cli::UsageError;
+
+constexpr const char* kSessionUsage =
+    "usage: bemsurg session SCENE.json --script ACTIONS.json -o OUTDIR [--table FILE] [--virtual-clock] [--quiet]\n"
+    "\n"
+    "Runs the action script (docs/actions.md) on the scene: scripted devices drive the tools, the\n"
+    "haptic loop computes their forces from the pre-solution table at the script's rate_hz.\n"
+    "\n"
+    "writes OUTDIR/force_trace.csv   time,tool,fx,fy,fz,force,contact_elements,x,y,z,model_fx,model_fy,model_fz,status,watchdog_gain,model_version\n"
+    "                                 (one row per tool per haptic tick; force = what the device was sent, N)\n"
+    "       OUTDIR/report.json       rate_hz, overruns, jitter_us {p50,p99,p999}, force_us {p50,p99,p999},\n"
+    "                                 max_force_jump_fraction, ... (docs/haptics.md)\n"
+    "       OUTDIR/mesh_after_cut_N.obj   the surface after each cut\n"
+    "\n"
+    "options:\n"
+    "  --table FILE      load the pre-solution table from FILE when it matches the scene, else compute\n"
+    "                    it and save it there\n"
+    "  --virtual-clock   run the ticks back to back in session time (deterministic, as fast as the\n"
+    "                    machine goes) instead of in real time on the haptic thread\n"
+    "  -q, --quiet       print nothing but errors\n";
+
+/// The cutting module's entry point for sessions. Unset in this build: the session refuses
+/// scripts with cut actions, naming the first one. Wire bemsurg::SurfaceCutter and the table
+/// update (docs/design.md §7) here.
+bemsurg::haptics::CutHook session_cut_hook() { return {}; }
+
+class TraceWriter : public bemsurg::haptics::SessionObserver {
+ public:
+  TraceWriter(const std::string& dir, const bemsurg::ActionScript& script) : dir_(dir), script_(script) {
+    const std::string path = (std::filesystem::path(dir) / "force_trace.csv").string();
+    out_.open(path);
+    if (!out_) throw bemsurg::IoError("cannot write " + path);
+    out_ << "time,tool,fx,fy,fz,force,contact_elements,x,y,z,model_fx,model_fy,model_fz,status,watchdog_gain,model_version\n";
+    out_ << std::setprecision(9);
+  }
+  void on_sample(const bemsurg::haptics::TickSample& s) override {
+    for (const auto& tool : script_.tools) {
+      const auto& c = s.channel[static_cast<std::size_t>(tool.device)];
+      out_ << s.time << ',' << tool.name << ',' << c.force.x() << ',' << c.force.y() << ',' << c.force.z() << ','
+           << c.force.norm() << ',' << c.contact_elements << ',' << c.position.x() << ',' << c.position.y() << ','
+           << c.position.z() << ',' << c.model_force.x() << ',' << c.model_force.y() << ',' << c.model_force.z() << ','
+           << bemsurg::to_string(c.status) << ',' << s.watchdog_gain << ',' << s.model_version << '\n';
+    }
+  }
+  void on_cut(int index, const bemsurg::TriangleMesh& mesh) override {
+    const std::string path = (std::filesystem::path(dir_) / ("mesh_after_cut_" + std::to_string(index) + ".obj")).string();
+    bemsurg::write_obj(path, mesh);
+    meshes_.push_back(path);
+  }
+  void finish() {
+    out_.flush();
+    if (!out_) throw bemsurg::IoError("writing " + dir_ + "/force_trace.csv failed");
+  }
+  const std::vector<std::string>& meshes() const { return meshes_; }
+
+ private:
+  std::string dir_;
+  const bemsurg::ActionScript& script_;
+  std::ofstream out_;
+  std::vector<std::string> meshes_;
+};
+
+nlohmann::json percentiles_json(const bemsurg::haptics::Percentiles& p) {
+  return {{"p50", p.p50}, {"p99", p.p99}, {"p999", p.p999}, {"max", p.max}};
+}
+
+}  // namespace
+
+int run_session(int argc, char** argv) {
+  std::string scene_path, script_path, output, table_file;
+  bool quiet = false, virtual_clock = false;
+  auto value = [&](int& i, const std::string& arg) -> std::string {
+    if (i + 1 >= argc) throw UsageError("session: " + arg + " needs a value");
+    return argv[++i];
+  };
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "-h" || arg == "--help") {
+      std::cout << kSessionUsage;
+      return 0;
+    } else if (arg == "--script") {
+      script_path = value(i, arg);
+    } else if (arg == "-o" || arg == "--output") {
+      output = value(i, arg);
+    } else if (arg == "--table") {
+      table_file = value(i, arg);
+    } else if (arg == "--virtual-clock") {
+      virtual_clock = true;
+    } else if (arg == "-q" || arg == "--quiet") {
+      quiet = true;
+    } else if (!arg.empty() && arg[0] == '-') {
+      throw UsageError("session: unknown option '" + arg + "'");
+    } else if (scene_path.empty()) {
+      scene_path = arg;
+    } else {
+      throw UsageError("session: unexpected argument '" + arg + "' (one scene file only)");
+    }
+  }
+  if (scene_path.empty()) throw UsageError("session: missing SCENE.json");
+  if (script_path.empty()) throw UsageError("session: missing --script ACTIONS.json");
+  if (output.empty()) throw UsageError("session: missing -o OUTDIR");
+
+  const bemsurg::ActionScript script = bemsurg::load_action_script(script_path);
+  const bemsurg::Scene scene = bemsurg::load_scene(scene_path);
+  if (!quiet) {
+    for (const auto& w : scene.warnings) std::cerr << "bemsurg: warning: " << w << "\n";
+    for (const auto& w : script.warnings) std::cerr << "bemsurg: warning: " << w << "\n";
+  }
+  bemsurg::haptics::SessionOptions options;
+  options.virtual_clock = virtual_clock;
+  options.cut_hook = session_cut_hook();
+  // Refuse a script the session cannot run before the (possibly long) precomputation.
+  if (script.has_cuts() && !options.cut_hook)
+    for (const auto& a : script.actions)
+      if (a.type == bemsurg::ActionType::Cut)
+        throw bemsurg::SceneError(script.path + ": the cut of tool '" + script.tools[static_cast<std::size_t>(a.tool)].name +
+                                  "' at t = " + std::to_string(a.time) +
+                                  " s: cut actions need the cutting module, which is not wired into sessions in this "
+                                  "build; remove the cut actions to run the rest");
+
+  const bemsurg::ElastostaticProblem& p = scene.problem;
+  bemsurg::GreensTableOptions table_options;
+  table_options.gravity = p.gravity;
+  table_options.quadrature = p.quadrature;
+  const bemsurg::GreensTableKey key =
+      bemsurg::make_greens_table_key(p.mesh, p.material, p.boundary_conditions, p.gravity, p.quadrature);
+  bemsurg::GreensTable table;
+  bool loaded = false;
+  if (!table_file.empty() && std::filesystem::exists(table_file)) {
+    try {
+      table = bemsurg::load_greens_table(table_file, key);
+      loaded = true;
+    } catch (const bemsurg::IoError& e) {
+      if (!quiet) std::cerr << "bemsurg: warning: " << e.what() << "; recomputing\n";
+    }
+  }
+  if (!loaded) {
+    table = bemsurg::GreensTable::compute(p.mesh, p.material, p.boundary_conditions, table_options);
+    if (!table_file.empty()) bemsurg::save_greens_table(table_file, table);
+  }
+  auto mesh_ptr = std::make_shared<const bemsurg::TriangleMesh>(p.mesh);
+  auto table_ptr = std::make_shared<const bemsurg::GreensTable>(std::move(table));
+
+  bemsurg::haptics::Session session(mesh_ptr, table_ptr, script, options);
+  std::filesystem::create_directories(output);
+  TraceWriter trace(output, session.script());
+  const bemsurg::haptics::SessionResult r = session.run(&trace);
+  trace.finish();
+
+  const auto& s = r.loop;
+  nlohmann::json j;
+  j["rate_hz"] = s.achieved_rate_hz;
+  j["requested_rate_hz"] = s.rate_hz;
+  j["overruns"] = s.overruns;
+  j["jitter_us"] = percentiles_json(s.jitter_us);
+  j["force_us"] = percentiles_json(s.force_us);
+  j["max_force_jump_fraction"] = r.max_force_jump_fraction;
+  j["ticks"] = s.ticks;
+  j["dropped_packets"] = s.dropped_packets;
+  j["model_swaps"] = s.model_swaps;
+  j["models_built"] = r.models_built;
+  j["nan_guards"] = s.nan_guards;
+  j["failed_steps"] = s.failed_steps;
+  j["watchdog_ticks"] = s.watchdog_ticks;
+  j["clamped_ticks"] = s.clamped_ticks;
+  j["faults"] = s.faults;
+  j["trace_dropped"] = s.trace_dropped;
+  j["field_updates"] = r.field_updates;
+  j["field_ms"] = percentiles_json(r.field_ms);
+  j["cuts"] = r.cuts;
+  j["meshes_after_cuts"] = trace.meshes();
+  j["clock"] = virtual_clock ? "virtual" : "realtime";
+  j["session_seconds"] = script.duration;
+  j["wall_seconds"] = r.session_seconds;
+  j["elements"] = p.mesh.num_elements();
+  j["table_loaded_from_file"] = loaded;
+  nlohmann::json tools = nlohmann::json::array();
+  for (std::size_t t = 0; t < script.tools.size(); ++t)
+    tools.push_back({{"name", script.tools[t].name}, {"shape", bemsurg::to_string(script.tools[t].shape)},
+                     {"device", script.tools[t].device}, {"peak_model_force", r.peak_force[t]}});
+  j["tools"] = tools;
+  const std::string json_path = (std::filesystem::path(output) / "report.json").string();
+  std::ofstream js(json_path);
+  if (!js) throw bemsurg::IoError("cannot write " + json_path);
+  js << std::setw(2) << j << "\n";
+  if (!js) throw bemsurg::IoError("writing " + json_path + " failed");
+  if (!quiet)
+    std::cout << "session: " << s.ticks << " ticks at " << s.achieved_rate_hz << " Hz (" << (virtual_clock ? "virtual" : "real")
+              << " clock), " << s.overruns << " overruns, jitter p99.9 " << s.jitter_us.p999 << " us, force p99.9 "
+              << s.force_us.p999 << " us, largest force jump " << 100.0 * r.max_force_jump_fraction << " %; wrote "
+              << output << "\n";
+  return 0;
+}

@@ -1,0 +1,276 @@
+// Implementation of bemsurg/haptics/haptic_loop.hpp: the fixed-rate haptic thread, its safety
+// stages and its statistics (docs/haptics.md).
+#include "bemsurg/haptics/haptic_loop.hpp"
+
+#include <chrono>
+#include <cmath>
+
+#include "bemsurg/error.hpp"
+
+namespace bemsurg::haptics {
+
+namespace {
+PublishedContact contact_prototype(Index capacity) {
+  PublishedContact p;
+  p.elements.assign(static_cast<std::size_t>(std::max<Index>(capacity, 1)), 0);
+  p.tractions.assign(3 * p.elements.size(), 0.0);
+  return p;
+}
+}  // namespace
+
+HapticLoop::HapticLoop(const HapticLoopSettings& settings, std::vector<HapticDevice*> devices,
+                       std::vector<Workspace> workspaces)
+    : settings_(settings),
+      devices_(std::move(devices)),
+      workspaces_(std::move(workspaces)),
+      trace_(settings.trace_capacity),
+      events_(settings.event_capacity),
+      contact_out_(contact_prototype(settings.publish_capacity)) {
+  if (!(settings.rate_hz >= 100.0 && settings.rate_hz <= 10000.0))
+    throw InvalidArgumentError("HapticLoop: rate_hz must lie in [100, 10000], got " + std::to_string(settings.rate_hz));
+  if (!(settings.stale_after_s > 0.0) || !(settings.ramp_s > 0.0) || settings.overrun_limit < 1)
+    throw InvalidArgumentError("HapticLoop: stale_after_s and ramp_s must be positive and overrun_limit at least 1");
+  if (devices_.empty() || devices_.size() > static_cast<std::size_t>(kMaxChannels))
+    throw InvalidArgumentError("HapticLoop: between 1 and " + std::to_string(kMaxChannels) + " devices, got " +
+                               std::to_string(devices_.size()));
+  for (std::size_t c = 0; c < devices_.size(); ++c)
+    if (!devices_[c]) throw InvalidArgumentError("HapticLoop: device " + std::to_string(c) + " is null");
+  if (workspaces_.empty()) workspaces_.assign(devices_.size(), Workspace{});
+  if (workspaces_.size() != devices_.size())
+    throw InvalidArgumentError("HapticLoop: one workspace per device, or none");
+  for (HapticDevice* d : devices_)
+    limiters_.emplace_back(std::min(settings.max_force, d->max_force()), settings.max_force_rate);  // throws when <= 0
+  held_.fill(Eigen::Vector3d::Zero());
+  last_buttons_.fill(0);
+  counters_.rate_hz = settings.rate_hz;
+}
+
+HapticLoop::~HapticLoop() {
+  stop();
+  delete offered_.exchange(nullptr);
+  ContactModel* m = nullptr;
+  while (retired_.pop(m)) delete m;
+  delete current_;
+}
+
+void HapticLoop::zero_all() noexcept {
+  for (std::size_t c = 0; c < devices_.size(); ++c) {
+    devices_[c]->write_force(Eigen::Vector3d::Zero());
+    limiters_[c].reset();
+  }
+}
+
+bool HapticLoop::offer(std::unique_ptr<ContactModel>& model) {
+  if (!model) return false;
+  ContactModel* expected = nullptr;
+  if (!offered_.compare_exchange_strong(expected, model.get(), std::memory_order_acq_rel)) return false;
+  model.release();
+  return true;
+}
+
+std::unique_ptr<ContactModel> HapticLoop::take_retired() {
+  ContactModel* m = nullptr;
+  return std::unique_ptr<ContactModel>(retired_.pop(m) ? m : nullptr);
+}
+
+void HapticLoop::heartbeat() noexcept { heartbeat_time_.store(now_.load(std::memory_order_relaxed), std::memory_order_release); }
+
+bool HapticLoop::latest(TickSample& out) noexcept {
+  if (!newest_.acquire()) return false;
+  out = newest_.front();
+  return true;
+}
+
+void HapticLoop::tick(double now, bool late) noexcept {
+  const auto t_start = std::chrono::steady_clock::now();
+  const double nominal = 1.0 / settings_.rate_hz;
+  const double dt = first_tick_ ? nominal : now - last_time_;
+  if (first_tick_) {
+    first_time_ = now;
+    heartbeat_time_.store(now, std::memory_order_relaxed);
+  }
+  now_.store(now, std::memory_order_relaxed);
+  TickSample& sample = newest_.back();
+  try {
+    // 1. A new model, between ticks: the old one goes back to the simulation side to be freed
+    //    there. Taken only when there is room to hand the old one back.
+    if (offered_.load(std::memory_order_acquire) != nullptr && !retired_.full()) {
+      ContactModel* next = offered_.exchange(nullptr, std::memory_order_acq_rel);
+      if (current_) retired_.push(current_);
+      current_ = next;
+      rendered_version_.store(current_->version, std::memory_order_release);
+      ++counters_.model_swaps;
+    }
+    // 2. Watchdog: stale simulation state, repeated overruns or a fault ramp the gain to zero.
+    const int in_a_row = late ? overruns_in_a_row_ + 1 : overruns_in_a_row_;
+    const bool stale = now - heartbeat_time_.load(std::memory_order_acquire) > settings_.stale_after_s;
+    const bool unhealthy = stale || in_a_row >= settings_.overrun_limit || fault_;
+    const double ramp = std::max(0.0, dt) / settings_.ramp_s;
+    gain_ = unhealthy ? std::max(0.0, gain_ - ramp) : std::min(1.0, gain_ + ramp);
+    if (unhealthy) ++counters_.watchdog_ticks;
+    // 3. Devices -> poses (model frame) -> the contact model.
+    ToolContactSolver* solver = current_ ? current_->solver.get() : nullptr;
+    const int n = static_cast<int>(devices_.size());
+    for (int c = 0; c < n; ++c) {
+      ChannelSample& cs = sample.channel[static_cast<std::size_t>(c)];
+      const DeviceState s = workspaces_[static_cast<std::size_t>(c)].to_model(devices_[static_cast<std::size_t>(c)]->read(now));
+      cs.position = s.position;
+      cs.direction = s.direction;
+      cs.buttons = s.buttons;
+      cs.connected = s.connected;
+      cs.status = ContactStatus::Ok;
+      const std::uint32_t changed = s.buttons ^ last_buttons_[static_cast<std::size_t>(c)];
+      for (int b = 0; changed >> b; ++b)
+        if ((changed >> b) & 1U) {
+          ButtonEvent e;
+          e.time = now;
+          e.channel = c;
+          e.button = b;
+          e.down = (s.buttons >> b) & 1U;
+          e.position = s.position;
+          e.direction = s.direction;
+          e.orientation = s.orientation;
+          events_.push(e);  // a full event ring drops the edge; the simulation side sees the buttons in the trace
+        }
+      last_buttons_[static_cast<std::size_t>(c)] = s.buttons;
+      const int tool = current_ ? current_->tool_of_channel[static_cast<std::size_t>(c)] : -1;
+      if (solver && tool >= 0 && s.connected && solver->engaged(tool)) {
+        bool ok = solver->try_set_translation(tool, s.position - solver->origin(tool));
+        if (solver->spec(tool).shape == ToolShape::Plate) {
+          const Eigen::AngleAxisd turn(s.orientation * current_->engaged_orientation[static_cast<std::size_t>(c)].conjugate());
+          ok = solver->try_set_rotation(tool, turn.angle() * turn.axis()) && ok;
+        }
+        if (!ok) cs.status = ContactStatus::NonFinitePose;
+      }
+    }
+    ContactStatus step_status = ContactStatus::Ok;
+    if (solver) {
+      ContactUpdateReport report;
+      step_status = solver->step(report, settings_.max_active_set_iterations);
+      if (step_status == ContactStatus::CapacityExceeded || step_status == ContactStatus::Singular) ++counters_.failed_steps;
+    }
+    // Publish the contact for graphics (the field is computed there from the read-only table).
+    PublishedContact& pc = contact_out_.back();
+    pc.model_version = current_ ? current_->version : 0;
+    pc.time = now;
+    pc.count = 0;
+    pc.overflow = false;
+    if (solver) {
+      if (solver->contact().num_elements() <= static_cast<Index>(pc.elements.size()))
+        pc.count = solver->contact().contact_tractions(pc.elements.data(), pc.tractions.data());
+      else
+        pc.overflow = true;
+    }
+    contact_out_.publish();
+    // 4. Forces through the safety stages, out to the devices.
+    for (int c = 0; c < n; ++c) {
+      const auto cu = static_cast<std::size_t>(c);
+      ChannelSample& cs = sample.channel[cu];
+      const int tool = current_ ? current_->tool_of_channel[cu] : -1;
+      Eigen::Vector3d requested = Eigen::Vector3d::Zero();
+      cs.contact_elements = 0;
+      if (!cs.connected) {
+        // Device lost: zero at once (no ramp: there may be no hand on it), and ramp up from zero later.
+        devices_[cu]->write_force(Eigen::Vector3d::Zero());
+        limiters_[cu].reset();
+        held_[cu].setZero();
+        cs.model_force.setZero();
+        cs.force.setZero();
+        continue;
+      }
+      if (solver && tool >= 0 && solver->engaged(tool)) {
+        if (cs.status == ContactStatus::Ok) cs.status = step_status;
+        if (step_status == ContactStatus::Ok || step_status == ContactStatus::Unsettled) {
+          requested = solver->force(tool);
+          cs.contact_elements = static_cast<int>(solver->contact_elements(tool));
+        } else {
+          requested = held_[cu];  // the set change failed: keep the last good force
+        }
+      }
+      if (!requested.allFinite()) {
+        ++counters_.nan_guards;
+        requested = held_[cu];
+      }
+      held_[cu] = requested;
+      cs.model_force = requested;
+      const Eigen::Vector3d wanted = gain_ * requested;
+      const Eigen::Vector3d out = limiters_[cu](wanted, dt);
+      if ((out - wanted).norm() > 1e-12 * (1.0 + wanted.norm())) ++counters_.clamped_ticks;
+      cs.force = out;
+      devices_[cu]->write_force(workspaces_[cu].to_device_force(out));
+    }
+  } catch (...) {
+    // Nothing above should throw; if a device or the model does, the hand gets zero force and
+    // the watchdog keeps it there (the fault is sticky: a session that faulted must be restarted).
+    ++counters_.faults;
+    fault_ = true;
+    gain_ = 0.0;
+    zero_all();
+  }
+  sample.tick = tick_count_;
+  sample.time = now;
+  sample.model_version = current_ ? current_->version : 0;
+  sample.watchdog_gain = gain_;
+  if (!trace_.push(sample)) ++counters_.trace_dropped;
+  newest_.publish();
+  const double compute_us = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t_start).count();
+  force_time_.add(compute_us);
+  if (!first_tick_) jitter_.add(std::abs(dt - nominal) * 1e6);
+  // An overrun: the tick started a whole period late, or took longer than its period.
+  const bool overran = late || compute_us > nominal * 1e6;
+  overruns_in_a_row_ = overran ? overruns_in_a_row_ + 1 : 0;
+  if (overran) ++counters_.overruns;
+  first_tick_ = false;
+  last_time_ = now;
+  ++tick_count_;
+}
+
+void HapticLoop::start() {
+  if (running_.load()) return;
+  zero_all();
+  first_tick_ = true;
+  running_.store(true, std::memory_order_release);
+  thread_ = std::thread([this] { run(); });
+}
+
+void HapticLoop::run() {
+  using Clock = std::chrono::steady_clock;
+  const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / settings_.rate_hz));
+  const auto spin = std::chrono::microseconds(150);
+  const auto t0 = Clock::now();
+  auto next = t0;
+  while (running_.load(std::memory_order_acquire)) {
+    // Sleep until shortly before the deadline, then spin: sleeping alone wakes up to ~60 us late,
+    // spinning alone would take a whole core from the simulation side.
+    if (next - Clock::now() > spin) std::this_thread::sleep_until(next - spin);
+    while (Clock::now() < next) {
+    }
+    const auto now = Clock::now();
+    const bool late = now - next >= period;  // this tick's slot was missed entirely
+    tick(std::chrono::duration<double>(now - t0).count(), late);
+    next += period;
+    if (Clock::now() > next + period) next = Clock::now();  // do not race to catch up missed ticks
+  }
+  zero_all();
+}
+
+void HapticLoop::stop() {
+  if (!running_.exchange(false)) {
+    if (!thread_.joinable()) return;
+  }
+  if (thread_.joinable()) thread_.join();
+  zero_all();
+}
+
+LoopStatistics HapticLoop::statistics() const {
+  LoopStatistics s = counters_;
+  s.ticks = tick_count_;
+  if (tick_count_ > 1 && last_time_ > first_time_) s.achieved_rate_hz = double(tick_count_ - 1) / (last_time_ - first_time_);
+  s.jitter_us = percentiles_of(jitter_);
+  s.force_us = percentiles_of(force_time_);
+  s.dropped_packets = 0;
+  for (HapticDevice* d : devices_) s.dropped_packets += d->dropped_packets();
+  return s;
+}
+
+}  // namespace bemsurg::haptics

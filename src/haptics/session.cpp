@@ -1,0 +1,389 @@
+// Implementation of bemsurg/haptics/session.hpp: action script -> keyframes -> haptic loop, with
+// the simulation side (engagements, re-placement, cuts, model hand-over, field) on the caller's
+// thread (docs/haptics.md, docs/actions.md).
+#include "bemsurg/haptics/session.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <thread>
+
+#include "bemsurg/error.hpp"
+
+namespace bemsurg::haptics {
+
+namespace {
+std::string describe(const ActionScript& s, const Action& a) {
+  return s.path + ": the " + to_string(a.type) + " of tool '" + s.tools[static_cast<std::size_t>(a.tool)].name +
+         "' at t = " + std::to_string(a.time) + " s";
+}
+Eigen::Vector3d centroid(const std::vector<Eigen::Vector3d>& poly) {
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for (const auto& p : poly) c += p;
+  return c / double(poly.size());
+}
+}  // namespace
+
+Session::Session(std::shared_ptr<const TriangleMesh> mesh, std::shared_ptr<const GreensTable> table, ActionScript script,
+                 SessionOptions options)
+    : mesh_(std::move(mesh)), table_(std::move(table)), script_(std::move(script)), options_(std::move(options)) {
+  if (!mesh_ || !table_) throw InvalidArgumentError("Session: the mesh or the table is missing");
+  if (!(options_.simulation_hz > 0.0) || options_.graphics_hz < 0.0 || !(options_.slide_margin_radii >= 0.0))
+    throw InvalidArgumentError("Session: simulation_hz must be positive, graphics_hz and slide_margin_radii non-negative");
+  for (std::size_t t = 0; t < script_.tools.size(); ++t)
+    if (script_.tools[t].device >= kMaxChannels)
+      throw SceneError(script_.path + ": tools[" + std::to_string(t) + "].device: a session drives device channels 0.." +
+                       std::to_string(kMaxChannels - 1) + ", got " + std::to_string(script_.tools[t].device));
+  if (script_.has_cuts() && !options_.cut_hook) {
+    for (std::size_t i = 0; i < script_.actions.size(); ++i)
+      if (script_.actions[i].type == ActionType::Cut)
+        throw SceneError(describe(script_, script_.actions[i]) +
+                         ": cut actions need the cutting module, which is not wired into sessions in this build "
+                         "(SessionOptions::cut_hook is unset); remove the cut actions to run the rest");
+  }
+  const std::size_t n = script_.tools.size();
+  engagement_.assign(n, Engagement{});
+  position_.assign(n, Eigen::Vector3d::Zero());
+  direction_.assign(n, -Eigen::Vector3d::UnitZ());
+  last_force_.assign(n, Eigen::Vector3d::Zero());
+  have_last_.assign(n, false);
+  peak_.assign(n, 0.0);
+  build_keyframes();
+  for (std::size_t t = 0; t < n; ++t) {
+    ScriptedDevice probe(keyframes_[t]);
+    position_[t] = probe.state_at(0.0).position;
+    direction_[t] = probe.state_at(0.0).direction;
+  }
+  for (std::size_t i = 0; i < script_.actions.size(); ++i) {
+    const Action& a = script_.actions[i];
+    if (a.type != ActionType::Cut) continue;
+    for (int s = 0; s < a.steps; ++s) cuts_.push_back({a.time + s * a.step_interval, static_cast<int>(i), s});
+  }
+}
+
+Session::~Session() = default;
+
+ToolSpec Session::contact_spec(int tool) const {
+  const ScriptTool& t = script_.tools[static_cast<std::size_t>(tool)];
+  const ContactMode mode = t.frictionless ? ContactMode::Frictionless : ContactMode::Bonded;
+  ToolSpec s;
+  switch (t.shape) {
+    case ScriptToolShape::Point: s = ToolSpec::point(mode); break;
+    case ScriptToolShape::Flat: s = ToolSpec::flat(t.radius, mode); break;
+    case ScriptToolShape::Sphere: s = ToolSpec::sphere(t.radius, mode); break;
+    case ScriptToolShape::Pinch: s = ToolSpec::pinch(t.radius); break;
+    case ScriptToolShape::Plate: s = ToolSpec::plate(t.polygon, t.plate_tolerance, mode); break;
+    case ScriptToolShape::Blade: s = ToolSpec::point(); break;  // never engaged: a blade only cuts
+  }
+  if (t.shape == ScriptToolShape::Sphere || t.shape == ScriptToolShape::Flat) s.slide_margin = options_.slide_margin_radii * t.radius;
+  return s;
+}
+
+void Session::build_keyframes() {
+  // Where presses and pinches first touch: engaged once on the base model, off any loop.
+  ToolContactSolver probe(mesh_, table_, 3);
+  std::vector<int> ids;
+  for (std::size_t t = 0; t < script_.tools.size(); ++t) ids.push_back(probe.add_tool(contact_spec(static_cast<int>(t))));
+  auto first_contact = [&](const Action& a) -> Eigen::Vector3d {
+    const int id = ids[static_cast<std::size_t>(a.tool)];
+    if (!probe.engage(id, a.at, a.direction))
+      throw ContactError(describe(script_, a) + ": a tool coming along the direction through `at` does not meet the body "
+                                                "(or only outside the table's region, or the sphere covers no element centroid)");
+    const Eigen::Vector3d o = probe.origin(id);
+    probe.release(id);
+    return o;
+  };
+  keyframes_.assign(script_.tools.size(), {});
+  for (std::size_t ti = 0; ti < script_.tools.size(); ++ti) {
+    const ScriptTool& tool = script_.tools[ti];
+    std::vector<const Action*> mine;
+    for (const Action& a : script_.actions)
+      if (a.tool == static_cast<int>(ti)) mine.push_back(&a);
+    Keyframe k;
+    k.time = 0.0;
+    k.direction = tool.direction;
+    if (tool.has_start) {
+      k.position = tool.start;
+    } else if (!mine.empty()) {
+      const Action& a = *mine.front();
+      switch (a.type) {
+        case ActionType::Move: k.position = a.to; break;
+        case ActionType::Press:
+        case ActionType::Pinch: k.position = a.at; break;
+        case ActionType::Retract: k.position = centroid(tool.polygon); break;
+        case ActionType::Cut: k.position = a.from; break;
+        case ActionType::Release: break;
+      }
+    }
+    std::vector<Keyframe>& kf = keyframes_[ti];
+    kf.push_back(k);
+    Eigen::Vector3d last_contact = k.position;
+    bool pressed = false;
+    auto hold = [&](double time) {
+      Keyframe h = kf.back();
+      h.time = std::max(time, kf.back().time);
+      kf.push_back(h);
+    };
+    for (const Action* ap : mine) {
+      const Action& a = *ap;
+      hold(a.time);
+      Keyframe n = kf.back();
+      switch (a.type) {
+        case ActionType::Move:
+          n.time = a.end_time();
+          n.position = a.to;
+          kf.push_back(n);
+          break;
+        case ActionType::Press: {
+          const Eigen::Vector3d p0 = first_contact(a);
+          n.position = p0;
+          n.direction = a.direction;
+          if (tool.shape == ScriptToolShape::Point) n.buttons |= 1U;  // a point tool engages on the button
+          kf.push_back(n);
+          n.time = a.end_time();
+          n.position = p0 + a.depth * a.direction;
+          kf.push_back(n);
+          last_contact = p0;
+          pressed = true;
+          break;
+        }
+        case ActionType::Pinch:
+          n.position = first_contact(a);
+          n.direction = a.direction;
+          n.buttons |= 1U;
+          kf.push_back(n);
+          break;
+        case ActionType::Release:
+          n.buttons = 0;
+          // A pressing tool is lifted 1 mm back from where its last press first touched.
+          if (pressed) n.position = last_contact - 1e-3 * n.direction;
+          pressed = false;
+          kf.push_back(n);
+          break;
+        case ActionType::Retract: {
+          n.position = centroid(tool.polygon);
+          n.direction = tool.direction;
+          n.orientation = Eigen::Quaterniond::Identity();
+          n.buttons |= 1U;
+          kf.push_back(n);
+          n.time = a.end_time();
+          n.position += a.by;
+          const double angle = a.rotation.norm();
+          n.orientation = angle > 0.0 ? Eigen::Quaterniond(Eigen::AngleAxisd(angle, a.rotation / angle))
+                                      : Eigen::Quaterniond::Identity();
+          kf.push_back(n);
+          break;
+        }
+        case ActionType::Cut:
+          n.position = a.from;
+          n.direction = a.direction;
+          n.buttons |= 1U;
+          kf.push_back(n);
+          n.time = a.end_time();
+          kf.push_back(n);
+          n.buttons = 0;
+          kf.push_back(n);
+          break;
+      }
+    }
+  }
+}
+
+std::unique_ptr<ContactModel> Session::build_model() {
+  auto m = std::make_unique<ContactModel>();
+  m->mesh = mesh_;
+  m->table = table_;
+  m->solver = std::make_unique<ToolContactSolver>(mesh_, table_, script_.capacity_rows);
+  m->version = next_version_++;
+  ToolContactSolver& s = *m->solver;
+  for (std::size_t ti = 0; ti < script_.tools.size(); ++ti) {
+    const int t = s.add_tool(contact_spec(static_cast<int>(ti)));
+    const ScriptTool& tool = script_.tools[ti];
+    const auto ch = static_cast<std::size_t>(tool.device);
+    Engagement& e = engagement_[ti];
+    m->engaged_orientation[ch] = e.orientation;
+    if (tool.shape == ScriptToolShape::Blade) continue;
+    m->tool_of_channel[ch] = t;
+    switch (tool.shape) {
+      case ScriptToolShape::Sphere:
+      case ScriptToolShape::Flat:
+        if (e.placed) s.place(t, e.at, e.direction);
+        break;
+      case ScriptToolShape::Point:
+      case ScriptToolShape::Pinch:
+        if (e.active && !s.engage(t, e.at, e.direction)) e.active = false;  // missed the body: nothing held
+        break;
+      case ScriptToolShape::Plate:
+        if (e.active && !s.engage(t, centroid(tool.polygon), tool.direction)) e.active = false;
+        break;
+      case ScriptToolShape::Blade: break;
+    }
+    if (s.engaged(t)) s.set_translation(t, position_[ti] - s.origin(t));
+  }
+  s.update();  // throws CapacityError naming the rows needed: the script's capacity_rows is too small
+  tables_[m->version] = table_;
+  return m;
+}
+
+void Session::drain(HapticLoop& loop, SessionObserver* observer) {
+  TickSample sample;
+  while (loop.pop_sample(sample)) {
+    if (observer) observer->on_sample(sample);
+    for (std::size_t t = 0; t < script_.tools.size(); ++t) {
+      const ChannelSample& c = sample.channel[static_cast<std::size_t>(script_.tools[t].device)];
+      position_[t] = c.position;
+      direction_[t] = c.direction;
+      const Eigen::Vector3d& f = c.model_force;
+      const double mag = f.norm();
+      peak_[t] = std::max(peak_[t], mag);
+      if (have_last_[t]) {
+        const double prev = last_force_[t].norm();
+        const double big = std::max(mag, prev);
+        if (big > 0.0) {
+          jumps_.emplace_back((f - last_force_[t]).norm() / big, std::min(mag, prev));
+          jump_tool_.push_back(static_cast<int>(t));
+        }
+      }
+      last_force_[t] = f;
+      have_last_[t] = true;
+    }
+  }
+}
+
+void Session::simulation_step(HapticLoop& loop, SessionObserver* observer, SessionResult& result) {
+  const double now = loop.time();
+  drain(loop, observer);
+  ButtonEvent e;
+  while (loop.pop_event(e)) {
+    if (e.button != 0) continue;
+    for (std::size_t t = 0; t < script_.tools.size(); ++t) {
+      const ScriptTool& tool = script_.tools[t];
+      if (tool.device != e.channel) continue;
+      if (tool.shape == ScriptToolShape::Point || tool.shape == ScriptToolShape::Pinch || tool.shape == ScriptToolShape::Plate) {
+        Engagement& g = engagement_[t];
+        g.active = e.down;
+        g.at = e.position;
+        g.direction = e.direction;
+        g.orientation = e.orientation;
+        dirty_ = true;
+      }
+    }
+  }
+  // Sliding tools: placed again (on a new model) when they near the edge of their candidates.
+  for (std::size_t t = 0; t < script_.tools.size(); ++t) {
+    const ScriptTool& tool = script_.tools[t];
+    if (tool.shape != ScriptToolShape::Sphere && tool.shape != ScriptToolShape::Flat) continue;
+    Engagement& g = engagement_[t];
+    const Eigen::Vector3d d = position_[t] - g.at;
+    const double lateral = (d - d.dot(g.direction) * g.direction).norm();
+    if (!g.placed || lateral > 0.5 * options_.slide_margin_radii * tool.radius) {
+      g.placed = true;
+      g.at = position_[t];
+      g.direction = direction_[t];
+      dirty_ = true;
+    }
+  }
+  // Cuts: computed here, off the haptic thread; the loop renders the old model until the swap.
+  for (ScheduledCut& c : cuts_) {
+    if (c.done || c.time > now) continue;
+    const Action& a = script_.actions[static_cast<std::size_t>(c.action)];
+    CutRequest req{mesh_, table_, a.from, a.direction, c.step, c.action};
+    CutResult r = options_.cut_hook(req);
+    if (!r.mesh || !r.table) throw ContactError(describe(script_, a) + ": the cut hook returned no mesh or table");
+    mesh_ = std::move(r.mesh);
+    table_ = std::move(r.table);
+    c.done = true;
+    ++result.cuts;
+    if (observer) observer->on_cut(result.cuts, *mesh_);
+    dirty_ = true;
+  }
+  if (dirty_ && !loop.offer_pending()) {
+    std::unique_ptr<ContactModel> m = build_model();
+    if (loop.offer(m)) {
+      ++result.models_built;
+      dirty_ = false;
+    }
+  }
+  while (loop.take_retired()) {
+  }
+  const std::uint64_t rendered = loop.model_version();
+  for (auto it = tables_.begin(); it != tables_.end() && it->first + 2 < rendered;) it = tables_.erase(it);
+  loop.heartbeat();
+  if (options_.graphics_hz > 0.0 && now >= next_graphics_) {
+    next_graphics_ = now + 1.0 / options_.graphics_hz;
+    if (const PublishedContact* pc = loop.latest_contact()) {
+      const auto it = tables_.find(pc->model_version);
+      if (it != tables_.end()) {
+        const auto t0 = std::chrono::steady_clock::now();
+        if (field_.size() != it->second->num_dofs()) field_.resize(it->second->num_dofs());
+        it->second->displacement_field(pc->elements.data(), pc->tractions.data(), pc->count, field_);
+        field_ms_.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+        ++result.field_updates;
+      }
+    }
+  }
+}
+
+SessionResult Session::run(SessionObserver* observer) {
+  SessionResult result;
+  std::vector<std::unique_ptr<HapticDevice>> owned;
+  int channels = 1;
+  for (const ScriptTool& t : script_.tools) channels = std::max(channels, t.device + 1);
+  std::vector<HapticDevice*> devices(static_cast<std::size_t>(channels), nullptr);
+  for (std::size_t t = 0; t < script_.tools.size(); ++t) {
+    owned.push_back(std::make_unique<ScriptedDevice>(keyframes_[t], "scripted " + script_.tools[t].name,
+                                                     options_.loop.max_force));
+    devices[static_cast<std::size_t>(script_.tools[t].device)] = owned.back().get();
+  }
+  for (auto& d : devices)
+    if (!d) {
+      owned.push_back(std::make_unique<NullDevice>(options_.loop.max_force));
+      d = owned.back().get();
+    }
+  HapticLoopSettings ls = options_.loop;
+  ls.rate_hz = script_.rate_hz;
+  HapticLoop loop(ls, devices);
+  const auto wall0 = std::chrono::steady_clock::now();
+  simulation_step(loop, observer, result);  // the first model is waiting before the first tick
+  if (options_.virtual_clock) {
+    const auto ticks = static_cast<long>(std::ceil(script_.duration * script_.rate_hz));
+    const long every = std::max(1L, std::lround(script_.rate_hz / options_.simulation_hz));
+    for (long i = 0; i <= ticks; ++i) {
+      loop.tick(double(i) / script_.rate_hz);
+      if (i % every == 0) simulation_step(loop, observer, result);
+    }
+  } else {
+    loop.start();
+    try {
+      const auto period = std::chrono::duration<double>(1.0 / options_.simulation_hz);
+      while (loop.time() < script_.duration) {
+        simulation_step(loop, observer, result);
+        std::this_thread::sleep_for(period);
+        if (std::chrono::steady_clock::now() - wall0 > std::chrono::duration<double>(4.0 * script_.duration + 30.0))
+          throw Error("session: the haptic loop stopped advancing (session time " + std::to_string(loop.time()) + " s)");
+      }
+    } catch (...) {
+      loop.stop();  // zero force before the error leaves
+      throw;
+    }
+    loop.stop();
+  }
+  drain(loop, observer);
+  result.session_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  result.loop = loop.statistics();
+  result.peak_force = peak_;
+  for (std::size_t i = 0; i < jumps_.size(); ++i) {
+    const double threshold = 0.1 * peak_[static_cast<std::size_t>(jump_tool_[i])];
+    if (jumps_[i].second >= threshold && threshold > 0.0)
+      result.max_force_jump_fraction = std::max(result.max_force_jump_fraction, jumps_[i].first);
+  }
+  if (!field_ms_.empty()) {
+    std::vector<double> v = field_ms_;
+    std::sort(v.begin(), v.end());
+    auto q = [&](double p) { return v[static_cast<std::size_t>(p * double(v.size() - 1))]; };
+    result.field_ms = {q(0.5), q(0.99), q(0.999), v.back()};
+  }
+  return result;
+}
+
+}  // namespace bemsurg::haptics
