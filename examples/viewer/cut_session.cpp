@@ -61,7 +61,7 @@ bool CutSession::step(const Eigen::Vector3d& from, const Eigen::Vector3d& direct
   }
   ++accepted_;
   sent_mesh_ = cutter_->mesh();
-  worker.apply_cut(sent_mesh_);
+  worker.apply_cut(sent_mesh_, s.delta);
   return true;
 #else
   (void)from;

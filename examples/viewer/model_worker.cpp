@@ -50,6 +50,7 @@ struct ModelWorker::Loaded {
   std::vector<char> supported;
   double mean_edge = 0.0;
   bool homogeneous = true;  // every prescribed value is zero: E and gravity rescale exactly
+  Index original_elements = 0;
 };
 
 const char* phase_name(WorkerPhase p) {
@@ -95,17 +96,18 @@ void ModelWorker::load(const std::string& path) {
   wake_.notify_all();
 }
 
-void ModelWorker::apply_cut(std::shared_ptr<const TriangleMesh> mesh) {
+void ModelWorker::apply_cut(std::shared_ptr<const TriangleMesh> mesh, const MeshDelta& delta) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    pending_.cut_mesh = std::move(mesh);  // the newest surface holds every earlier step
+    cuts_pending_.push_back({std::move(mesh), delta});
     busy_ = true;
   }
   wake_.notify_all();
 }
 
-void ModelWorker::do_cut(std::shared_ptr<const TriangleMesh> mesh) {
+void ModelWorker::do_cut(const CutRequest& cut) {
   if (!loaded_) return;
+  const std::shared_ptr<const TriangleMesh>& mesh = cut.mesh;
   const Index before = loaded_->mesh->num_elements(), after = mesh->num_elements();
   auto l = std::make_shared<Loaded>(*loaded_);
   BoundaryConditions bc(after);
@@ -123,6 +125,7 @@ void ModelWorker::do_cut(std::shared_ptr<const TriangleMesh> mesh) {
   s->mesh = mesh;
   s->supported = l->supported;
   s->mean_edge = l->mean_edge;
+  s->original_elements = l->original_elements;
   s->material = previous ? previous->material : l->scene.problem.material;
   s->gravity = previous ? previous->gravity : l->scene.problem.gravity;
   s->cuts = (previous ? previous->cuts : 0) + 1;
@@ -141,7 +144,35 @@ void ModelWorker::do_cut(std::shared_ptr<const TriangleMesh> mesh) {
   }
   publish(s);
   cuts_ = s->cuts;
-  do_precompute();
+  // Exact tables for the cut surface: the delta update of the kept factorisation (rows and
+  // columns of the changed elements only), or a recomputation when the reference cannot be
+  // updated (read from a file, or a different mesh).
+  const double t0 = now_seconds();
+  bool exact_update = false;
+  if (reference_ && reference_->has_factorization() && reference_->num_elements() == cut.delta.elements_before) {
+    set_status(WorkerPhase::Precomputing, "updating the tables for the cut (" + std::to_string(cut.delta.added.size()) +
+                                              " new, " + std::to_string(cut.delta.modified.size()) + " modified elements)");
+    try {
+      reference_ = reference_->updated(mesh, cut.delta);
+      exact_update = true;
+    } catch (const std::exception& e) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      status_.error = std::string("the delta update after the cut failed (") + e.what() + "); recomputing";
+    }
+  }
+  if (exact_update) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      status_.last_cut_update_seconds = now_seconds() - t0;
+      status_.last_cut_exact_update = true;
+    }
+    do_rescale();
+  } else {
+    do_precompute();
+    std::lock_guard<std::mutex> lock(mutex_);
+    status_.last_cut_update_seconds = now_seconds() - t0;
+    status_.last_cut_exact_update = false;
+  }
 }
 
 void ModelWorker::set_young_modulus(double e) {
@@ -232,23 +263,25 @@ double ModelWorker::predict_seconds(Index elements, Index region_elements) const
 void ModelWorker::run() {
   for (;;) {
     Request r;
+    std::vector<CutRequest> cuts;
     {
       std::unique_lock<std::mutex> lock(mutex_);
-      wake_.wait(lock, [this] { return stop_ || pending_.load || pending_.recompute || pending_.rescale || pending_.cut_mesh; });
+      wake_.wait(lock, [this] { return stop_ || has_work(); });
       if (stop_) return;
       r = pending_;
       pending_ = Request{};
+      cuts.swap(cuts_pending_);
+      if (r.load) cuts.clear();  // a new model: cuts of the old one are void
     }
     try {
       if (r.load) {
         do_load(r.path);
         do_precompute();
-      } else if (r.cut_mesh) {
-        do_cut(r.cut_mesh);
-      } else if (r.recompute) {
-        do_precompute();
-      } else if (r.rescale) {
-        do_rescale();
+      }
+      for (const CutRequest& c : cuts) do_cut(c);
+      if (!r.load) {
+        if (r.recompute) do_precompute();
+        else if (r.rescale) do_rescale();
       }
     } catch (const std::exception& e) {
       std::lock_guard<std::mutex> lock(mutex_);
@@ -258,7 +291,7 @@ void ModelWorker::run() {
     }
     {
       std::lock_guard<std::mutex> lock(mutex_);
-      if (!(pending_.load || pending_.recompute || pending_.rescale || pending_.cut_mesh)) {
+      if (!has_work()) {
         busy_ = false;
         idle_.notify_all();
       }
@@ -302,6 +335,7 @@ void ModelWorker::do_load(const std::string& path) {
                                  ": no element is held (no displacement prescribed): the body would float away; "
                                  "add a support rule to boundary_conditions");
   l->mean_edge = p.mesh.diameters().mean();
+  l->original_elements = p.mesh.num_elements();
   l->homogeneous = p.boundary_conditions.values().cwiseAbs().maxCoeff() == 0.0;
   {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -319,6 +353,7 @@ void ModelWorker::do_load(const std::string& path) {
   s->gravity = p.gravity;
   s->supported = l->supported;
   s->mean_edge = l->mean_edge;
+  s->original_elements = l->original_elements;
   publish(s);
 }
 
@@ -350,7 +385,8 @@ void ModelWorker::do_precompute() {
   options.gravity = g;
   options.quadrature = p.quadrature;
   const double t0 = now_seconds();
-  auto table = std::make_shared<const GreensTable>(GreensTable::compute(p.mesh, m, p.boundary_conditions, options));
+  // The shared-mesh form keeps the factorisation and the mesh, so cuts can update the table.
+  auto table = std::make_shared<const GreensTable>(GreensTable::compute(loaded_->mesh, m, p.boundary_conditions, options));
   const double seconds = now_seconds() - t0;
   // Re-fit the cost model from this machine's timings.
   const PrecomputeTimings& t = table->timings();
@@ -386,6 +422,7 @@ void ModelWorker::do_rescale() {
   s->mesh = loaded_->mesh;
   s->supported = loaded_->supported;
   s->mean_edge = loaded_->mean_edge;
+  s->original_elements = loaded_->original_elements;
   s->cuts = cuts_;
   s->material = p.material;
   s->material.poisson_ratio = nu;

@@ -20,6 +20,7 @@
 #include <thread>
 #include <vector>
 
+#include "bemsurg/cutting/mesh_delta.hpp"
 #include "bemsurg/material.hpp"
 #include "bemsurg/mesh/triangle_mesh.hpp"
 #include "bemsurg/presolution/greens_table.hpp"
@@ -40,6 +41,7 @@ struct PhysicsState {
   /// zero on the new cut walls), so the new surfaces appear at once. Empty otherwise.
   Eigen::VectorXd provisional_displacement;
   int cuts = 0;                               // accepted cut steps in this model
+  Index original_elements = 0;                // elements of the model as loaded; later ids are cut walls
 };
 
 enum class WorkerPhase { Idle, Loading, Precomputing, Rescaling, Ready, Failed };
@@ -54,6 +56,8 @@ struct WorkerStatus {
   bool rescale_exact = true;  // E and gravity rescale without recomputing (zero prescribed values)
   double last_precompute_seconds = 0.0;
   double last_rescale_seconds = 0.0;
+  double last_cut_update_seconds = 0.0;  // GreensTable::updated (or the recomputation) after the last cut
+  bool last_cut_exact_update = false;    // the last cut's tables came from the delta update
   bool tables_exact = false;  // the table in use was computed for the current mesh
   int cuts = 0;               // accepted cut steps whose mesh is in use
 };
@@ -79,7 +83,9 @@ class ModelWorker {
   /// A cut changed the surface: `mesh` is the new surface, elements [0, old count) keep their id
   /// and boundary condition, the rest are new cut walls (traction-free). The new surface is
   /// published at once (without a table), then the table is recomputed for it in the background.
-  void apply_cut(std::shared_ptr<const TriangleMesh> mesh);
+  /// The tables follow exactly through GreensTable::updated (the cutting module's delta update,
+  /// docs/design.md §7) when the reference table kept its factorisation, else by recomputation.
+  void apply_cut(std::shared_ptr<const TriangleMesh> mesh, const MeshDelta& delta);
 
   double young_modulus() const;
   double poisson_ratio() const;
@@ -96,13 +102,17 @@ class ModelWorker {
     std::string path;
     bool recompute = false;
     bool rescale = false;
-    std::shared_ptr<const TriangleMesh> cut_mesh;
+  };
+  struct CutRequest {
+    std::shared_ptr<const TriangleMesh> mesh;
+    MeshDelta delta;
   };
   void run();
   void do_load(const std::string& path);
   void do_precompute();
   void do_rescale();
-  void do_cut(std::shared_ptr<const TriangleMesh> mesh);
+  void do_cut(const CutRequest& cut);
+  bool has_work() const { return pending_.load || pending_.recompute || pending_.rescale || !cuts_pending_.empty(); }
   void publish(std::shared_ptr<PhysicsState> s);
   void set_status(WorkerPhase p, const std::string& message);
   double predict_seconds(Index elements, Index region_elements) const;
@@ -110,6 +120,7 @@ class ModelWorker {
   mutable std::mutex mutex_;
   std::condition_variable wake_, idle_;
   Request pending_;
+  std::vector<CutRequest> cuts_pending_;  // in order: each delta is relative to the one before
   bool busy_ = false;
   bool stop_ = false;
   WorkerStatus status_;

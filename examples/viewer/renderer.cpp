@@ -59,7 +59,9 @@ void main() {
   vec3 base = colour;
   if (mode == 1) base = cmap((v_scalar - lo) / max(hi - lo, 1e-30));
   if (mode == 2) base = mix(vec3(0.86, 0.56, 0.52), vec3(0.45, 0.45, 0.50), clamp(v_scalar, 0.0, 1.0));
-  base = mix(base, vec3(1.0, 0.55, 0.0), clamp(v_highlight, 0.0, 1.0) * 0.7);
+  // highlight 1: in contact with a tool (orange); 2: a cut wall (dark red).
+  if (v_highlight > 1.5) base = mix(base, vec3(0.55, 0.04, 0.10), 0.8);
+  else base = mix(base, vec3(1.0, 0.55, 0.0), clamp(v_highlight, 0.0, 1.0) * 0.7);
   vec3 c = base;
   if (lit == 1) {
     vec3 n = normalize(v_normal);

@@ -8,7 +8,10 @@
 #include <fstream>
 #include <string>
 
-#include "action_script.hpp"
+#include "script_player.hpp"
+#include "bemsurg/io/action_script.hpp"
+#include "bemsurg/mesh/mesh_generators.hpp"
+#include "bemsurg/haptics/scripted_device.hpp"
 #include "bemsurg/error.hpp"
 #include "bemsurg/haptics/haptic_device.hpp"
 #include "bemsurg/io/scene.hpp"
@@ -43,42 +46,53 @@ double max_relative(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
 
 }  // namespace
 
-TEST_CASE("a script press ramps the translation linearly and release ends the engagement", "[viewer]") {
-  const ActionScript s = parse_action_script(R"({
-    "tools": [{"name": "p", "type": "sphere", "radius": 0.01}],
+TEST_CASE("a script press becomes device keyframes from the first contact, pushed depth along the axis", "[viewer]") {
+  // A flat-topped block: first contact of a press straight down is on the top face, z = 0.04.
+  const TriangleMesh mesh = box_mesh(Vec3(-0.04, -0.04, 0.0), Vec3(0.04, 0.04, 0.04), 4, 4, 2);
+  const TriangleBvh base(mesh);
+  const ActionScript script = load_action_script_from_string(R"({
+    "format": "bemsurg-actions", "version": 1,
+    "tools": [{"name": "p", "shape": "sphere", "radius": 0.01}, {"name": "b", "shape": "blade"}],
     "actions": [
-      {"time": 1.0, "tool": "p", "type": "press", "at": [0, 0, 1], "direction": [0, 0, -2], "depth": 0.004, "duration": 2.0},
-      {"time": 4.0, "tool": "p", "type": "move", "to": [0.002, 0, -0.004], "duration": 1.0},
-      {"time": 6.0, "tool": "p", "type": "release"}]})",
-                                             "inline");
-  const ScriptPlayer player(s);
-  CHECK_FALSE(player.pose(0, 0.5).engaged);
-  const ToolPose mid = player.pose(0, 2.0);  // halfway through the press: 2 mm along -z
-  REQUIRE(mid.engaged);
-  CHECK((mid.translation - Eigen::Vector3d(0, 0, -0.002)).norm() < 1e-15);
+      {"time": 1.0, "tool": "p", "type": "press", "at": [0.005, 0.003, 1], "direction": [0, 0, -2], "depth": 0.004, "duration": 2.0},
+      {"time": 4.0, "tool": "p", "type": "move", "to": [0.007, 0.003, 0.046], "duration": 1.0},
+      {"time": 6.0, "tool": "p", "type": "release"},
+      {"time": 2.0, "tool": "b", "type": "cut", "from": [0, 0, 0.04], "direction": [1, 0, 0], "steps": 3, "step_interval": 0.5}]})",
+                                                             ".", "inline");
+  const ScriptPlayer player(script);
+  REQUIRE(player.tool_of_slot(0) == 0);
+  CHECK(player.tool_of_slot(1) == -1);  // a blade takes no device slot
+  const haptics::ScriptedDevice device(player.keyframes(0, base));
+  CHECK_FALSE(device.state_at(0.5).button(0));
+  // Halfway through the press: the sphere's centre one radius above the contact point (0.05),
+  // pushed 2 mm down.
+  const haptics::DeviceState mid = device.state_at(2.0);
+  REQUIRE(mid.button(0));
+  CHECK((mid.position - Eigen::Vector3d(0.005, 0.003, 0.048)).norm() < 1e-12);
   CHECK((mid.direction - Eigen::Vector3d(0, 0, -1)).norm() < 1e-15);
-  const ToolPose moving = player.pose(0, 4.5);  // halfway from (0,0,-4 mm) to (2 mm,0,-4 mm)
-  CHECK((moving.translation - Eigen::Vector3d(0.001, 0, -0.004)).norm() < 1e-15);
-  CHECK_FALSE(player.pose(0, 6.5).engaged);
+  // Halfway through the move from (0.005, 0.003, 0.046) to (0.007, 0.003, 0.046).
+  CHECK((device.state_at(4.5).position - Eigen::Vector3d(0.006, 0.003, 0.046)).norm() < 1e-12);
+  CHECK_FALSE(device.state_at(6.5).button(0));
+  const auto cuts = player.cuts_between(1.9, 2.6);
+  REQUIRE(cuts.size() == 2);  // increments at 2.0 and 2.5 (the third is at 3.0)
+  CHECK(cuts[0].time == Approx(2.0));
+  CHECK(cuts[1].time == Approx(2.5));
 }
 
-TEST_CASE("script errors name the file and the key at fault", "[viewer]") {
-  auto message = [](const std::string& text) {
-    try {
-      parse_action_script(text, "s.json");
-    } catch (const InvalidArgumentError& e) {
-      return std::string(e.what());
-    }
-    return std::string("no error");
-  };
-  CHECK(message("{") .find("s.json: not valid JSON") == 0);
-  CHECK(message(R"({"tools": [{"name": "a", "type": "spoon"}], "actions": []})").find("tools[0].type: unknown tool type 'spoon'") != std::string::npos);
-  CHECK(message(R"({"tools": [{"name": "a", "type": "sphere"}], "actions": [{"time": 0, "tool": "a", "type": "press", "at": [0, 0], "direction": [0, 0, 1], "depth": 1}]})")
-            .find("s.json: actions[0].at: expected an array of three numbers") == 0);
-  CHECK(message(R"({"tools": [{"name": "a", "type": "sphere"}], "actions": [{"time": 0, "tool": "a", "type": "press", "at": [0, 0, 0], "direction": [0, 0, 0], "depth": 1}]})")
-            .find("actions[0].direction: expected a nonzero direction") != std::string::npos);
-  CHECK(message(R"({"tools": [{"name": "a", "type": "sphere"}], "actions": [{"time": 0, "tool": "a", "type": "cut", "from": [0, 0, 0], "direction": [1, 0, 0], "steps": 2}]})")
-            .find("a cut needs a tool of type \"cut\"") != std::string::npos);
+TEST_CASE("a press whose approach line misses the body is refused naming the action", "[viewer]") {
+  const TriangleMesh mesh = box_mesh(Vec3(-0.04, -0.04, 0.0), Vec3(0.04, 0.04, 0.04), 2, 2, 1);
+  const TriangleBvh base(mesh);
+  const ScriptPlayer player(load_action_script_from_string(R"({
+    "format": "bemsurg-actions", "version": 1,
+    "tools": [{"name": "p", "shape": "point"}],
+    "actions": [{"time": 0, "tool": "p", "type": "press", "at": [1, 1, 1], "direction": [0, 0, -1], "depth": 0.001}]})",
+                                                           ".", "s.json"));
+  try {
+    player.keyframes(0, base);
+    FAIL("no error");
+  } catch (const SceneError& e) {
+    CHECK(std::string(e.what()).find("s.json: actions[0] (press of 'p')") == 0);
+  }
 }
 
 TEST_CASE("rescaling the table for E and gravity equals a recomputation with those values", "[viewer]") {
@@ -145,17 +159,18 @@ TEST_CASE("the haptic tick presses a sphere through a device as the contact solv
   haptics::DeviceState d;
   d.position = Eigen::Vector3d(0.0, 0.0, 0.1);
   d.direction = Eigen::Vector3d(0, 0, -1);
-  d.button = true;
+  d.buttons = 1;
   device.set_state(d);
-  stepper.tick(ph, devices, settings, snap);  // engages
+  stepper.tick(ph, devices, settings, 0.0, 1e-3, snap);  // engages
+  const Eigen::Vector3d sent_first = device.last_force();
   d.position.z() -= 0.008;                   // 8 mm in
   device.set_state(d);
-  stepper.tick(ph, devices, settings, snap);
+  stepper.tick(ph, devices, settings, 1e-3, 1e-3, snap);
   const Eigen::Vector3d f = snap.slots[0].force;
 
   // The same press straight on the solver: the sphere resting on the surface point under the
   // axis, pushed 8 mm along -z.
-  ToolContactSolver solver(*ph->mesh, *ph->table, 600);
+  ToolContactSolver solver(ph->mesh, ph->table, 600);
   const int tool = solver.add_tool(ToolSpec::sphere(0.03));
   RayHit hit;
   REQUIRE(solver.base_surface().intersect_ray(Eigen::Vector3d(0, 0, 1.0), Eigen::Vector3d(0, 0, -1), hit, 2.0, true));
@@ -165,11 +180,15 @@ TEST_CASE("the haptic tick presses a sphere through a device as the contact solv
   const Eigen::Vector3d expected = solver.force(tool);
   REQUIRE(expected.z() > 0.0);  // the tissue pushes the tool back up
   CHECK((f - expected).norm() <= 1e-12 * expected.norm());
-  CHECK((device.last_force() - expected).norm() <= 1e-12 * expected.norm());  // under the 100 N limit
+  // The device gets the force through the rate limiter (300 N/s default): one tick of 1 ms after
+  // the engagement tick allows at most 0.3 N.
+  CHECK((device.last_force() - sent_first).norm() <= 0.3 + 1e-12);
+  CHECK(device.last_force().norm() < expected.norm());
 
   // The limiter caps what the device receives, not what is displayed.
   settings.force_limit = 0.5 * expected.norm();
-  stepper.tick(ph, devices, settings, snap);
+  settings.force_rate = 1e6;
+  stepper.tick(ph, devices, settings, 2e-3, 1e-3, snap);
   CHECK(std::abs(device.last_force().norm() - 0.5 * expected.norm()) <= 1e-12 * expected.norm());
   CHECK((snap.slots[0].force - expected).norm() <= 1e-12 * expected.norm());
   std::remove(path.c_str());

@@ -47,21 +47,33 @@ bool ToolStepper::engage(Slot& s, const SlotSettings& want, const haptics::Devic
   const Eigen::Matrix<double, 3, 2> box = ph.mesh->bounding_box();
   const double L = 2.0 * (box.col(1) - box.col(0)).norm() + (d.position - box.col(0)).norm();
   RayHit hit;
-  if (!solver_->base_surface().intersect_ray(d.position - L * dir, dir, hit, 2.0 * L, true)) {
+  const bool script_plate = want.kind == ToolKind::Plate && !want.polygon.empty();
+  if (!script_plate && !solver_->base_surface().intersect_ray(d.position - L * dir, dir, hit, 2.0 * L, true)) {
     why = "the tool's line misses the body";
     return false;
   }
   ToolSpec spec;
   Eigen::Vector3d origin = hit.point;
+  const bool frictionless = want.frictionless_given ? want.frictionless
+                                                    : (want.kind == ToolKind::Sphere || want.kind == ToolKind::Flat);
+  const ContactMode mode = frictionless ? ContactMode::Frictionless : ContactMode::Bonded;
   switch (want.kind) {
-    case ToolKind::Point: spec = ToolSpec::point(ContactMode::Bonded); break;
+    case ToolKind::Point: spec = ToolSpec::point(mode); break;
     case ToolKind::Sphere:
-      spec = ToolSpec::sphere(radius);
+      spec = ToolSpec::sphere(radius, mode);
       origin = hit.point - radius * dir;  // the sphere rests on the hit point
       break;
-    case ToolKind::Flat: spec = ToolSpec::flat(radius); break;
+    case ToolKind::Flat: spec = ToolSpec::flat(radius, mode); break;
     case ToolKind::Pinch: spec = ToolSpec::pinch(radius); break;
     case ToolKind::Plate: {
+      if (!want.polygon.empty()) {
+        // A script's plate: its own outline, engaged where it is (docs/actions.md).
+        Eigen::Vector3d c = Eigen::Vector3d::Zero();
+        for (const auto& p : want.polygon) c += p;
+        origin = c / double(want.polygon.size());
+        spec = ToolSpec::plate(want.polygon, want.plate_tolerance > 0.0 ? want.plate_tolerance : 0.5 * edge);
+        break;
+      }
       // A square retractor plate across the approach direction, gripping what it touches.
       Eigen::Vector3d a = dir.unitOrthogonal(), b = dir.cross(a);
       std::vector<Eigen::Vector3d> poly = {hit.point + plate * (a + b), hit.point + plate * (-a + b),
@@ -72,10 +84,13 @@ bool ToolStepper::engage(Slot& s, const SlotSettings& want, const haptics::Devic
     case ToolKind::Cut: why = "the cut tool does not press"; return false;
   }
   // Reuse the slot's tool while its shape is unchanged (a plate carries its polygon: new each time).
-  if (s.tool < 0 || s.kind != want.kind || s.radius != radius || want.kind == ToolKind::Plate)
+  if (s.tool < 0 || s.kind != want.kind || s.radius != radius || s.frictionless != frictionless ||
+      want.kind == ToolKind::Plate)
     s.tool = solver_->add_tool(spec);
   s.kind = want.kind;
   s.radius = radius;
+  s.frictionless = frictionless;
+  s.spec = spec;
   s.plate_size = plate;
   bool ok = true;
   if (want.kind == ToolKind::Sphere || want.kind == ToolKind::Flat)
@@ -94,22 +109,46 @@ bool ToolStepper::engage(Slot& s, const SlotSettings& want, const haptics::Devic
   return true;
 }
 
+bool ToolStepper::reengage(Slot& s) {
+  s.tool = solver_->add_tool(s.spec);
+  if (s.kind == ToolKind::Sphere || s.kind == ToolKind::Flat) {
+    solver_->place(s.tool, s.origin, s.direction);
+  } else if (!solver_->engage(s.tool, s.origin, s.direction)) {
+    return false;
+  }
+  return solver_->try_set_translation(s.tool, s.translation);
+}
+
 void ToolStepper::tick(const std::shared_ptr<const PhysicsState>& physics, haptics::HapticDevice* const* devices,
-                       const StepperSettings& settings, ContactSnapshot& out) {
+                       const StepperSettings& settings, double time, double dt, ContactSnapshot& out) {
   const auto t0 = std::chrono::steady_clock::now();
   if (physics != physics_) {
     // A new model, table or parameter set: start again with no contact (tools re-engage when
     // their button is pressed again).
+    // A new model, table or parameter set (a cut, E, nu, gravity): a new solver on the new
+    // snapshots; tools held through the change are engaged again where they were, at the same
+    // translation, so a cut under a held probe keeps the probe in the tissue.
     physics_ = physics;
     solver_.reset();
-    for (auto& s : slots_) {
-      s.engaged = false;
-      s.tool = -1;
-      s.missed = s.button;  // a button held through the change waits for its release
-    }
     if (physics_ && physics_->table) {
       const Index cap = std::max<Index>(300, 3 * physics_->mesh->num_elements() / 4);
-      solver_ = std::make_unique<ToolContactSolver>(*physics_->mesh, *physics_->table, std::min<Index>(cap, 1500));
+      solver_ = std::make_unique<ToolContactSolver>(physics_->mesh, physics_->table, std::min<Index>(cap, 1500));
+    }
+    for (auto& s : slots_) {
+      const bool was = s.engaged;
+      s.engaged = false;
+      s.tool = -1;
+      if (!was) continue;
+      bool ok = false;
+      if (solver_) {
+        try {
+          ok = reengage(s);
+        } catch (const std::exception& e) {
+          message_ = std::string("re-engaging after the model changed: ") + e.what();
+        }
+      }
+      s.engaged = ok;
+      s.missed = !ok && s.button;  // a tool that could not follow waits for its button's release
     }
   }
   out.physics_version = physics_ ? physics_->version : 0;
@@ -117,19 +156,20 @@ void ToolStepper::tick(const std::shared_ptr<const PhysicsState>& physics, hapti
   for (int i = 0; i < kMaxTools; ++i) {
     Slot& s = slots_[static_cast<std::size_t>(i)];
     haptics::HapticDevice* dev = devices[i];
-    const haptics::DeviceState d = dev ? dev->read() : haptics::DeviceState{};
+    const haptics::DeviceState d = dev ? dev->read(time) : haptics::DeviceState{};
+    const bool button = d.button(0) && d.connected;
     const SlotSettings& want = settings.slots[static_cast<std::size_t>(i)];
     if (!solver_) {
-      s.button = d.button;
+      s.button = button;
       continue;
     }
     try {
-      if (d.button && !s.button && want.kind != ToolKind::Cut) {
+      if (button && !s.button && want.kind != ToolKind::Cut) {
         std::string why;
         s.missed = !engage(s, want, d, why);
         if (s.missed) message_ = "tool " + std::to_string(i + 1) + ": " + why;
         changed = true;
-      } else if (!d.button && s.button) {
+      } else if (!button && s.button) {
         if (s.engaged) solver_->release(s.tool);
         s.engaged = false;
         s.missed = false;
@@ -137,10 +177,7 @@ void ToolStepper::tick(const std::shared_ptr<const PhysicsState>& physics, hapti
       }
       if (s.engaged) {
         const Eigen::Vector3d tr = d.position - s.engage_position;
-        if (tr.allFinite()) {
-          s.translation = tr;
-          solver_->set_translation(s.tool, tr);
-        }
+        if (solver_->try_set_translation(s.tool, tr)) s.translation = tr;
       }
     } catch (const std::exception& e) {
       message_ = "tool " + std::to_string(i + 1) + ": " + e.what();
@@ -148,17 +185,18 @@ void ToolStepper::tick(const std::shared_ptr<const PhysicsState>& physics, hapti
       s.engaged = false;
       s.missed = true;
     }
-    s.button = d.button;
+    s.button = button;
   }
   (void)changed;
   if (solver_) {
-    try {
-      const ContactUpdateReport r = solver_->update();
-      if (!r.consistent) message_ = "the sphere's active set did not settle: the force is the last iterate's";
-    } catch (const std::exception& e) {
-      // The contact set is left as it was before the failed additions: hold the previous force.
-      message_ = e.what();
-    }
+    // The never-throwing step: a failed step leaves the contact set (and force) of the last good one.
+    ContactUpdateReport report;
+    const ContactStatus status = solver_->step(report);
+    if (status == ContactStatus::CapacityExceeded)
+      message_ = "the contact set needs " + std::to_string(solver_->rows_needed()) +
+                 " constraint rows, more than reserved: the force is the last good one";
+    else if (status != ContactStatus::Ok)
+      message_ = std::string("contact: ") + to_string(status);
   }
   // Snapshot for the graphics thread.
   out.count = 0;
@@ -176,9 +214,13 @@ void ToolStepper::tick(const std::shared_ptr<const PhysicsState>& physics, hapti
     o.contact_elements = (solver_ && s.engaged) ? solver_->contact_elements(s.tool) : 0;
     if (!o.force.allFinite()) o.force = s.force;  // never hand a NaN on
     s.force = o.force;
-    // The device gets the reaction on the hand, limited (magnitude and change per tick).
-    s.limiter = haptics::ForceLimiter(settings.force_limit, std::max(1e-6, settings.force_limit));
-    const Eigen::Vector3d limited = s.limiter(o.force);
+    // The device gets the force limited in magnitude and in rate of change (haptics/force_limiter.hpp).
+    if (s.limit != settings.force_limit || s.rate != settings.force_rate) {
+      s.limit = settings.force_limit;
+      s.rate = settings.force_rate;
+      s.limiter = haptics::ForceLimiter(s.limit, s.rate);
+    }
+    const Eigen::Vector3d limited = s.limiter(o.force, dt);
     o.sent_force = settings.haptic_force ? limited : Eigen::Vector3d::Zero();
     if (devices[i]) devices[i]->write_force(o.sent_force);
   }

@@ -18,7 +18,7 @@
 #include <string>
 #include <vector>
 
-#include "action_script.hpp"
+#include "tool_kind.hpp"
 #include "bemsurg/haptics/force_limiter.hpp"
 #include "bemsurg/haptics/haptic_device.hpp"
 #include "bemsurg/haptics/triple_buffer.hpp"
@@ -37,11 +37,11 @@ class MouseDevice : public haptics::HapticDevice {
   std::string name() const override { return name_; }
   bool available() const override { return true; }
   std::string why() const override { return "the mouse: no force is rendered to the hand"; }
-  haptics::DeviceState read() override {
+  haptics::DeviceState read(double) noexcept override {
     pose_.acquire();
     return pose_.front();
   }
-  void write_force(const Eigen::Vector3d& f) override {
+  void write_force(const Eigen::Vector3d& f) noexcept override {
     for (int k = 0; k < 3; ++k) force_[k].store(f(k), std::memory_order_relaxed);
   }
   double max_force() const override { return 1e9; }
@@ -66,12 +66,21 @@ struct SlotSettings {
   ToolKind kind = ToolKind::Sphere;
   double radius = 0.0;      // sphere/flat radius, pinch jaw; 0 = default from the mesh size
   double plate_size = 0.0;  // plate half-width; 0 = default
+  /// Contact of point, sphere and flat: frictionless (normal only) or bonded. Default: sphere and
+  /// flat frictionless, point bonded (docs/actions.md).
+  bool frictionless = false;
+  bool frictionless_given = false;
+  /// plate: the outline given by a script (model frame) and its tolerance; empty = a square of
+  /// half-width plate_size across the approach direction, centred where the mouse hit.
+  std::vector<Eigen::Vector3d> polygon;
+  double plate_tolerance = 0.0;
 };
 
 struct StepperSettings {
   std::array<SlotSettings, kMaxTools> slots;
   bool haptic_force = true;  // write the force to the device (off: zero)
   double force_limit = 3.3;  // newtons (a Touch-class desktop device)
+  double force_rate = 300.0; // newtons per second: the largest change of the sent force
 };
 
 struct SlotSnapshot {
@@ -100,9 +109,10 @@ struct ContactSnapshot {
 class ToolStepper {
  public:
   ToolStepper();
-  /// One tick. `physics` may be null or without a table (nothing happens but the snapshot).
+  /// One tick at session time `time`, `dt` seconds after the previous one. `physics` may be null
+  /// or without a table (nothing happens but the snapshot).
   void tick(const std::shared_ptr<const PhysicsState>& physics, haptics::HapticDevice* const* devices,
-            const StepperSettings& settings, ContactSnapshot& out);
+            const StepperSettings& settings, double time, double dt, ContactSnapshot& out);
 
  private:
   struct Slot {
@@ -112,14 +122,20 @@ class ToolStepper {
     int tool = -1;
     ToolKind kind = ToolKind::Sphere;
     double radius = 0.0, plate_size = 0.0;
+    bool frictionless = false;
+    ToolSpec spec;
     Eigen::Vector3d engage_position = Eigen::Vector3d::Zero();
     Eigen::Vector3d origin = Eigen::Vector3d::Zero();
     Eigen::Vector3d direction = -Eigen::Vector3d::UnitZ();
     Eigen::Vector3d translation = Eigen::Vector3d::Zero();
     Eigen::Vector3d force = Eigen::Vector3d::Zero();
-    haptics::ForceLimiter limiter{3.3, 0.05};
+    haptics::ForceLimiter limiter{3.3, 300.0};
+    double limit = 3.3, rate = 300.0;
   };
   bool engage(Slot& s, const SlotSettings& want, const haptics::DeviceState& d, std::string& why);
+  /// After a new model (a cut, new parameters): the same tool where it was engaged, at the same
+  /// translation, on the new solver.
+  bool reengage(Slot& s);
 
   std::shared_ptr<const PhysicsState> physics_;
   std::unique_ptr<ToolContactSolver> solver_;

@@ -26,7 +26,9 @@
 #include <sstream>
 #include <thread>
 
-#include "action_script.hpp"
+#include "script_player.hpp"
+#include "bemsurg/io/action_script.hpp"
+#include "bemsurg/haptics/scripted_device.hpp"
 #include "bemsurg/error.hpp"
 #include "bemsurg/haptics/haptic_device.hpp"
 #include "bemsurg/haptics/triple_buffer.hpp"
@@ -73,16 +75,17 @@ struct Recorder {
   double last_move = -1.0;
   double now() const { return seconds_since(start); }
   std::string tool_name(int slot, ToolKind k, double radius) {
-    const std::string name = "tool" + std::to_string(slot + 1) + "-" + tool_kind_name(k);
+    const std::string name = "tool" + std::to_string(slot + 1) + "-" + tool_kind_name(k) + "-" +
+                             std::to_string(static_cast<long>(std::lround(radius * 1e5)));
     for (const auto& t : tools)
       if (t["name"] == name) return name;
-    nlohmann::json t = {{"name", name}, {"type", tool_kind_name(k)}};
-    if (radius > 0.0) t[k == ToolKind::Plate ? "size" : "radius"] = radius;
+    nlohmann::json t = {{"name", name}, {"shape", tool_kind_name(k)}, {"device", slot}};
+    if (radius > 0.0) t["radius"] = radius;
     tools.push_back(t);
     return name;
   }
   bool save(const std::string& path, const std::string& scene, std::string& error) const {
-    nlohmann::json root = {{"tools", tools}, {"actions", actions}};
+    nlohmann::json root = {{"format", "bemsurg-actions"}, {"version", 1}, {"tools", tools}, {"actions", actions}};
     if (!scene.empty()) root["scene"] = scene;
     std::ofstream out(path);
     if (!out) {
@@ -132,7 +135,7 @@ struct App {
   float tool_radius_mm = 0.0f;  // 0 = default
   float young_kpa = 3.0f, poisson = 0.45f;
   bool gravity = true;
-  float gap_mm = 0.0f;  // 0 = the cutter's default
+  float gap_mm = -1.0f;  // cut gap width; negative: 0.2 x the mean element size of the model
   StepperSettings settings;
   std::string scene_input;
   std::string record_path = "session.json";
@@ -141,13 +144,14 @@ struct App {
 
   // Devices and the haptic thread
   std::array<std::unique_ptr<MouseDevice>, kMaxTools> mice;
-  std::array<std::unique_ptr<haptics::NullDevice>, kMaxTools> scripted;
+  std::array<std::unique_ptr<haptics::ScriptedDevice>, kMaxTools> scripted;
   haptics::TripleBuffer<StepperSettings> settings_buffer;
   haptics::TripleBuffer<ContactSnapshot> snapshots{snapshot_prototype()};
   ToolStepper stepper;
   std::thread haptic_thread;
   std::atomic<bool> haptic_run{false};
   RateCounter haptic_rate, graphics_rate;
+  Clock::time_point started = Clock::now();
   std::atomic<double> force_us{0.0};
 
   // Mouse interaction
@@ -171,11 +175,17 @@ struct App {
   App() {
     for (int i = 0; i < kMaxTools; ++i) {
       mice[static_cast<std::size_t>(i)] = std::make_unique<MouseDevice>("mouse (tool " + std::to_string(i + 1) + ")");
-      scripted[static_cast<std::size_t>(i)] = std::make_unique<haptics::NullDevice>(1e9);
       plot[i].assign(300, 0.0f);
     }
   }
 };
+
+/// The cut gap width in metres: the GUI's value, or 0.2 x the mean element size by default.
+double gap_width(const App& app) {
+  if (app.gap_mm > 0.0f) return 1e-3 * app.gap_mm;
+  const auto ph = app.worker.state();
+  return ph ? 0.2 * ph->mean_edge : 0.0;
+}
 
 // ---- field ------------------------------------------------------------------------------------
 
@@ -251,7 +261,8 @@ void build_surface(const App& app, SurfaceBuffers& b, float& u_max, float& t_max
       else if (app.colour_by == 2) s = tmag;
       else s = f.physics->supported[static_cast<std::size_t>(e)] ? 1.0f : 0.0f;
       b.scalars.push_back(s);
-      b.highlight.push_back(f.in_contact[static_cast<std::size_t>(e)] ? 1.0f : 0.0f);
+      const bool wall = f.physics->original_elements > 0 && e >= f.physics->original_elements;
+      b.highlight.push_back(wall ? 2.0f : f.in_contact[static_cast<std::size_t>(e)] ? 1.0f : 0.0f);
     }
   }
 }
@@ -328,7 +339,8 @@ void haptic_loop(App* app) {
   while (app->haptic_run.load(std::memory_order_relaxed)) {
     app->settings_buffer.acquire();
     const auto physics = app->worker.state();
-    app->stepper.tick(physics, devices, app->settings_buffer.front(), app->snapshots.back());
+    app->stepper.tick(physics, devices, app->settings_buffer.front(), seconds_since(app->started), 1e-3,
+                      app->snapshots.back());
     app->force_us.store(1e6 * app->snapshots.back().force_seconds, std::memory_order_relaxed);
     app->snapshots.publish();
     app->haptic_rate.tick();
@@ -405,7 +417,8 @@ void gui(App& app, int width, int height) {
     }
     if (ph && ph->cuts > 0) {
       if (ph->table && st.tables_exact)
-        ImGui::TextColored(ImVec4(0.1f, 0.5f, 0.1f, 1.0f), "exact tables in (after %d cut steps)", ph->cuts);
+        ImGui::TextColored(ImVec4(0.1f, 0.5f, 0.1f, 1.0f), "exact tables in after %d cut steps (%s, %.0f ms)", ph->cuts,
+                           st.last_cut_exact_update ? "delta update" : "recomputed", 1000.0 * st.last_cut_update_seconds);
       else
         ImGui::TextColored(ImVec4(0.7f, 0.35f, 0.0f, 1.0f), "cut shown; exact tables being computed...");
     }
@@ -478,14 +491,15 @@ void gui(App& app, int width, int height) {
       ImGui::Text("tool 1 pinned");
       ImGui::SameLine();
       if (ImGui::Button("Release pinned tool (Esc)")) {
-        haptics::DeviceState s = app.mice[0]->read();
-        s.button = false;
+        haptics::DeviceState s = app.mice[0]->read(0.0);
+        s.buttons = 0;
         app.mice[0]->set_state(s);
         app.active_slot = 0;
       }
     }
     if (app.tool == ToolKind::Cut) {
-      ImGui::SliderFloat("cut gap width (mm)", &app.gap_mm, 0.0f, 5.0f, app.gap_mm > 0 ? "%.2f" : "default");
+      if (app.gap_mm < 0.0f && ph) app.gap_mm = float(0.2 * 1000.0 * ph->mean_edge);
+      ImGui::SliderFloat("cut gap width (mm)", &app.gap_mm, 0.2f, 5.0f, "%.2f");
       ImGui::TextWrapped("%s", app.cuts.status_line().c_str());
     }
   }
@@ -552,9 +566,10 @@ void mouse_to_device(App& app, double x, double y, bool down) {
   MouseDevice& dev = *app.mice[static_cast<std::size_t>(app.active_slot)];
   haptics::DeviceState s;
   s.direction = app.press_dir;
-  s.button = down;
+  s.buttons = down ? 1U : 0U;
   if (!down) {
     s.position = app.press_point;
+    s.buttons = 0;
     dev.set_state(s);
     return;
   }
@@ -572,9 +587,14 @@ void mouse_to_device(App& app, double x, double y, bool down) {
   s.position = app.press_point + tr;
   dev.set_state(s);
   if (app.recorder.on && app.recorder.now() - app.recorder.last_move > 0.1) {
-    app.recorder.last_move = app.recorder.now();
-    app.recorder.actions.push_back({{"time", app.recorder.now()}, {"tool", app.recorded_tool}, {"type", "move"},
-                                    {"to", vec_json(tr)}, {"duration", 0.1}});
+    // The script's tool tip (docs/actions.md): a sphere's centre sits one radius behind the point hit.
+    const double now = app.recorder.now();
+    app.recorder.last_move = now;
+    Eigen::Vector3d tip = s.position;
+    const SlotSettings& slot = app.settings.slots[static_cast<std::size_t>(app.active_slot)];
+    if (app.tool == ToolKind::Sphere && app.field.physics)
+      tip -= (slot.radius > 0.0 ? slot.radius : default_tool_radius(ToolKind::Sphere, app.field.physics->mean_edge)) * app.press_dir;
+    app.recorder.actions.push_back({{"time", now}, {"tool", app.recorded_tool}, {"type", "move"}, {"to", vec_json(tip)}});
   }
 }
 
@@ -613,7 +633,7 @@ void handle_mouse(App& app) {
         app.press_point = p;
         app.press_dir = -n;
         if (app.tool == ToolKind::Cut) {
-          app.cuts.begin_drag(p, app.worker, app.gap_mm * 1e-3);
+          app.cuts.begin_drag(p, app.worker, gap_width(app));
         } else {
           SlotSettings& s = app.settings.slots[static_cast<std::size_t>(app.active_slot)];
           s.kind = app.tool;
@@ -621,14 +641,19 @@ void handle_mouse(App& app) {
           s.plate_size = app.tool == ToolKind::Plate ? 1e-3 * app.tool_radius_mm : 0.0;
           if (app.tool == ToolKind::Point) s.radius = 0.0;
           if (app.recorder.on) {
-            app.recorded_tool = app.recorder.tool_name(app.active_slot, app.tool,
-                                                       app.tool == ToolKind::Plate ? s.plate_size : s.radius);
-            const char* type = app.tool == ToolKind::Pinch ? "pinch" : app.tool == ToolKind::Plate ? "retract" : "press";
-            nlohmann::json a = {{"time", app.recorder.now()}, {"tool", app.recorded_tool}, {"type", type},
-                                {"at", vec_json(p)}, {"direction", vec_json(-n)}, {"duration", 0.0}};
-            if (std::string(type) == "press") a["depth"] = 0.0;
-            else a["pull"] = {0.0, 0.0, 0.0};
-            app.recorder.actions.push_back(a);
+            const double radius = app.tool == ToolKind::Point ? 0.0
+                                  : s.radius > 0.0 ? s.radius
+                                  : default_tool_radius(app.tool, app.field.physics->mean_edge);
+            if (app.tool == ToolKind::Plate) {
+              app.record_message = "a retractor plate is not recorded (scripts give a plate its own polygon)";
+            } else {
+              app.recorded_tool = app.recorder.tool_name(app.active_slot, app.tool, radius);
+              const char* type = app.tool == ToolKind::Pinch ? "pinch" : "press";
+              nlohmann::json a = {{"time", app.recorder.now()}, {"tool", app.recorded_tool}, {"type", type},
+                                  {"at", vec_json(p)}, {"direction", vec_json(-n)}};
+              if (app.tool != ToolKind::Pinch) a["depth"] = 0.0;
+              app.recorder.actions.push_back(a);
+            }
           }
           mouse_to_device(app, x, y, true);
         }
@@ -636,7 +661,7 @@ void handle_mouse(App& app) {
     } else if (left && app.pressing) {
       if (app.tool == ToolKind::Cut) {
         Eigen::Vector3d p, n;
-        if (pick(app, x, y, p, n)) app.cuts.drag_to(p, app.worker, app.gap_mm * 1e-3);
+        if (pick(app, x, y, p, n)) app.cuts.drag_to(p, app.worker, gap_width(app));
       } else {
         mouse_to_device(app, x, y, true);
       }
@@ -646,7 +671,7 @@ void handle_mouse(App& app) {
         app.cuts.end_drag();
       } else {
         mouse_to_device(app, x, y, false);
-        if (app.recorder.on)
+        if (app.recorder.on && !app.recorded_tool.empty() && app.tool != ToolKind::Plate)
           app.recorder.actions.push_back({{"time", app.recorder.now()}, {"tool", app.recorded_tool}, {"type", "release"}});
       }
     }
@@ -691,8 +716,8 @@ void key_callback(GLFWwindow* window, int key, int scancode, int action, int mod
   if (key == GLFW_KEY_3) app->mode = RenderMode::Points;
   if (key == GLFW_KEY_P && app->active_slot == 0) app->active_slot = 1;
   if (key == GLFW_KEY_ESCAPE && app->active_slot == 1) {
-    haptics::DeviceState s = app->mice[0]->read();
-    s.button = false;
+    haptics::DeviceState s = app->mice[0]->read(0.0);
+    s.buttons = 0;
     app->mice[0]->set_state(s);
     app->active_slot = 0;
   }
@@ -799,7 +824,6 @@ int run_viewer(const ViewerOptions& o) {
   // Headless: read the script and compute the model before touching the display, so bad input is
   // reported as such (and exits non-zero) on any machine.
   std::unique_ptr<ScriptPlayer> player;
-  std::array<int, kMaxTools> slot_tool{-1, -1};
   if (o.headless) {
     if (o.script.empty()) {
       std::cerr << "bemsurg-viewer: headless mode needs --script ACTIONS.json\n";
@@ -819,17 +843,7 @@ int run_viewer(const ViewerOptions& o) {
       std::cerr << "bemsurg-viewer: " << e.what() << "\n";
       return 1;
     }
-    int next = 0;
-    const auto& tools = player->script().tools;
-    for (std::size_t i = 0; i < tools.size(); ++i) {
-      if (tools[i].kind == ToolKind::Cut) continue;
-      if (next >= kMaxTools) {
-        std::cerr << "bemsurg-viewer: " << o.script << ": tools: the viewer has " << kMaxTools
-                  << " tool slots (plus cut tools); the script names more pressing tools\n";
-        return 1;
-      }
-      slot_tool[static_cast<std::size_t>(next++)] = static_cast<int>(i);
-    }
+    for (const auto& w : player->script().warnings) std::cerr << "bemsurg-viewer: warning: " << w << "\n";
     std::string scene = o.scene;
     if (scene.empty() && !player->script().scene.empty()) scene = player->script().scene;
     app->scene_input = scene;
@@ -839,6 +853,20 @@ int run_viewer(const ViewerOptions& o) {
     const WorkerStatus st = app->worker.status();
     if (st.phase == WorkerPhase::Failed || !app->worker.state() || !app->worker.state()->table) {
       std::cerr << "bemsurg-viewer: " << (st.error.empty() ? "the model could not be prepared" : st.error) << "\n";
+      return 1;
+    }
+    // The scripted devices: first contacts found on the body resting under its own weight.
+    try {
+      const auto ph = app->worker.state();
+      const TriangleBvh base(deformed_vertices(*ph->mesh, ph->table->base_displacement()), ph->mesh->faces());
+      for (int s = 0; s < kMaxTools; ++s) {
+        const int tool = player->tool_of_slot(s);
+        if (tool < 0) continue;
+        app->scripted[static_cast<std::size_t>(s)] = std::make_unique<haptics::ScriptedDevice>(
+            player->keyframes(tool, base), player->script().tools[static_cast<std::size_t>(tool)].name, 1e9);
+      }
+    } catch (const std::exception& e) {
+      std::cerr << "bemsurg-viewer: " << e.what() << "\n";
       return 1;
     }
     std::cerr << "bemsurg-viewer: " << app->worker.state()->model_name << ": "
@@ -872,6 +900,7 @@ int run_viewer(const ViewerOptions& o) {
   if (o.headless) {
     // Deterministic playback: frame f shows the script at t = f / fps; one contact tick per frame.
     haptics::HapticDevice* devices[kMaxTools] = {app->scripted[0].get(), app->scripted[1].get()};
+    const double dt = 1.0 / o.fps;
     double t_prev = -1.0;
     double peak[kMaxTools] = {0.0, 0.0};
     int fbw = 0, fbh = 0;
@@ -879,27 +908,17 @@ int run_viewer(const ViewerOptions& o) {
       const double t = f / o.fps;
       glfwPollEvents();
       for (int s = 0; s < kMaxTools; ++s) {
-        const int tool = slot_tool[static_cast<std::size_t>(s)];
+        const int tool = player->tool_of_slot(s);
         if (tool < 0) continue;
-        const ScriptTool& st = player->script().tools[static_cast<std::size_t>(tool)];
-        const ToolPose p = player->pose(tool, t);
-        haptics::DeviceState d;
-        d.position = p.at + p.translation;
-        d.direction = p.direction;
-        d.button = p.engaged;
-        app->scripted[static_cast<std::size_t>(s)]->set_state(d);
-        SlotSettings& ss = app->settings.slots[static_cast<std::size_t>(s)];
-        ss.kind = st.kind;
-        ss.radius = st.radius;
-        ss.plate_size = st.size;
+        app->settings.slots[static_cast<std::size_t>(s)] = player->slot_settings(tool);
         if (s == 0) {  // the panel shows the first tool's choice
-          app->tool = st.kind;
-          app->tool_radius_mm = float(1000.0 * (st.kind == ToolKind::Plate ? st.size : st.radius));
+          app->tool = app->settings.slots[0].kind;
+          app->tool_radius_mm = float(1000.0 * app->settings.slots[0].radius);
         }
       }
-      for (const ScriptCut& c : player->cuts_between(t_prev, t)) app->cuts.scripted_step(c.action, c.from, c.direction, app->worker, app->gap_mm * 1e-3);
+      for (const ScriptCut& c : player->cuts_between(t_prev, t)) app->cuts.scripted_step(c.action, c.from, c.direction, app->worker, gap_width(*app));
       t_prev = t;
-      app->stepper.tick(app->worker.state(), devices, app->settings, app->contact);
+      app->stepper.tick(app->worker.state(), devices, app->settings, t, dt, app->contact);
       app->script_time = t;
       app->force_us.store(1e6 * app->contact.force_seconds);
       for (int s = 0; s < kMaxTools; ++s) peak[s] = std::max(peak[s], app->contact.slots[static_cast<std::size_t>(s)].force.norm());
