@@ -594,7 +594,9 @@ void mouse_to_device(App& app, double x, double y, bool down) {
     const SlotSettings& slot = app.settings.slots[static_cast<std::size_t>(app.active_slot)];
     if (app.tool == ToolKind::Sphere && app.field.physics)
       tip -= (slot.radius > 0.0 ? slot.radius : default_tool_radius(ToolKind::Sphere, app.field.physics->mean_edge)) * app.press_dir;
-    app.recorder.actions.push_back({{"time", now}, {"tool", app.recorded_tool}, {"type", "move"}, {"to", vec_json(tip)}});
+    // Samples at most every 0.1 s, each a 0.1 s linear move (a tool's actions may not overlap).
+    app.recorder.actions.push_back(
+        {{"time", now}, {"tool", app.recorded_tool}, {"type", "move"}, {"to", vec_json(tip)}, {"duration", 0.1}});
   }
 }
 
@@ -644,6 +646,7 @@ void handle_mouse(App& app) {
             const double radius = app.tool == ToolKind::Point ? 0.0
                                   : s.radius > 0.0 ? s.radius
                                   : default_tool_radius(app.tool, app.field.physics->mean_edge);
+            app.recorder.last_move = app.recorder.now();  // the next move starts after the press
             if (app.tool == ToolKind::Plate) {
               app.record_message = "a retractor plate is not recorded (scripts give a plate its own polygon)";
             } else {
@@ -672,7 +675,8 @@ void handle_mouse(App& app) {
       } else {
         mouse_to_device(app, x, y, false);
         if (app.recorder.on && !app.recorded_tool.empty() && app.tool != ToolKind::Plate)
-          app.recorder.actions.push_back({{"time", app.recorder.now()}, {"tool", app.recorded_tool}, {"type", "release"}});
+          app.recorder.actions.push_back({{"time", std::max(app.recorder.now(), app.recorder.last_move + 0.1001)},
+                                          {"tool", app.recorded_tool}, {"type", "release"}});
       }
     }
     if (!app.pressing) {
@@ -810,6 +814,21 @@ GLFWwindow* open_window(const ViewerOptions& o, std::string& error) {
     return nullptr;
   }
   glfwMakeContextCurrent(w);
+  const char* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+  const std::string name = renderer ? renderer : "";
+  if (!o.headless && (name.find("llvmpipe") != std::string::npos || name.find("softpipe") != std::string::npos)) {
+    // Software rendering: multisampling costs more than it gives; open the window without it.
+    glfwDestroyWindow(w);
+    glfwWindowHint(GLFW_SAMPLES, 0);
+    w = glfwCreateWindow(o.width, o.height, "bemsurg viewer", nullptr, nullptr);
+    if (!w) {
+      error = "could not create an OpenGL 3.3 core window on this display";
+      glfwTerminate();
+      return nullptr;
+    }
+    glfwMakeContextCurrent(w);
+  }
+  if (o.quit_after > 0.0) std::cerr << "bemsurg-viewer: OpenGL renderer: " << name << "\n";
   glfwSwapInterval(o.headless ? 0 : 1);
   return w;
 }
@@ -940,6 +959,12 @@ int run_viewer(const ViewerOptions& o) {
     }
     std::cerr << "bemsurg-viewer: " << o.frames << " frames (" << o.frames / o.fps << " s of script); peak |F| tool 1 "
               << std::setprecision(4) << peak[0] << " N, tool 2 " << peak[1] << " N; " << app->cuts.summary() << "\n";
+    if (app->cuts.accepted() > 0) {
+      const WorkerStatus st = app->worker.status();
+      std::cerr << "bemsurg-viewer: tables after the last cut step: " << (st.last_cut_exact_update ? "delta update" : "recomputed")
+                << " in " << std::setprecision(1) << 1000.0 * st.last_cut_update_seconds << " ms ("
+                << app->worker.state()->mesh->num_elements() << " elements)\n";
+    }
     if (app->contact.message[0]) std::cerr << "bemsurg-viewer: note: " << app->contact.message.data() << "\n";
     if (code == 0) std::cerr << "bemsurg-viewer: wrote " << o.screenshot << "\n";
   } else {
