@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Remakes docs/images/viewer.png, the README's screenshot: the headless viewer plays the prod-and-cut
 # session examples/viewer-cut.json on the default model and writes its last frame; Pillow then
-# shrinks it to 960 x 600 and 128 colours so the committed file stays small (about 50 kB).
+# shrinks it to 960 x 600 and a 256-colour palette (dithered) so the committed file stays small (about 100 kB).
 # Runs under xvfb-run when there is no DISPLAY.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -18,6 +18,7 @@ fi
 /usr/bin/python3 - <<'PYEOF'
 from PIL import Image
 im = Image.open("out/viewer-full.png").convert("RGB")
-im.resize((960, 600), Image.LANCZOS).quantize(colors=128).save("docs/images/viewer.png", optimize=True)
+im.resize((960, 600), Image.LANCZOS).quantize(colors=256, dither=Image.Dither.FLOYDSTEINBERG).save(
+    "docs/images/viewer.png", optimize=True)
 PYEOF
 ls -l docs/images/viewer.png

@@ -417,8 +417,12 @@ void gui(App& app, int width, int height) {
     }
     if (ph && ph->cuts > 0) {
       if (ph->table && st.tables_exact)
-        ImGui::TextColored(ImVec4(0.1f, 0.5f, 0.1f, 1.0f), "exact tables in after %d cut steps (%s, %.0f ms)", ph->cuts,
+      {
+        ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(0.1f, 0.5f, 0.1f, 1.0f));
+        ImGui::TextWrapped("exact tables in after %d cut steps (%s, %.0f ms)", ph->cuts,
                            st.last_cut_exact_update ? "delta update" : "recomputed", 1000.0 * st.last_cut_update_seconds);
+        ImGui::PopStyleColor();
+      }
       else
         ImGui::TextColored(ImVec4(0.7f, 0.35f, 0.0f, 1.0f), "cut shown; exact tables being computed...");
     }
