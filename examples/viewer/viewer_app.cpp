@@ -972,6 +972,11 @@ int run_viewer(const ViewerOptions& o) {
     if (app->contact.message[0]) std::cerr << "bemsurg-viewer: note: " << app->contact.message.data() << "\n";
     if (code == 0) std::cerr << "bemsurg-viewer: wrote " << o.screenshot << "\n";
   } else {
+    if (!o.record.empty()) {  // --record FILE: record from the start, save at exit
+      app->recorder.on = true;
+      app->record_path = o.record;
+      app->record_message = "recording to " + o.record + " (saved at exit)";
+    }
     app->haptic_run = true;
     app->haptic_thread = std::thread(haptic_loop, app.get());
     const auto opened = Clock::now();
@@ -1017,15 +1022,21 @@ int run_viewer(const ViewerOptions& o) {
     if (o.quit_after > 0.0) {
       if (rate_samples > 0)
         std::cerr << "bemsurg-viewer: mean rates over the second half: graphics " << std::fixed << std::setprecision(1)
-                  << graphics_sum / rate_samples << " Hz, haptic " << haptic_sum / rate_samples << " Hz\n";
+                  << graphics_sum / rate_samples << " Hz, haptic " << haptic_sum / rate_samples << " Hz; largest |F| "
+                  << std::setprecision(4) << app->max_force_seen << " N\n";
       else
         std::cerr << "bemsurg-viewer: the table was not ready within --quit-after; no rates measured\n";
       const WorkerStatus st = app->worker.status();
       if (!st.error.empty()) std::cerr << "bemsurg-viewer: error shown in the window: " << st.error << "\n";
     }
-    if (!o.record.empty() && !app->recorder.actions.empty()) {
+    if (!o.record.empty() && app->recorder.on) {
       std::string err;
-      if (!app->recorder.save(o.record, app->scene_input, err)) std::cerr << "bemsurg-viewer: " << err << "\n";
+      if (app->recorder.actions.empty())
+        std::cerr << "bemsurg-viewer: nothing to record: " << o.record << " not written\n";
+      else if (!app->recorder.save(o.record, app->scene_input, err))
+        std::cerr << "bemsurg-viewer: " << err << "\n";
+      else
+        std::cerr << "bemsurg-viewer: session recorded to " << o.record << "\n";
     }
   }
   ImGui_ImplOpenGL3_Shutdown();
