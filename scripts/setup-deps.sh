@@ -8,7 +8,7 @@ packages=(
   build-essential cmake pkg-config
   libeigen3-dev catch2 libsuitesparse-dev libopenblas-dev liblapacke-dev nlohmann-json3-dev
   libglfw3-dev libimgui-dev libstb-dev libgl-dev libegl-dev xvfb xauth
-  gnuplot-nox python3-matplotlib
+  gnuplot-nox python3-matplotlib python3-pil python3-numpy
   libgmsh-dev   # the graded remesher (src/mesh/graded_remesher.cpp, optional: docs/graded.md)
 )
 

@@ -1,0 +1,460 @@
+// examples/viewer/model_worker.cpp: background loading, precomputation and rescaling (see
+// model_worker.hpp).
+//
+// Progress of the precomputation: GreensTable::compute is one call, so the bar shows the elapsed
+// time against a cost model, t = a E^2 (assembly) + b n^3 (LU of A*) + c n^2 m (back-substitution
+// of m = 3|region| columns), with n = 3E. The constants start from figures measured on the
+// development machine (docs/viewer.md) and are re-fitted from the three phase timings of every
+// precomputation the viewer runs, so the second estimate of a session is the machine's own. The
+// bar never claims completion before the table is in (it stops at 99 %).
+#include "model_worker.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+
+#include "bemsurg/error.hpp"
+#include "bemsurg/io/scene.hpp"
+#include "bemsurg/mesh/mesh_generators.hpp"
+
+namespace bemsurg::viewer {
+
+namespace {
+
+double now_seconds() {
+  using namespace std::chrono;
+  return duration<double>(steady_clock::now().time_since_epoch()).count();
+}
+
+/// The built-in default: a soft cuboid (12 x 10 x 5 cm, E = 3 kPa, nu = 0.45, 1000 kg/m^3) whose
+/// bottom face is held on a table, sagging under its own weight.
+Scene default_cuboid_scene() {
+  const char* json = R"({
+    "mesh": {"generator": "box", "min": [-0.06, -0.05, 0.0], "max": [0.06, 0.05, 0.05], "divisions": [12, 10, 5]},
+    "material": {"young_modulus": 3000.0, "poisson_ratio": 0.45, "density": 1000.0},
+    "gravity": [0.0, 0.0, -9.81],
+    "boundary_conditions": {"rules": [
+      {"select": {"plane": {"point": [0, 0, 0], "normal": [0, 0, 1]}}, "displacement": [0, 0, 0]}]},
+    "solver": {"method": "lu"}
+  })";
+  return load_scene_from_string(json, ".", "default cuboid");
+}
+
+}  // namespace
+
+struct ModelWorker::Loaded {
+  Scene scene;
+  std::string name;
+  std::shared_ptr<const TriangleMesh> mesh;
+  std::vector<char> supported;
+  double mean_edge = 0.0;
+  bool homogeneous = true;  // every prescribed value is zero: E and gravity rescale exactly
+  Index original_elements = 0;
+};
+
+const char* phase_name(WorkerPhase p) {
+  switch (p) {
+    case WorkerPhase::Idle: return "idle";
+    case WorkerPhase::Loading: return "loading";
+    case WorkerPhase::Precomputing: return "precomputing";
+    case WorkerPhase::Rescaling: return "rescaling";
+    case WorkerPhase::Ready: return "ready";
+    case WorkerPhase::Failed: return "failed";
+  }
+  return "?";
+}
+
+std::string ModelWorker::default_scene_path() {
+#ifdef BEMSURG_VIEWER_SCENES_DIR
+  const std::string brain = std::string(BEMSURG_VIEWER_SCENES_DIR) + "/brain.json";
+  std::error_code ec;
+  if (std::filesystem::exists(brain, ec)) return brain;
+#endif
+  return "";
+}
+
+ModelWorker::ModelWorker() : thread_([this] { run(); }) {}
+
+ModelWorker::~ModelWorker() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stop_ = true;
+  }
+  wake_.notify_all();
+  thread_.join();
+}
+
+void ModelWorker::load(const std::string& path) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    pending_ = Request{};
+    pending_.load = true;
+    pending_.path = path;
+    busy_ = true;
+  }
+  wake_.notify_all();
+}
+
+void ModelWorker::apply_cut(std::shared_ptr<const TriangleMesh> mesh, const MeshDelta& delta) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    cuts_pending_.push_back({std::move(mesh), delta});
+    busy_ = true;
+  }
+  wake_.notify_all();
+}
+
+void ModelWorker::do_cut(const CutRequest& cut) {
+  if (!loaded_) return;
+  const std::shared_ptr<const TriangleMesh>& mesh = cut.mesh;
+  const Index before = loaded_->mesh->num_elements(), after = mesh->num_elements();
+  auto l = std::make_shared<Loaded>(*loaded_);
+  BoundaryConditions bc(after);
+  const BoundaryConditions& old = loaded_->scene.problem.boundary_conditions;
+  for (Index e = 0; e < std::min(before, after); ++e)
+    for (int k = 0; k < 3; ++k) bc.prescribe_component(e, k, old.kind(3 * e + k), old.value(3 * e + k));
+  l->scene.problem.mesh = *mesh;
+  l->scene.problem.boundary_conditions = bc;
+  l->mesh = mesh;
+  l->supported.resize(static_cast<std::size_t>(after), 0);
+  // New surfaces at once: the previous sag on the old elements, zero on the new walls.
+  auto s = std::make_shared<PhysicsState>();
+  const auto previous = state();
+  s->model_name = l->name;
+  s->mesh = mesh;
+  s->supported = l->supported;
+  s->mean_edge = l->mean_edge;
+  s->original_elements = l->original_elements;
+  s->material = previous ? previous->material : l->scene.problem.material;
+  s->gravity = previous ? previous->gravity : l->scene.problem.gravity;
+  s->cuts = (previous ? previous->cuts : 0) + 1;
+  s->provisional_displacement = Eigen::VectorXd::Zero(3 * after);
+  if (previous && previous->table) {
+    const Index n = std::min<Index>(3 * before, previous->table->num_dofs());
+    s->provisional_displacement.head(n) = previous->table->base_displacement().head(n);
+  } else if (previous && previous->provisional_displacement.size() > 0) {
+    const Index n = std::min<Index>(previous->provisional_displacement.size(), 3 * after);
+    s->provisional_displacement.head(n) = previous->provisional_displacement.head(n);
+  }
+  loaded_ = l;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    status_.tables_exact = false;
+  }
+  publish(s);
+  cuts_ = s->cuts;
+  // Exact tables for the cut surface: the delta update of the kept factorisation (rows and
+  // columns of the changed elements only), or a recomputation when the reference cannot be
+  // updated (read from a file, or a different mesh).
+  const double t0 = now_seconds();
+  bool exact_update = false;
+  if (reference_ && reference_->has_factorization() && reference_->num_elements() == cut.delta.elements_before) {
+    set_status(WorkerPhase::Precomputing, "updating the tables for the cut (" + std::to_string(cut.delta.added.size()) +
+                                              " new, " + std::to_string(cut.delta.modified.size()) + " modified elements)");
+    try {
+      reference_ = reference_->updated(mesh, cut.delta);
+      exact_update = true;
+    } catch (const std::exception& e) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      status_.error = std::string("the delta update after the cut failed (") + e.what() + "); recomputing";
+    }
+  }
+  if (exact_update) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      status_.last_cut_update_seconds = now_seconds() - t0;
+      status_.last_cut_exact_update = true;
+    }
+    do_rescale();
+  } else {
+    do_precompute();
+    std::lock_guard<std::mutex> lock(mutex_);
+    status_.last_cut_update_seconds = now_seconds() - t0;
+    status_.last_cut_exact_update = false;
+  }
+}
+
+void ModelWorker::set_young_modulus(double e) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!(e > 0.0) || !std::isfinite(e)) return;
+    young_ = e;
+    if (status_.rescale_exact) pending_.rescale = true;
+    else pending_.recompute = true;
+    busy_ = true;
+  }
+  wake_.notify_all();
+}
+
+void ModelWorker::set_poisson_ratio(double nu) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!(nu > -1.0 && nu < 0.5)) return;
+    poisson_ = nu;
+    pending_.recompute = true;
+    busy_ = true;
+  }
+  wake_.notify_all();
+}
+
+void ModelWorker::set_gravity(bool on) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    gravity_on_ = on;
+    if (status_.rescale_exact) pending_.rescale = true;
+    else pending_.recompute = true;
+    busy_ = true;
+  }
+  wake_.notify_all();
+}
+
+double ModelWorker::young_modulus() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return young_;
+}
+double ModelWorker::poisson_ratio() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return poisson_;
+}
+bool ModelWorker::gravity_on() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return gravity_on_;
+}
+
+std::shared_ptr<const PhysicsState> ModelWorker::state() const { return std::atomic_load(&state_); }
+
+WorkerStatus ModelWorker::status() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  WorkerStatus s = status_;
+  if (s.phase == WorkerPhase::Precomputing || s.phase == WorkerPhase::Loading || s.phase == WorkerPhase::Rescaling) {
+    s.elapsed = now_seconds() - phase_start_;
+    if (phase_predicted_ > 0.0) {
+      s.progress = std::min(0.99, s.elapsed / phase_predicted_);
+      s.seconds_left = std::max(0.0, phase_predicted_ - s.elapsed);
+    }
+  }
+  return s;
+}
+
+void ModelWorker::wait_idle() {
+  std::unique_lock<std::mutex> lock(mutex_);
+  idle_.wait(lock, [this] { return !busy_; });
+}
+
+void ModelWorker::set_status(WorkerPhase p, const std::string& message) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  status_.phase = p;
+  status_.message = message;
+  phase_start_ = now_seconds();
+  phase_predicted_ = 0.0;
+}
+
+void ModelWorker::publish(std::shared_ptr<PhysicsState> s) {
+  s->version = ++version_;
+  std::atomic_store(&state_, std::shared_ptr<const PhysicsState>(std::move(s)));
+}
+
+double ModelWorker::predict_seconds(Index elements, Index region_elements) const {
+  const double e = double(elements), n = 3.0 * e, m = 3.0 * double(region_elements);
+  return c_assembly_ * e * e + c_factor_ * n * n * n + c_table_ * n * n * m;
+}
+
+void ModelWorker::run() {
+  for (;;) {
+    Request r;
+    std::vector<CutRequest> cuts;
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      wake_.wait(lock, [this] { return stop_ || has_work(); });
+      if (stop_) return;
+      r = pending_;
+      pending_ = Request{};
+      cuts.swap(cuts_pending_);
+      if (r.load) cuts.clear();  // a new model: cuts of the old one are void
+    }
+    try {
+      if (r.load) {
+        do_load(r.path);
+        do_precompute();
+      }
+      for (const CutRequest& c : cuts) do_cut(c);
+      if (!r.load) {
+        if (r.recompute) do_precompute();
+        else if (r.rescale) do_rescale();
+      }
+    } catch (const std::exception& e) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      status_.phase = WorkerPhase::Failed;
+      status_.error = e.what();
+      status_.message = "failed";
+    }
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (!has_work()) {
+        busy_ = false;
+        idle_.notify_all();
+      }
+    }
+  }
+}
+
+void ModelWorker::do_load(const std::string& path) {
+  set_status(WorkerPhase::Loading, path.empty() ? "building the default cuboid" : "loading " + path);
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    status_.error.clear();
+  }
+  std::atomic_store(&state_, std::shared_ptr<const PhysicsState>());
+  loaded_.reset();
+  reference_.reset();
+  cuts_ = 0;
+  auto l = std::make_shared<Loaded>();
+  try {
+    l->scene = path.empty() ? default_cuboid_scene() : load_scene(path);
+  } catch (const SceneError& e) {
+    // Name the file in every message (the window shows it without the command line beside it).
+    const std::string what = e.what();
+    if (what.rfind(path, 0) == 0) throw;
+    throw SceneError(path + ": " + what);
+  }
+  l->name = path.empty() ? "default cuboid (12 x 10 x 5 cm, bottom held)" : path;
+  const ElastostaticProblem& p = l->scene.problem;
+  l->mesh = std::make_shared<const TriangleMesh>(p.mesh);
+  const Index E = p.mesh.num_elements();
+  l->supported.assign(static_cast<std::size_t>(E), 0);
+  bool any_support = false;
+  for (Index e = 0; e < E; ++e)
+    for (int k = 0; k < 3; ++k)
+      if (p.boundary_conditions.kind(3 * e + k) == BcKind::Displacement) {
+        l->supported[static_cast<std::size_t>(e)] = 1;
+        any_support = true;
+      }
+  if (!any_support)
+    throw BoundaryConditionError((path.empty() ? std::string("default model") : path) +
+                                 ": no element is held (no displacement prescribed): the body would float away; "
+                                 "add a support rule to boundary_conditions");
+  l->mean_edge = p.mesh.diameters().mean();
+  l->original_elements = p.mesh.num_elements();
+  l->homogeneous = p.boundary_conditions.values().cwiseAbs().maxCoeff() == 0.0;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    young_ = p.material.young_modulus;
+    poisson_ = p.material.poisson_ratio;
+    gravity_on_ = true;
+    status_.rescale_exact = l->homogeneous;
+  }
+  loaded_ = l;
+  // Publish the undeformed model at once: the window draws it while the table is computed.
+  auto s = std::make_shared<PhysicsState>();
+  s->model_name = l->name;
+  s->mesh = l->mesh;
+  s->material = p.material;
+  s->gravity = p.gravity;
+  s->supported = l->supported;
+  s->mean_edge = l->mean_edge;
+  s->original_elements = l->original_elements;
+  publish(s);
+}
+
+void ModelWorker::do_precompute() {
+  if (!loaded_) return;
+  const ElastostaticProblem& p = loaded_->scene.problem;
+  Material m = p.material;
+  bool gravity_on;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    m.poisson_ratio = poisson_;
+    m.young_modulus = young_;
+    gravity_on = gravity_on_;
+  }
+  m.validate();
+  // With zero prescribed values the reference is computed with the scene's gravity and rescaled
+  // for E and gravity on/off; otherwise it is computed exactly as asked.
+  const Eigen::Vector3d g = (loaded_->homogeneous || gravity_on) ? p.gravity : Eigen::Vector3d::Zero();
+  Index region = 0;
+  for (Index e = 0; e < p.mesh.num_elements(); ++e) region += p.boundary_conditions.is_free(e) ? 1 : 0;
+  set_status(WorkerPhase::Precomputing,
+             "precomputing the compliance table (" + std::to_string(p.mesh.num_elements()) + " elements, " +
+                 std::to_string(3 * p.mesh.num_elements()) + " equations)");
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    phase_predicted_ = predict_seconds(p.mesh.num_elements(), region);
+  }
+  GreensTableOptions options;
+  options.gravity = g;
+  options.quadrature = p.quadrature;
+  const double t0 = now_seconds();
+  // The shared-mesh form keeps the factorisation and the mesh, so cuts can update the table.
+  auto table = std::make_shared<const GreensTable>(GreensTable::compute(loaded_->mesh, m, p.boundary_conditions, options));
+  const double seconds = now_seconds() - t0;
+  // Re-fit the cost model from this machine's timings.
+  const PrecomputeTimings& t = table->timings();
+  const double e = double(p.mesh.num_elements()), n = 3.0 * e, mm = 3.0 * double(table->region().size());
+  if (t.assembly_seconds > 0.0) c_assembly_ = t.assembly_seconds / (e * e);
+  if (t.factorization_seconds > 0.0) c_factor_ = t.factorization_seconds / (n * n * n);
+  if (t.table_seconds > 0.0) c_table_ = t.table_seconds / (n * n * mm);
+  reference_ = table;
+  reference_young_ = m.young_modulus;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    status_.last_precompute_seconds = seconds;
+  }
+  do_rescale();
+}
+
+void ModelWorker::do_rescale() {
+  if (!loaded_ || !reference_) return;
+  const ElastostaticProblem& p = loaded_->scene.problem;
+  double young;
+  bool gravity_on;
+  double nu;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    young = young_;
+    gravity_on = gravity_on_;
+    nu = poisson_;
+  }
+  set_status(WorkerPhase::Rescaling, "rescaling the table for E (no recomputation)");
+  const double t0 = now_seconds();
+  auto s = std::make_shared<PhysicsState>();
+  s->model_name = loaded_->name;
+  s->mesh = loaded_->mesh;
+  s->supported = loaded_->supported;
+  s->mean_edge = loaded_->mean_edge;
+  s->original_elements = loaded_->original_elements;
+  s->cuts = cuts_;
+  s->material = p.material;
+  s->material.poisson_ratio = nu;
+  if (!loaded_->homogeneous) {
+    // Computed exactly for these parameters (do_precompute); nothing to scale.
+    s->material.young_modulus = reference_young_;
+    s->gravity = reference_->key().gravity;
+    s->table = reference_;
+  } else {
+    // Linear elasticity with zero prescribed values: displacement per unit traction and the sag
+    // under fixed gravity both scale as 1/E; the reaction tractions of the self-weight do not.
+    const double scale = reference_young_ / young;
+    const double g = gravity_on ? 1.0 : 0.0;
+    GreensTableKey key = reference_->key();
+    key.material.young_modulus = young;
+    key.gravity = g * reference_->key().gravity;
+    auto table = std::make_shared<const GreensTable>(key, reference_->region(),
+                                                     Eigen::VectorXd((scale * g) * reference_->base_displacement()),
+                                                     Eigen::VectorXd(g * reference_->base_traction()),
+                                                     reference_->base_kinds(),
+                                                     Eigen::MatrixXd(scale * reference_->columns()));
+    s->material.young_modulus = young;
+    s->gravity = key.gravity;
+    s->table = table;
+  }
+  publish(s);
+  std::lock_guard<std::mutex> lock(mutex_);
+  status_.last_rescale_seconds = now_seconds() - t0;
+  status_.phase = WorkerPhase::Ready;
+  status_.message = "ready";
+  status_.tables_exact = true;
+  status_.cuts = cuts_;
+}
+
+}  // namespace bemsurg::viewer

@@ -1,0 +1,149 @@
+// examples/viewer/model_worker.hpp: the viewer's simulation side (docs/design.md §9: seconds-scale
+// work off the graphics and haptic threads). One background thread loads a scene (or the default
+// model), runs the one-time precomputation of the compliance table (docs/design.md §6) and
+// publishes the result as an immutable, versioned snapshot; the graphics thread keeps drawing the
+// undeformed model meanwhile and shows the progress and the time left.
+//
+// Young's modulus and gravity on/off do not need a new precomputation when the scene's prescribed
+// values are all zero (a held support, free elsewhere): in linear elasticity every displacement
+// scales as 1/E at fixed loads, so the table's columns and the self-weight sag are rescaled by
+// E_ref/E (and the sag by 0 or 1 for gravity), which is exact. Poisson's ratio changes the kernels
+// themselves and recomputes in the background.
+#pragma once
+
+#include <Eigen/Core>
+#include <condition_variable>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "bemsurg/cutting/mesh_delta.hpp"
+#include "bemsurg/material.hpp"
+#include "bemsurg/mesh/triangle_mesh.hpp"
+#include "bemsurg/presolution/greens_table.hpp"
+
+namespace bemsurg::viewer {
+
+/// What the graphics and haptic threads read: never modified after publication.
+struct PhysicsState {
+  std::uint64_t version = 0;
+  std::string model_name;                     // "default cuboid", the scene path, ...
+  std::shared_ptr<const TriangleMesh> mesh;   // undeformed surface
+  std::shared_ptr<const GreensTable> table;   // null until the precomputation is done
+  Material material;                          // E, nu, rho as used by `table`
+  Eigen::Vector3d gravity = Eigen::Vector3d::Zero();  // as used by `table` (zero when switched off)
+  std::vector<char> supported;                // per element: some displacement component prescribed
+  double mean_edge = 0.0;                     // mean element diameter (tool sizes, glyphs)
+  /// While `table` is null after a cut: the displacement to draw (the previous self-weight sag,
+  /// zero on the new cut walls), so the new surfaces appear at once. Empty otherwise.
+  Eigen::VectorXd provisional_displacement;
+  int cuts = 0;                               // accepted cut steps in this model
+  Index original_elements = 0;                // elements of the model as loaded; later ids are cut walls
+};
+
+enum class WorkerPhase { Idle, Loading, Precomputing, Rescaling, Ready, Failed };
+
+struct WorkerStatus {
+  WorkerPhase phase = WorkerPhase::Idle;
+  double progress = 0.0;      // 0..1, an estimate from the cost model (see model_worker.cpp)
+  double seconds_left = 0.0;  // estimate
+  double elapsed = 0.0;       // seconds in the current phase
+  std::string message;        // what is being done
+  std::string error;          // last load/precompute error (shown in the window), "" if none
+  bool rescale_exact = true;  // E and gravity rescale without recomputing (zero prescribed values)
+  double last_precompute_seconds = 0.0;
+  double last_rescale_seconds = 0.0;
+  double last_cut_update_seconds = 0.0;  // GreensTable::updated (or the recomputation) after the last cut
+  bool last_cut_exact_update = false;    // the last cut's tables came from the delta update
+  bool tables_exact = false;  // the table in use was computed for the current mesh
+  int cuts = 0;               // accepted cut steps whose mesh is in use
+};
+
+class ModelWorker {
+ public:
+  ModelWorker();
+  ~ModelWorker();
+  ModelWorker(const ModelWorker&) = delete;
+  ModelWorker& operator=(const ModelWorker&) = delete;
+
+  /// Loads a scene file ("" = the default model) and precomputes, in the background.
+  void load(const std::string& scene_path);
+  /// Parameter changes (background; the newest request wins).
+  void set_young_modulus(double e);
+  void set_poisson_ratio(double nu);
+  void set_gravity(bool on);
+
+  std::shared_ptr<const PhysicsState> state() const;
+  WorkerStatus status() const;
+  /// Blocks until every request so far is done (headless mode).
+  void wait_idle();
+  /// A cut changed the surface: `mesh` is the new surface, elements [0, old count) keep their id
+  /// and boundary condition, the rest are new cut walls (traction-free). The new surface is
+  /// published at once (without a table), then the table is recomputed for it in the background.
+  /// The tables follow exactly through GreensTable::updated (the cutting module's delta update,
+  /// docs/design.md §7) when the reference table kept its factorisation, else by recomputation.
+  void apply_cut(std::shared_ptr<const TriangleMesh> mesh, const MeshDelta& delta);
+
+  double young_modulus() const;
+  double poisson_ratio() const;
+  bool gravity_on() const;
+
+  /// The default model when no scene is given: a brain-like scene when examples/scenes/brain.json
+  /// exists beside the sources, otherwise a soft cuboid held on its bottom face (the paper's simple
+  /// object). Returns the scene path ("" = built-in cuboid).
+  static std::string default_scene_path();
+
+ private:
+  struct Request {
+    bool load = false;
+    std::string path;
+    bool recompute = false;
+    bool rescale = false;
+  };
+  struct CutRequest {
+    std::shared_ptr<const TriangleMesh> mesh;
+    MeshDelta delta;
+  };
+  void run();
+  void do_load(const std::string& path);
+  void do_precompute();
+  void do_rescale();
+  void do_cut(const CutRequest& cut);
+  bool has_work() const { return pending_.load || pending_.recompute || pending_.rescale || !cuts_pending_.empty(); }
+  void publish(std::shared_ptr<PhysicsState> s);
+  void set_status(WorkerPhase p, const std::string& message);
+  double predict_seconds(Index elements, Index region_elements) const;
+
+  mutable std::mutex mutex_;
+  std::condition_variable wake_, idle_;
+  Request pending_;
+  std::vector<CutRequest> cuts_pending_;  // in order: each delta is relative to the one before
+  bool busy_ = false;
+  bool stop_ = false;
+  WorkerStatus status_;
+  double phase_start_ = 0.0;
+  double phase_predicted_ = 0.0;
+
+  std::shared_ptr<const PhysicsState> state_;  // accessed with std::atomic_load/store
+  std::uint64_t version_ = 0;
+
+  // Worker-thread data: the loaded problem and the reference table (scene gravity, E_ref).
+  struct Loaded;
+  std::shared_ptr<Loaded> loaded_;
+  std::shared_ptr<const GreensTable> reference_;
+  double reference_young_ = 0.0;
+  double young_ = 0.0, poisson_ = 0.0;
+  bool gravity_on_ = true;
+  int cuts_ = 0;
+  // Cost model (seconds per E^2, per n^3, per n^2 m), refined by every precomputation done here.
+  double c_assembly_ = 2.0e-7, c_factor_ = 1.0e-10, c_table_ = 1.0e-10;
+
+  std::thread thread_;
+};
+
+const char* phase_name(WorkerPhase p);
+
+}  // namespace bemsurg::viewer

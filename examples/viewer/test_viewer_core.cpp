@@ -1,0 +1,195 @@
+// Tests of the viewer's parts that need no display: the action-script reader and player, the
+// background worker's exact rescaling for Young's modulus and gravity (docs/viewer.md), and the
+// haptic tick driving the contact solver through a device.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+#include "script_player.hpp"
+#include "bemsurg/io/action_script.hpp"
+#include "bemsurg/mesh/mesh_generators.hpp"
+#include "bemsurg/haptics/scripted_device.hpp"
+#include "bemsurg/error.hpp"
+#include "bemsurg/haptics/haptic_device.hpp"
+#include "bemsurg/io/scene.hpp"
+#include "bemsurg/presolution/contact_tools.hpp"
+#include "bemsurg/presolution/greens_table.hpp"
+#include "model_worker.hpp"
+#include "tool_stepper.hpp"
+
+using namespace bemsurg;
+using namespace bemsurg::viewer;
+
+namespace {
+
+// A small held block (4 x 4 x 2 divisions: 128 elements) so a precomputation takes milliseconds.
+const char* kSmallScene = R"({
+  "mesh": {"generator": "box", "min": [-0.04, -0.04, 0.0], "max": [0.04, 0.04, 0.04], "divisions": [4, 4, 2]},
+  "material": {"young_modulus": 3000.0, "poisson_ratio": 0.45, "density": 1000.0},
+  "gravity": [0.0, 0.0, -9.81],
+  "boundary_conditions": {"rules": [
+    {"select": {"plane": {"point": [0, 0, 0], "normal": [0, 0, 1]}}, "displacement": [0, 0, 0]}]}
+})";
+
+std::string write_temp(const std::string& name, const std::string& text) {
+  const std::string path = "test_viewer_core_" + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+double max_relative(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+  return (a - b).cwiseAbs().maxCoeff() / b.cwiseAbs().maxCoeff();
+}
+
+}  // namespace
+
+TEST_CASE("a script press becomes device keyframes from the first contact, pushed depth along the axis", "[viewer]") {
+  // A flat-topped block: first contact of a press straight down is on the top face, z = 0.04.
+  const TriangleMesh mesh = box_mesh(Vec3(-0.04, -0.04, 0.0), Vec3(0.04, 0.04, 0.04), 4, 4, 2);
+  const TriangleBvh base(mesh);
+  const ActionScript script = load_action_script_from_string(R"({
+    "format": "bemsurg-actions", "version": 1,
+    "tools": [{"name": "p", "shape": "sphere", "radius": 0.01}, {"name": "b", "shape": "blade"}],
+    "actions": [
+      {"time": 1.0, "tool": "p", "type": "press", "at": [0.005, 0.003, 1], "direction": [0, 0, -2], "depth": 0.004, "duration": 2.0},
+      {"time": 4.0, "tool": "p", "type": "move", "to": [0.007, 0.003, 0.046], "duration": 1.0},
+      {"time": 6.0, "tool": "p", "type": "release"},
+      {"time": 2.0, "tool": "b", "type": "cut", "from": [0, 0, 0.04], "direction": [1, 0, 0], "steps": 3, "step_interval": 0.5}]})",
+                                                             ".", "inline");
+  const ScriptPlayer player(script);
+  REQUIRE(player.tool_of_slot(0) == 0);
+  CHECK(player.tool_of_slot(1) == -1);  // a blade takes no device slot
+  const haptics::ScriptedDevice device(player.keyframes(0, base));
+  CHECK_FALSE(device.state_at(0.5).button(0));
+  // Halfway through the press: the sphere's centre one radius above the contact point (0.05),
+  // pushed 2 mm down.
+  const haptics::DeviceState mid = device.state_at(2.0);
+  REQUIRE(mid.button(0));
+  CHECK((mid.position - Eigen::Vector3d(0.005, 0.003, 0.048)).norm() < 1e-12);
+  CHECK((mid.direction - Eigen::Vector3d(0, 0, -1)).norm() < 1e-15);
+  // Halfway through the move from (0.005, 0.003, 0.046) to (0.007, 0.003, 0.046).
+  CHECK((device.state_at(4.5).position - Eigen::Vector3d(0.006, 0.003, 0.046)).norm() < 1e-12);
+  CHECK_FALSE(device.state_at(6.5).button(0));
+  const auto cuts = player.cuts_between(1.9, 2.6);
+  REQUIRE(cuts.size() == 2);  // increments at 2.0 and 2.5 (the third is at 3.0)
+  CHECK(cuts[0].time == Approx(2.0));
+  CHECK(cuts[1].time == Approx(2.5));
+}
+
+TEST_CASE("a press whose approach line misses the body is refused naming the action", "[viewer]") {
+  const TriangleMesh mesh = box_mesh(Vec3(-0.04, -0.04, 0.0), Vec3(0.04, 0.04, 0.04), 2, 2, 1);
+  const TriangleBvh base(mesh);
+  const ScriptPlayer player(load_action_script_from_string(R"({
+    "format": "bemsurg-actions", "version": 1,
+    "tools": [{"name": "p", "shape": "point"}],
+    "actions": [{"time": 0, "tool": "p", "type": "press", "at": [1, 1, 1], "direction": [0, 0, -1], "depth": 0.001}]})",
+                                                           ".", "s.json"));
+  try {
+    player.keyframes(0, base);
+    FAIL("no error");
+  } catch (const SceneError& e) {
+    CHECK(std::string(e.what()).find("s.json: actions[0] (press of 'p')") == 0);
+  }
+}
+
+TEST_CASE("rescaling the table for E and gravity equals a recomputation with those values", "[viewer]") {
+  const std::string path = write_temp("scene.json", kSmallScene);
+  ModelWorker worker;
+  worker.load(path);
+  worker.wait_idle();
+  REQUIRE(worker.status().error.empty());
+  REQUIRE(worker.state()->table);
+  REQUIRE(worker.status().rescale_exact);
+
+  worker.set_young_modulus(7500.0);
+  worker.wait_idle();
+  const auto rescaled = worker.state();
+  REQUIRE(rescaled->table);
+  const Scene scene = load_scene(path);
+  Material m = scene.problem.material;
+  m.young_modulus = 7500.0;
+  GreensTableOptions options;
+  options.gravity = scene.problem.gravity;
+  const GreensTable direct = GreensTable::compute(scene.problem.mesh, m, scene.problem.boundary_conditions, options);
+  // Linear elasticity: exact up to round-off (measured below 1e-15 relative; bound 1e-12).
+  CHECK(max_relative(rescaled->table->columns(), direct.columns()) < 1e-12);
+  CHECK(max_relative(rescaled->table->base_displacement(), direct.base_displacement()) < 1e-12);
+  CHECK(max_relative(rescaled->table->base_traction(), direct.base_traction()) < 1e-12);
+
+  worker.set_gravity(false);
+  worker.wait_idle();
+  const auto weightless = worker.state();
+  CHECK(weightless->table->base_displacement().cwiseAbs().maxCoeff() == 0.0);
+  CHECK(weightless->table->base_traction().cwiseAbs().maxCoeff() == 0.0);
+  CHECK(max_relative(weightless->table->columns(), direct.columns()) < 1e-12);
+  std::remove(path.c_str());
+}
+
+TEST_CASE("a scene that fails to load is reported with its file name and publishes no model", "[viewer]") {
+  const std::string path = write_temp("bad.json", R"({"mesh": {"generator": "box"}})");
+  ModelWorker worker;
+  worker.load(path);
+  worker.wait_idle();
+  const WorkerStatus st = worker.status();
+  CHECK(st.phase == WorkerPhase::Failed);
+  CHECK(st.error.find(path) == 0);
+  CHECK_FALSE(worker.state());
+  std::remove(path.c_str());
+}
+
+TEST_CASE("the haptic tick presses a sphere through a device as the contact solver does directly", "[viewer]") {
+  const std::string path = write_temp("scene2.json", kSmallScene);
+  ModelWorker worker;
+  worker.load(path);
+  worker.wait_idle();
+  const auto ph = worker.state();
+  REQUIRE(ph->table);
+
+  haptics::NullDevice device;
+  haptics::HapticDevice* devices[kMaxTools] = {&device, nullptr};
+  StepperSettings settings;
+  settings.slots[0].kind = ToolKind::Sphere;
+  settings.slots[0].radius = 0.03;
+  settings.force_limit = 100.0;
+  ToolStepper stepper;
+  ContactSnapshot snap;
+  haptics::DeviceState d;
+  d.position = Eigen::Vector3d(0.0, 0.0, 0.1);
+  d.direction = Eigen::Vector3d(0, 0, -1);
+  d.buttons = 1;
+  device.set_state(d);
+  stepper.tick(ph, devices, settings, 0.0, 1e-3, snap);  // engages
+  const Eigen::Vector3d sent_first = device.last_force();
+  d.position.z() -= 0.008;                   // 8 mm in
+  device.set_state(d);
+  stepper.tick(ph, devices, settings, 1e-3, 1e-3, snap);
+  const Eigen::Vector3d f = snap.slots[0].force;
+
+  // The same press straight on the solver: the sphere resting on the surface point under the
+  // axis, pushed 8 mm along -z.
+  ToolContactSolver solver(ph->mesh, ph->table, 600);
+  const int tool = solver.add_tool(ToolSpec::sphere(0.03));
+  RayHit hit;
+  REQUIRE(solver.base_surface().intersect_ray(Eigen::Vector3d(0, 0, 1.0), Eigen::Vector3d(0, 0, -1), hit, 2.0, true));
+  solver.place(tool, hit.point - 0.03 * Eigen::Vector3d(0, 0, -1), Eigen::Vector3d(0, 0, -1));
+  solver.set_translation(tool, Eigen::Vector3d(0, 0, -0.008));
+  solver.update();
+  const Eigen::Vector3d expected = solver.force(tool);
+  REQUIRE(expected.z() > 0.0);  // the tissue pushes the tool back up
+  CHECK((f - expected).norm() <= 1e-12 * expected.norm());
+  // The device gets the force through the rate limiter (300 N/s default): one tick of 1 ms after
+  // the engagement tick allows at most 0.3 N.
+  CHECK((device.last_force() - sent_first).norm() <= 0.3 + 1e-12);
+  CHECK(device.last_force().norm() < expected.norm());
+
+  // The limiter caps what the device receives, not what is displayed.
+  settings.force_limit = 0.5 * expected.norm();
+  settings.force_rate = 1e6;
+  stepper.tick(ph, devices, settings, 2e-3, 1e-3, snap);
+  CHECK(std::abs(device.last_force().norm() - 0.5 * expected.norm()) <= 1e-12 * expected.norm());
+  CHECK((snap.slots[0].force - expected).norm() <= 1e-12 * expected.norm());
+  std::remove(path.c_str());
+}
