@@ -95,17 +95,36 @@ TEST_CASE("bemsurg session runs in real time on the haptic thread", "[haptics][c
   CHECK(j.at("faults").get<long>() == 0);
 }
 
-TEST_CASE("bemsurg session refuses cuts without the cutting module and bad scripts, naming the fault", "[haptics][cli]") {
-  const bemsurg_test::TempDir temp("bemsurg_test_session_bad_");
+TEST_CASE("bemsurg session cuts through the cutting module and writes each cut surface", "[haptics][cli]") {
+  const bemsurg_test::TempDir temp("bemsurg_test_session_cut_");
   const std::string scene = temp.write("scene.json", kScene);
   std::string err;
   std::string text = kScript;
   text.replace(text.find("\"shape\": \"pinch\"}"), 17, "\"shape\": \"pinch\"}, {\"name\": \"scalpel\", \"shape\": \"blade\"}");
-  text.replace(text.rfind(']'), 1, ", {\"time\": 0.2, \"tool\": \"scalpel\", \"type\": \"cut\", \"from\": [0, 0, 0.05], \"direction\": [1, 0, 0], \"steps\": 2}]");
+  text.replace(text.rfind(']'), 1, ", {\"time\": 0.2, \"tool\": \"scalpel\", \"type\": \"cut\", \"from\": [0.035, 0.05, 0.05], \"direction\": [1, 0, 0], \"steps\": 2}]");
   const std::string cut = temp.write("cut.json", text);
-  CHECK(run("session " + scene + " --script " + cut + " -o " + temp.file("o1"), &err, temp.path / "e1.txt") == 1);
-  CHECK(err.find("the cut of tool 'scalpel' at t = 0.2") != std::string::npos);
-  CHECK(err.find("cutting module") != std::string::npos);
+  REQUIRE(run("session " + scene + " --script " + cut + " --virtual-clock -o " + temp.file("o1"), &err, temp.path / "e1.txt") == 0);
+  std::ifstream fj(temp.path / "o1" / "report.json");
+  const nlohmann::json j = nlohmann::json::parse(fj);
+  CHECK(j.at("cuts").get<long>() == 2);
+  CHECK(j.at("faults").get<long>() == 0);
+  // Each cut surface is a closed mesh with more faces than the last (the box has 2 (36+18+18) = 144).
+  std::size_t previous = 144;
+  for (int k = 1; k <= 2; ++k) {
+    std::ifstream obj(temp.path / "o1" / ("mesh_after_cut_" + std::to_string(k) + ".obj"));
+    REQUIRE(obj.good());
+    std::size_t faces = 0;
+    std::string line;
+    while (std::getline(obj, line)) faces += line.rfind("f ", 0) == 0 ? 1 : 0;
+    CHECK(faces > previous);
+    previous = faces;
+  }
+}
+
+TEST_CASE("bemsurg session refuses bad scripts, naming the fault", "[haptics][cli]") {
+  const bemsurg_test::TempDir temp("bemsurg_test_session_bad_");
+  const std::string scene = temp.write("scene.json", kScene);
+  std::string err;
   std::string bad = kScript;
   bad.replace(bad.find("\"depth\": 0.001"), 14, "\"depth\": \"deep\"");
   const std::string badf = temp.write("bad.json", bad);

@@ -11,6 +11,8 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "bemsurg/cutting/surface_cutter.hpp"
+#include "bemsurg/error.hpp"
 #include "bemsurg/haptics/session.hpp"
 #include "bemsurg/io/action_script.hpp"
 #include "bemsurg/io/scene.hpp"
@@ -45,10 +47,33 @@ constexpr const char* kSessionUsage =
     "                    quietly without the privilege (report.json says what it got)\n"
     "  -q, --quiet       print nothing but errors\n";
 
-/// The cutting module's entry point for sessions. Unset in this build: the session refuses
-/// scripts with cut actions, naming the first one. Wire bemsurg::SurfaceCutter and the table
-/// update (docs/design.md §7) here.
-bemsurg::haptics::CutHook session_cut_hook() { return {}; }
+/// The cutting module's entry point for sessions (docs/design.md §7): one SurfaceCutter per cut
+/// action (its first step opens, later ones extend), elements that are not free in the table's
+/// base state locked, and the exact table of the cut mesh from GreensTable::updated. Runs on the
+/// session's simulation side, never on the haptic thread. A refused step is an error naming the
+/// action's step and the cutter's reason.
+bemsurg::haptics::CutHook session_cut_hook() {
+  struct State {
+    std::unique_ptr<bemsurg::SurfaceCutter> cutter;
+    int action = -1;
+  };
+  auto state = std::make_shared<State>();
+  return [state](const bemsurg::haptics::CutRequest& r) -> bemsurg::haptics::CutResult {
+    if (!state->cutter || state->action != r.action || state->cutter->mesh() != r.mesh) {
+      const bemsurg::Index E = r.mesh->num_elements();
+      std::vector<char> locked(static_cast<std::size_t>(E), 0);
+      for (bemsurg::Index e = 0; e < E; ++e) locked[static_cast<std::size_t>(e)] = r.table->is_free(e) ? 0 : 1;
+      state->cutter = std::make_unique<bemsurg::SurfaceCutter>(r.mesh, std::move(locked));
+      state->action = r.action;
+    }
+    const bemsurg::CutStep step = state->cutter->step(r.from, r.direction);
+    if (!step.accepted)
+      throw bemsurg::ContactError("cut action " + std::to_string(r.action) + ", step " + std::to_string(r.step + 1) +
+                                  " refused: " + step.reason);
+    std::shared_ptr<const bemsurg::TriangleMesh> mesh = state->cutter->mesh();
+    return {mesh, r.table->updated(mesh, step.delta)};
+  };
+}
 
 class TraceWriter : public bemsurg::haptics::SessionObserver {
  public:
@@ -148,14 +173,6 @@ int run_session(int argc, char** argv) {
   options.virtual_clock = virtual_clock;
   options.loop.realtime_priority = realtime_priority;
   options.cut_hook = session_cut_hook();
-  // Refuse a script the session cannot run before the (possibly long) precomputation.
-  if (script.has_cuts() && !options.cut_hook)
-    for (const auto& a : script.actions)
-      if (a.type == bemsurg::ActionType::Cut)
-        throw bemsurg::SceneError(script.path + ": the cut of tool '" + script.tools[static_cast<std::size_t>(a.tool)].name +
-                                  "' at t = " + std::to_string(a.time) +
-                                  " s: cut actions need the cutting module, which is not wired into sessions in this "
-                                  "build; remove the cut actions to run the rest");
 
   const bemsurg::ElastostaticProblem& p = scene.problem;
   bemsurg::GreensTableOptions table_options;
