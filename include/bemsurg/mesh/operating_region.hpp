@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "bemsurg/mesh/closest_point.hpp"
 #include "bemsurg/mesh/triangle_mesh.hpp"
 
 namespace bemsurg {
@@ -60,8 +61,6 @@ class OperatingRegion {
   RowMatrixX3d triangles_;
 };
 
-/// Closest point to p on triangle (a, b, c) (Ericson, Real-Time Collision Detection §5.1.5).
-Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
 
 }  // namespace bemsurg
 

@@ -16,6 +16,7 @@
 
 #include <Eigen/Core>
 
+#include "bemsurg/mesh/closest_point.hpp"
 #include "bemsurg/mesh/triangle_mesh.hpp"
 #include "bemsurg/quadrature/element_quadrature.hpp"
 
@@ -25,9 +26,6 @@ namespace bemsurg {
 /// point is evaluated: 2 mid_ratio 2^-max_depth.
 double min_clearance_fraction(const QuadratureOptions& options);
 
-/// The closest point of the triangle (a, b, c) to p.
-Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                                          const Eigen::Vector3d& c);
 
 /// The first point closer to some element than min_clearance_fraction x that element's longest
 /// edge: point = -1 when every point is clear. element, distance, element_size and required
