@@ -5,6 +5,13 @@
 // prints "bemsurg: error: <message>" and exits with 1).
 #pragma once
 
+#include <Eigen/Core>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
 #include "bemsurg/error.hpp"
 
 namespace bemsurg::cli {
@@ -14,6 +21,25 @@ class UsageError : public Error {
  public:
   using Error::Error;
 };
+
+/// "X,Y,Z" as a vector of three finite numbers; `command` and `option` name the fault.
+inline Eigen::Vector3d parse_vector3(const std::string& command, const std::string& option, const std::string& text) {
+  std::stringstream ss(text);
+  std::string item;
+  std::vector<double> v;
+  while (std::getline(ss, item, ',')) {
+    try {
+      std::size_t used = 0;
+      v.push_back(std::stod(item, &used));
+      if (used != item.size()) throw std::invalid_argument(item);
+    } catch (const std::exception&) {
+      throw UsageError(command + ": " + option + " expects three comma-separated numbers, got '" + text + "'");
+    }
+  }
+  if (v.size() != 3 || !std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2]))
+    throw UsageError(command + ": " + option + " expects three comma-separated finite numbers, got '" + text + "'");
+  return {v[0], v[1], v[2]};
+}
 
 }  // namespace bemsurg::cli
 

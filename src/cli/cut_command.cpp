@@ -46,24 +46,6 @@ constexpr const char* kCutUsage =
     "is reported with its reason; the command then exits 1 after writing what the completed steps\n"
     "produced.\n";
 
-Eigen::Vector3d parse_vector(const std::string& opt, const std::string& text) {
-  std::stringstream ss(text);
-  std::string item;
-  std::vector<double> v;
-  while (std::getline(ss, item, ',')) {
-    try {
-      std::size_t used = 0;
-      v.push_back(std::stod(item, &used));
-      if (used != item.size()) throw std::invalid_argument(item);
-    } catch (const std::exception&) {
-      throw UsageError("cut: " + opt + " expects three comma-separated numbers, got '" + text + "'");
-    }
-  }
-  if (v.size() != 3 || !std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2]))
-    throw UsageError("cut: " + opt + " expects three comma-separated finite numbers, got '" + text + "'");
-  return {v[0], v[1], v[2]};
-}
-
 struct CutCommandOptions {
   std::string scene, output;
   Eigen::Vector3d from = Eigen::Vector3d::Zero(), direction = Eigen::Vector3d::Zero();
@@ -90,10 +72,10 @@ CutCommandOptions parse_cut_options(int argc, char** argv) {
     } else if (a == "-o" || a == "--output") {
       o.output = value(i, a);
     } else if (a == "--from") {
-      o.from = parse_vector(a, value(i, a));
+      o.from = bemsurg::cli::parse_vector3("cut", a, value(i, a));
       o.have_from = true;
     } else if (a == "--direction") {
-      o.direction = parse_vector(a, value(i, a));
+      o.direction = bemsurg::cli::parse_vector3("cut", a, value(i, a));
       o.have_direction = true;
       if (!(o.direction.norm() > 0.0)) throw UsageError("cut: --direction must not be zero");
     } else if (a == "--steps") {

@@ -52,24 +52,6 @@ constexpr const char* kPressUsage =
     "                 it and save it there (a stale or corrupt file is reported and recomputed)\n"
     "  -q, --quiet    print nothing but errors\n";
 
-Eigen::Vector3d parse_vector(const std::string& opt, const std::string& text) {
-  std::stringstream ss(text);
-  std::string item;
-  std::vector<double> v;
-  while (std::getline(ss, item, ',')) {
-    try {
-      std::size_t used = 0;
-      v.push_back(std::stod(item, &used));
-      if (used != item.size()) throw std::invalid_argument(item);
-    } catch (const std::exception&) {
-      throw UsageError("press: " + opt + " expects three comma-separated numbers, got '" + text + "'");
-    }
-  }
-  if (v.size() != 3 || !std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2]))
-    throw UsageError("press: " + opt + " expects three comma-separated finite numbers, got '" + text + "'");
-  return {v[0], v[1], v[2]};
-}
-
 double parse_number(const std::string& opt, const std::string& text) {
   try {
     std::size_t used = 0;
@@ -102,10 +84,10 @@ PressOptions parse(int argc, char** argv) {
     } else if (arg == "--tool") {
       o.tool_text = value(i, arg);
     } else if (arg == "--at") {
-      o.at = parse_vector(arg, value(i, arg));
+      o.at = bemsurg::cli::parse_vector3("press", arg, value(i, arg));
       o.have_at = true;
     } else if (arg == "--direction") {
-      o.direction = parse_vector(arg, value(i, arg));
+      o.direction = bemsurg::cli::parse_vector3("press", arg, value(i, arg));
       o.have_direction = true;
     } else if (arg == "--depth") {
       o.depth = parse_number(arg, value(i, arg));
