@@ -43,7 +43,9 @@ inline const int hooks_installed = __sanitizer_install_malloc_and_free_hooks(on_
 }  // namespace bemsurg_test
 #else
 extern "C" void* __libc_malloc(std::size_t size);
-extern "C" void* malloc(std::size_t size) {
+// Exported (the project builds with hidden visibility) so that malloc calls from inside the shared
+// libraries, operator new in libstdc++ among them, reach this wrapper too.
+extern "C" __attribute__((visibility("default"))) void* malloc(std::size_t size) {
   bemsurg_test::count_allocation();
   return __libc_malloc(size);
 }
