@@ -6,6 +6,17 @@
 // samples of the sliding sphere, and the same at higher rates to find the highest that holds
 // (zero overruns, p99.9 jitter <= 100 us).
 //
+// Platform baseline, measured in the same process before the session (issue 12, item 9: is a miss
+// the machine's or bemsurg's?):
+//   * bare clock: one thread at the loop's SCHED_FIFO priority reading steady_clock in a tight
+//     loop for the script's duration; every gap between consecutive reads is time the thread did
+//     not run. Gaps >= 1 ms are ticks a 1 kHz loop would have missed whatever it computed;
+//   * empty loop: the same Session / HapticLoop machinery, same rate, settings and duration, with
+//     the tools moving in the air far above the body (no contact, graphics_hz 0, no cuts), so the
+//     loop has nothing to compute.
+// The session and the empty loop run with two spin settings: the default sleep-then-spin
+// (`--spin-us`, 150 us) and "busy" (spin >= the period: the thread never sleeps, a whole core).
+//
 // The compliance table is synthetic: the Boussinesq half-space surface compliance between element
 // centroids (a uniformly loaded disc of the element's area for the self term), built directly in
 // the table's column layout for the top-face region where the tools act. The loop's cost depends
@@ -14,15 +25,22 @@
 // bench_contact / bench_assembly, not here. The cut is a stand-in too: a new table snapshot (the
 // old one copied and softened by 2 %) built on the simulation side and swapped in between ticks.
 //
-// usage: bench_haptic_loop [--quick] [--json PATH] [--spin-us US]  (how long the loop spins before each
-// deadline instead of sleeping; default 150 us, >= the period: never sleeps)
+// usage: bench_haptic_loop [--quick] [--json PATH] [--spin-us US]  (how long the loop spins before
+// each deadline instead of sleeping in the default configuration; default 150 us)
+#include <pthread.h>
+#include <sched.h>
+
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include "bemsurg/haptics/half_space_table.hpp"
 #include "bemsurg/haptics/session.hpp"
@@ -79,6 +97,117 @@ std::string slide_script() {
   ]})";
 }
 
+/// The empty loop's script: the same three tools (so the same channels and devices), each moving
+/// slowly in the air 200 mm above the top face (z = 0) for `duration` seconds: no contact, nothing
+/// for the loop to compute beyond reading devices and writing zero forces.
+std::string air_script(double rate_hz, double duration) {
+  const std::string d = std::to_string(duration);
+  return R"({"format": "bemsurg-actions", "version": 1, "rate_hz": )" + std::to_string(rate_hz) + R"(, "duration": )" + d +
+         R"(, "capacity_rows": 600,
+  "tools": [{"name": "probe", "shape": "sphere", "radius": 0.010, "start": [-0.006, -0.002, 0.2]},
+            {"name": "grasper", "shape": "pinch", "radius": 0.0015, "start": [0.0, 0.006, 0.2]},
+            {"name": "scalpel", "shape": "blade", "start": [-0.004, 0.008, 0.2]}],
+  "actions": [
+    {"time": 0.0, "tool": "probe", "type": "move", "to": [0.006, -0.002, 0.2], "duration": )" + d + R"(},
+    {"time": 0.0, "tool": "grasper", "type": "move", "to": [0.0, 0.006, 0.21], "duration": )" + d + R"(},
+    {"time": 0.0, "tool": "scalpel", "type": "move", "to": [0.004, 0.008, 0.2], "duration": )" + d + R"(}
+  ]})";
+}
+
+/// What a thread that only reads the clock sees of the machine: every gap between consecutive
+/// reads is time it did not run (preempted, vCPU descheduled by the host, throttled).
+struct BareClock {
+  double seconds = 0.0;
+  int realtime_priority = 0;  // SCHED_FIFO priority granted (0: refused, normal priority)
+  std::uint64_t reads = 0;
+  std::uint64_t gaps_over_20us = 0, gaps_over_100us = 0, gaps_over_1ms = 0;
+  double max_gap_us = 0.0;
+  /// 1 kHz slots that fell entirely inside a gap (sum of floor(gap / 1 ms)); the loop counts one
+  /// overrun per such gap (it skips missed slots rather than racing), so gaps_over_1ms is the
+  /// comparable figure for "overruns", this one for "ticks not rendered".
+  std::uint64_t slots_lost_1khz = 0;
+  std::vector<std::pair<double, double>> long_gaps;  // (start s, length ms) of the first gaps >= 1 ms
+};
+
+BareClock bare_clock(double seconds, int priority) {
+  BareClock r;
+  r.seconds = seconds;
+  r.long_gaps.reserve(64);
+  std::thread thread([&] {
+    if (priority > 0) {  // as HapticLoop::run does
+      sched_param p{};
+      p.sched_priority = priority;
+      if (pthread_setschedparam(pthread_self(), SCHED_FIFO, &p) == 0) r.realtime_priority = priority;
+    }
+    using Clock = std::chrono::steady_clock;
+    const auto t0 = Clock::now();
+    const auto end = t0 + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
+    auto prev = t0;
+    for (;;) {
+      const auto now = Clock::now();
+      ++r.reads;
+      const double gap = std::chrono::duration<double, std::micro>(now - prev).count();
+      if (gap > 20.0) {
+        ++r.gaps_over_20us;
+        if (gap > 100.0) ++r.gaps_over_100us;
+        if (gap >= 1000.0) {
+          ++r.gaps_over_1ms;
+          r.slots_lost_1khz += static_cast<std::uint64_t>(gap / 1000.0);
+          if (r.long_gaps.size() < r.long_gaps.capacity())
+            r.long_gaps.emplace_back(std::chrono::duration<double>(prev - t0).count(), gap / 1000.0);
+        }
+        r.max_gap_us = std::max(r.max_gap_us, gap);
+      }
+      prev = now;
+      if (now >= end) break;
+    }
+  });
+  thread.join();
+  return r;
+}
+
+nlohmann::json to_json(const haptics::Percentiles& p) {
+  return {{"p50", p.p50}, {"p99", p.p99}, {"p999", p.p999}, {"max", p.max}};
+}
+
+/// The loop figures the baseline comparison needs; overruns also per second of loop time, since a
+/// session waiting for its cuts runs longer than its script (and than the baselines).
+nlohmann::json loop_json(const haptics::LoopStatistics& s, double spin_us) {
+  const double seconds = s.achieved_rate_hz > 0.0 ? double(s.ticks) / s.achieved_rate_hz : 0.0;
+  return {{"spin_us", spin_us},
+          {"realtime_priority", s.realtime_priority},
+          {"ticks", s.ticks},
+          {"seconds", seconds},
+          {"rate_hz", s.achieved_rate_hz},
+          {"overruns", s.overruns},
+          {"overruns_per_s", seconds > 0.0 ? double(s.overruns) / seconds : 0.0},
+          {"jitter_us", to_json(s.jitter_us)},
+          {"force_us", to_json(s.force_us)}};
+}
+
+double overruns_per_s(const haptics::LoopStatistics& s) {
+  return s.ticks > 0 ? double(s.overruns) * s.achieved_rate_hz / double(s.ticks) : 0.0;
+}
+
+/// The session's excess over the empty loop with the same settings: what bemsurg's work (contact
+/// forces, model swaps, the simulation side's cuts and field updates on the other core) adds.
+nlohmann::json excess_json(const haptics::LoopStatistics& session, const haptics::LoopStatistics& empty) {
+  return {{"overruns_per_s", overruns_per_s(session) - overruns_per_s(empty)},
+          {"jitter_us", {{"p50", session.jitter_us.p50 - empty.jitter_us.p50},
+                         {"p99", session.jitter_us.p99 - empty.jitter_us.p99},
+                         {"p999", session.jitter_us.p999 - empty.jitter_us.p999}}},
+          {"force_us", {{"p50", session.force_us.p50 - empty.force_us.p50},
+                        {"p99", session.force_us.p99 - empty.force_us.p99},
+                        {"p999", session.force_us.p999 - empty.force_us.p999}}}};
+}
+
+void print_loop_row(const char* name, const haptics::LoopStatistics& s) {
+  std::printf("  %-28s %6lu %7.2f %5lu %7.2f  %7.1f %7.1f %8.1f %8.0f  %6.1f %6.1f %6.1f\n", name,
+              static_cast<unsigned long>(s.ticks), double(s.ticks) / std::max(1.0, s.achieved_rate_hz),
+              static_cast<unsigned long>(s.overruns), overruns_per_s(s), s.jitter_us.p50, s.jitter_us.p99,
+              s.jitter_us.p999, s.jitter_us.max, s.force_us.p50, s.force_us.p99, s.force_us.p999);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -108,36 +237,98 @@ int main(int argc, char** argv) {
   options.graphics_hz = 60.0;
   options.loop.realtime_priority = 80;  // SCHED_FIFO when the machine allows it (reported)
   options.loop.spin_us = spin_us;
-  int cuts = 0;
-  options.cut_hook = [&](const haptics::CutRequest& r) {
+  options.cut_hook = [](const haptics::CutRequest& r) {
     // Stand-in for the cutting module: a new, slightly softer snapshot built here, off the loop.
-    ++cuts;
     auto t = std::make_shared<const GreensTable>(r.table->key(), r.table->region(), r.table->base_displacement(),
                                                  r.table->base_traction(), r.table->base_kinds(),
                                                  Eigen::MatrixXd(1.02 * r.table->columns()));
     return haptics::CutResult{r.mesh, t};
   };
+  // "Busy": spin longer than the period, so HapticLoop::run never sleeps (twice the period, so a
+  // deadline pushed back by a skipped slot does not make it sleep either).
+  auto busy_spin_us = [](double rate) { return 2.0e6 / rate; };
 
-  auto run = [&](double rate, bool with_cuts, bool virtual_clock) {
+  auto run = [&](double rate, bool with_cuts, double spin, double script_scale) {
     haptics::SessionOptions o = options;
-    o.virtual_clock = virtual_clock;
-    const ActionScript script = load_action_script_from_string(script_text(rate, scale, with_cuts), ".", "bench");
+    o.loop.spin_us = spin;
+    const ActionScript script = load_action_script_from_string(script_text(rate, script_scale, with_cuts), ".", "bench");
     haptics::Session session(model.mesh, model.table, script, o);
     return session.run();
   };
+  const double script_seconds = load_action_script_from_string(script_text(1000.0, scale, true), ".", "bench").duration;
+  auto run_empty = [&](double rate, double spin) {
+    haptics::SessionOptions o = options;
+    o.loop.spin_us = spin;
+    o.graphics_hz = 0.0;
+    o.cut_hook = nullptr;
+    haptics::Session session(model.mesh, model.table,
+                             load_action_script_from_string(air_script(rate, script_seconds), ".", "empty"), o);
+    return session.run();
+  };
 
-  // 1. The session at 1 kHz in real time.
-  const haptics::SessionResult main = run(1000.0, true, false);
+  // 1. Platform baseline, before the session: the bare clock, then the empty loop in both spin
+  //    settings, each for the session script's duration.
+  const BareClock bare = bare_clock(script_seconds, options.loop.realtime_priority);
+  const double busy_us = busy_spin_us(1000.0);
+  const haptics::SessionResult empty_default = run_empty(1000.0, spin_us);
+  const haptics::SessionResult empty_busy = run_empty(1000.0, busy_us);
+  if (empty_default.loop.faults != 0 || empty_busy.loop.faults != 0 || empty_default.models_built < 1) {
+    std::fprintf(stderr, "bench_haptic_loop: the empty loop did not run cleanly\n");
+    return 1;
+  }
+
+  // 2. The session at 1 kHz in real time, sleep-then-spin (the library default) and busy.
+  const haptics::SessionResult main_default = run(1000.0, true, spin_us, scale);
+  const haptics::SessionResult main_busy = run(1000.0, true, busy_us, scale);
+
+  // Which configuration the issue's top-level keys report. Decided from measurements (docs/
+  // haptics.md, "Measured"), not per run, so the keys mean the same thing in every run: busy.
+  // Sleeping costs p99 jitter of ~0.6-1 ms (the vCPU's wake-up latency after it idles), so the
+  // default configuration cannot meet a 100 us jitter target at any percentile above ~p95, while
+  // busy spinning brings p99 to tens of us, i.e. it is clearly better on p99; it pays with a
+  // whole core and sees the same or a few more multi-ms stalls (overruns). Both are reported.
+  const bool report_busy = true;
+  const haptics::SessionResult& main = report_busy ? main_busy : main_default;
+  const haptics::SessionResult& empty_main = report_busy ? empty_busy : empty_default;
+  const double main_spin_us = report_busy ? busy_us : spin_us;
   const auto& s = main.loop;
-  std::printf("haptic thread SCHED_FIFO priority: %d (0: refused, normal priority)\n", s.realtime_priority);
-  std::printf("1 kHz session: %lu ticks at %.1f Hz, %lu overruns, jitter p50 %.1f / p99 %.1f / p99.9 %.1f us (max %.0f), "
-              "force p50 %.1f / p99 %.1f / p99.9 %.1f us (max %.0f), %lu model swaps, %d cuts, %d field updates "
-              "(median %.2f ms), largest force jump %.2f %%\n",
-              static_cast<unsigned long>(s.ticks), s.achieved_rate_hz, static_cast<unsigned long>(s.overruns), s.jitter_us.p50,
-              s.jitter_us.p99, s.jitter_us.p999, s.jitter_us.max, s.force_us.p50, s.force_us.p99, s.force_us.p999,
-              s.force_us.max, static_cast<unsigned long>(s.model_swaps), main.cuts, main.field_updates, main.field_ms.p50,
-              100.0 * main.max_force_jump_fraction);
-  // 2. Continuity on the virtual clock (no timing noise, no other tool letting go): the sphere
+
+  std::printf("haptic thread SCHED_FIFO priority: %d (0: refused, normal priority); bare clock thread: %d\n",
+              s.realtime_priority, bare.realtime_priority);
+  std::printf("platform baseline, bare clock (%.2f s, %.1f M reads): gaps > 20 us %lu, > 100 us %lu, >= 1 ms %lu "
+              "(1 kHz ticks it would have missed; %lu slots lost), largest %.0f us\n",
+              bare.seconds, double(bare.reads) / 1e6, static_cast<unsigned long>(bare.gaps_over_20us),
+              static_cast<unsigned long>(bare.gaps_over_100us), static_cast<unsigned long>(bare.gaps_over_1ms),
+              static_cast<unsigned long>(bare.slots_lost_1khz), bare.max_gap_us);
+  if (!bare.long_gaps.empty()) {
+    std::printf("  gaps >= 1 ms (start s: length ms):");
+    for (const auto& g : bare.long_gaps) std::printf(" %.3f:%.2f", g.first, g.second);
+    std::printf("\n");
+  }
+  std::printf("1 kHz, %.2f s of script      %6s %7s %5s %7s  %-34s  %s\n", script_seconds, "ticks", "loop s", "over",
+              "over/s", "jitter p50 / p99 / p99.9 / max us", "force p50 / p99 / p99.9 us");
+  char label[64];
+  std::snprintf(label, sizeof label, "empty loop, spin %.0f us", spin_us);
+  print_loop_row(label, empty_default.loop);
+  std::snprintf(label, sizeof label, "session, spin %.0f us", spin_us);
+  print_loop_row(label, main_default.loop);
+  std::snprintf(label, sizeof label, "empty loop, busy (%.0f us)", busy_us);
+  print_loop_row(label, empty_busy.loop);
+  std::snprintf(label, sizeof label, "session, busy (%.0f us)", busy_us);
+  print_loop_row(label, main_busy.loop);
+  auto print_excess = [](const char* name, const haptics::LoopStatistics& a, const haptics::LoopStatistics& e) {
+    std::printf("  session - empty loop, %-6s overruns/s %+.2f, jitter p99 %+.1f / p99.9 %+.1f us, force p99.9 %+.1f us\n",
+                name, overruns_per_s(a) - overruns_per_s(e), a.jitter_us.p99 - e.jitter_us.p99,
+                a.jitter_us.p999 - e.jitter_us.p999, a.force_us.p999 - e.force_us.p999);
+  };
+  print_excess("spin:", main_default.loop, empty_default.loop);
+  print_excess("busy:", main_busy.loop, empty_busy.loop);
+  std::printf("top-level figures: %s; session: %lu model swaps, %d cuts, %d field updates (median %.2f ms), "
+              "largest force jump %.2f %%\n",
+              report_busy ? "busy" : "sleep-then-spin", static_cast<unsigned long>(s.model_swaps), main.cuts,
+              main.field_updates, main.field_ms.p50, 100.0 * main.max_force_jump_fraction);
+
+  // 3. Continuity on the virtual clock (no timing noise, no other tool letting go): the sphere
   //    alone sliding at 10 mm/s at constant depth 1 mm.
   haptics::SessionOptions slide_options = options;
   slide_options.virtual_clock = true;
@@ -146,11 +337,14 @@ int main(int argc, char** argv) {
   std::printf("sliding sphere (R 10 mm, depth 1 mm, 10 mm/s, virtual clock): largest force jump between consecutive 1 kHz "
               "samples %.3f %% at t = %.3f s (peak force %.3f N, %d contact models)\n",
               100.0 * det.max_force_jump_fraction, det.max_force_jump_time, det.peak_force[0], det.models_built);
-  // 3. Higher rates, shorter: the highest that holds (zero overruns, p99.9 jitter <= 100 us).
+  // 4. Higher rates, shorter, in the reported configuration: the highest that holds (zero
+  //    overruns, p99.9 jitter <= 100 us). --quick runs them at half its script length, to stay a
+  //    few seconds with the baselines and both spin settings.
+  const double rates_scale = quick ? 0.5 * scale : scale;
   nlohmann::json rates = nlohmann::json::array();
   double highest = s.overruns == 0 && s.jitter_us.p999 <= 100.0 ? 1000.0 : 0.0;
   for (double rate : {2000.0, 5000.0, 10000.0}) {
-    const haptics::SessionResult r = run(rate, false, false);
+    const haptics::SessionResult r = run(rate, false, report_busy ? busy_spin_us(rate) : spin_us, rates_scale);
     const bool holds = r.loop.overruns == 0 && r.loop.jitter_us.p999 <= 100.0;
     std::printf("  %5.0f Hz: achieved %.1f Hz, %lu overruns, jitter p99.9 %.1f us, force p99.9 %.1f us%s\n", rate,
                 r.loop.achieved_rate_hz, static_cast<unsigned long>(r.loop.overruns), r.loop.jitter_us.p999,
@@ -170,6 +364,7 @@ int main(int argc, char** argv) {
   out["quick"] = quick;
   out["elements"] = model.mesh->num_elements();
   out["fine_element_edge_m"] = model.fine_edge;
+  // The issue's keys (item 9), for the reported configuration ("reported_configuration").
   out["rate_hz"] = s.achieved_rate_hz;
   out["overruns"] = s.overruns;
   out["jitter_us"] = {{"p50", s.jitter_us.p50}, {"p99", s.jitter_us.p99}, {"p999", s.jitter_us.p999}, {"max", s.jitter_us.max}};
@@ -180,7 +375,8 @@ int main(int argc, char** argv) {
   out["sphere_radius_m"] = 0.010;
   out["max_force_jump_fraction_session"] = main.max_force_jump_fraction;  // includes the pinch letting go
   out["realtime_priority"] = s.realtime_priority;
-  out["spin_us"] = spin_us;
+  out["spin_us"] = main_spin_us;
+  out["reported_configuration"] = report_busy ? "busy" : "sleep_spin";
   out["model_swaps"] = s.model_swaps;
   out["cuts"] = main.cuts;
   out["field_updates"] = main.field_updates;
@@ -189,9 +385,40 @@ int main(int argc, char** argv) {
   out["failed_steps"] = s.failed_steps;
   out["higher_rates"] = rates;
   out["highest_rate_hz_holding"] = highest;
+  out["script_seconds"] = script_seconds;
+  // Both spin settings, each with its own empty loop and the session's excess over it.
+  out["configurations"] = {
+      {"sleep_spin",
+       {{"session", loop_json(main_default.loop, spin_us)},
+        {"empty_loop", loop_json(empty_default.loop, spin_us)},
+        {"excess_over_empty_loop", excess_json(main_default.loop, empty_default.loop)},
+        {"cuts", main_default.cuts}}},
+      {"busy",
+       {{"session", loop_json(main_busy.loop, busy_us)},
+        {"empty_loop", loop_json(empty_busy.loop, busy_us)},
+        {"excess_over_empty_loop", excess_json(main_busy.loop, empty_busy.loop)},
+        {"cuts", main_busy.cuts}}}};
+  nlohmann::json long_gaps = nlohmann::json::array();
+  for (const auto& g : bare.long_gaps) long_gaps.push_back({{"start_s", g.first}, {"length_ms", g.second}});
+  out["platform_baseline"] = {
+      {"bare_clock",
+       {{"seconds", bare.seconds},
+        {"realtime_priority", bare.realtime_priority},
+        {"reads", bare.reads},
+        {"gaps_over_20us", bare.gaps_over_20us},
+        {"gaps_over_100us", bare.gaps_over_100us},
+        {"gaps_over_1ms", bare.gaps_over_1ms},
+        {"max_gap_us", bare.max_gap_us},
+        {"missed_ticks_1khz", bare.gaps_over_1ms},
+        {"slots_lost_1khz", bare.slots_lost_1khz},
+        {"long_gaps", long_gaps}}},
+      {"empty_loop", loop_json(empty_main.loop, main_spin_us)}};
+  out["excess_over_empty_loop"] = excess_json(s, empty_main.loop);
   if (!json_path.empty() && !bench::write_json_file(json_path, out, "bench_haptic_loop")) return 1;
-  const bool ok = s.ticks > 0 && s.faults == 0 && main.cuts == 2;
-  if (!ok) std::fprintf(stderr, "bench_haptic_loop: the session did not run as scripted (faults %lu, cuts %d)\n",
-                        static_cast<unsigned long>(s.faults), main.cuts);
+  const bool ok = main_default.loop.ticks > 0 && main_busy.loop.ticks > 0 && main_default.loop.faults == 0 &&
+                  main_busy.loop.faults == 0 && main_default.cuts == 2 && main_busy.cuts == 2;
+  if (!ok) std::fprintf(stderr, "bench_haptic_loop: a session did not run as scripted (faults %lu / %lu, cuts %d / %d)\n",
+                        static_cast<unsigned long>(main_default.loop.faults), static_cast<unsigned long>(main_busy.loop.faults),
+                        main_default.cuts, main_busy.cuts);
   return ok ? 0 : 1;
 }
