@@ -296,11 +296,12 @@ int main(int argc, char** argv) {
 
   // Which configuration the top-level keys report. Decided once from measurements (docs/
   // haptics.md, "Measured": medians of 3 full runs), not per run, so the keys mean the same thing
-  // in every run: busy. It is clearly better on p99 jitter (session 10 us against 535 us: a sleeping
-  // thread on this VM wakes up to a period late, the empty loop shows the same ~1 ms p99) and also
-  // has fewer overruns (5 against 16). Its price: a whole core, and a SCHED_FIFO thread that never
-  // sleeps meets the kernel's RT bandwidth limit (one ~50 ms stall per second while a normal thread
-  // waits for its CPU). The default sleep-then-spin figures are reported beside it.
+  // in every run: busy. It is clearly better on p99 jitter (session 17 us against 488 us on the
+  // quiet machine, 10 against 535 us under load: a thread that sleeps on this VM wakes up late, up
+  // to a period, while the simulation side works or the machine is busy) and also has fewer
+  // overruns (6 against 11; 5 against 16). Its price: a whole core, and a SCHED_FIFO thread that
+  // never sleeps meets the kernel's RT bandwidth limit (one ~50 ms stall per second while a normal
+  // thread waits for its CPU). The sleep-then-spin figures are reported beside it.
   const bool report_busy = true;
   const haptics::SessionResult& main = report_busy ? main_busy : main_default;
   const haptics::SessionResult& empty_main = report_busy ? empty_busy : empty_default;
