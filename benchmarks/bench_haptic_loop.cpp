@@ -38,6 +38,7 @@
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
@@ -234,7 +235,17 @@ int main(int argc, char** argv) {
     } else if (a == "--json" && i + 1 < argc) {
       json_path = argv[++i];
     } else if (a == "--spin-us" && i + 1 < argc) {
-      spin_us = std::stod(argv[++i]);
+      const std::string v = argv[++i];
+      std::size_t used = 0;
+      try {
+        spin_us = std::stod(v, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used != v.size() || !(spin_us >= 0.0)) {
+        std::cerr << "bench_haptic_loop: --spin-us needs a non-negative number of microseconds, not '" << v << "'\n";
+        return 2;
+      }
     } else {
       std::cout << "usage: bench_haptic_loop [--quick] [--json PATH] [--spin-us US]\n";
       return a == "--help" || a == "-h" ? 0 : 2;
