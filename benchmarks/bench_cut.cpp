@@ -11,7 +11,7 @@
 //      agreement of the two (largest relative difference of base state and table).
 //   3. Narrow gaps: the solution on a cut mesh with default quadrature against a much finer one,
 //      as gap width / edge length shrinks (kMinimumGapRatio in cutting/gap_limit.hpp).
-//   bench_cut [--quick] [--json PATH] [--equations N1,N2,...] [--repeats R] [--no-gap] [--no-table1] [--no-latency]
+//   bench_cut [--quick] [--json PATH] [--equations N1,N2,...] [--repeats R] [--no-gap] [--no-table1] [--no-latency] [--fresh-pages]
 // JSON: "table1": [{"equations", "scenario", "method", "seconds", "iterations", ...}],
 //       "latency": [{"equations", "region_elements", "exact_seconds", "refactor_seconds", "agreement", ...}],
 //       "gap": [{"gap_ratio", "difference_vs_fine_quadrature", ...}].
@@ -33,6 +33,7 @@
 #include "bemsurg/assembly/linear_system.hpp"
 #include "bemsurg/cutting/cut_system_update.hpp"
 #include "bemsurg/cutting/surface_cutter.hpp"
+#include "bemsurg/memory_budget.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/presolution/greens_table.hpp"
 #include "bemsurg/solvers/dense_lu.hpp"
@@ -326,7 +327,7 @@ double load_average() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  bool quick = false, gap = true, do_table1 = true, do_latency = true;
+  bool quick = false, gap = true, do_table1 = true, do_latency = true, reuse_memory = true;
   int repeats = 3;
   std::string json_path;
   std::vector<int> equations;
@@ -336,6 +337,7 @@ int main(int argc, char** argv) {
     else if (a == "--no-gap") gap = false;
     else if (a == "--no-table1") do_table1 = false;
     else if (a == "--no-latency") do_latency = false;
+    else if (a == "--fresh-pages") reuse_memory = false;
     else if (a == "--json" && i + 1 < argc) json_path = argv[++i];
     else if (a == "--repeats" && i + 1 < argc) repeats = std::max(1, std::stoi(argv[++i]));
     else if (a == "--equations" && i + 1 < argc) {
@@ -346,11 +348,14 @@ int main(int argc, char** argv) {
         return 2;
       }
     } else {
-      std::cerr << "usage: bench_cut [--quick] [--json PATH] [--equations N1,N2,...] [--repeats R] [--no-gap] [--no-table1] [--no-latency]\n"
+      std::cerr << "usage: bench_cut [--quick] [--json PATH] [--equations N1,N2,...] [--repeats R] [--no-gap] [--no-table1] [--no-latency] [--fresh-pages]\n"
                 << "unknown or incomplete argument: " << a << "\n";
       return 2;
     }
   }
+  // As bemsurg cut and session do: freed table snapshots are reused rather than returned to the
+  // system (bemsurg/memory_budget.hpp); --fresh-pages measures without it.
+  const bool reused = reuse_memory && reuse_freed_memory();
   if (quick) repeats = 1;
   if (equations.empty()) equations = quick ? std::vector<int>{1000} : std::vector<int>{1584, 4752, 9000, 15000};
   std::vector<std::array<int, 3>> sizes = {{4, 4, 2}};  // n = 384
@@ -364,10 +369,10 @@ int main(int argc, char** argv) {
 #else
   const char* backend = "Eigen";
 #endif
-  std::printf("bench_cut (%s): %d OpenMP threads, dense back end %s, %d repeats (median), load average %.2f\n", quick ? "quick" : "full",
-              threads, backend, repeats, load_average());
+  std::printf("bench_cut (%s): %d OpenMP threads, dense back end %s, %d repeats (median), freed memory %s, load average %.2f\n",
+              quick ? "quick" : "full", threads, backend, repeats, reused ? "reused" : "returned (fresh pages)", load_average());
   json report = {{"benchmark", "bench_cut"}, {"mode", quick ? "quick" : "full"}, {"threads", threads}, {"dense_backend", backend},
-                 {"repeats", repeats}, {"load_average_at_start", load_average()}, {"table1", json::array()}, {"latency", json::array()}, {"gap", json::array()}};
+                 {"repeats", repeats}, {"freed_memory_reused", reused}, {"load_average_at_start", load_average()}, {"table1", json::array()}, {"latency", json::array()}, {"gap", json::array()}};
   try {
     if (do_table1) table1(sizes, repeats, report["table1"]);
     if (do_latency) latency(equations, report["latency"]);

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "bemsurg/error.hpp"
+#include "bemsurg/memory_budget.hpp"
 #include "bemsurg/version.hpp"
 #include "commands.hpp"
 
@@ -45,6 +46,8 @@ int main(int argc, char** argv) {
   }
   try {
     // The sub-command sees itself as argv[0], like a program's main.
+    // Cut steps replace whole table snapshots: reuse their memory (bemsurg/memory_budget.hpp).
+    if (command == "cut" || command == "session") bemsurg::reuse_freed_memory();
     if (command == "solve") return run_solve(argc - 1, argv + 1);
     if (command == "press") return run_press(argc - 1, argv + 1);
     if (command == "session") return run_session(argc - 1, argv + 1);

@@ -2,6 +2,9 @@
 #pragma once
 
 #include <unistd.h>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 
 #include <sstream>
 
@@ -18,6 +21,17 @@ inline double default_memory_limit_bytes() {
   const double physical = physical_memory_bytes();
   if (physical <= 0.0) return 4.0 * 1024.0 * 1024.0 * 1024.0;
   return 0.8 * physical;
+}
+
+inline bool reuse_freed_memory() {
+#if defined(__GLIBC__)
+  // M_MMAP_MAX 0: large requests come from the heap, so a freed table's pages are reused by the
+  // next one; M_TRIM_THRESHOLD: never give the top of the heap back (glibc mallopt(3)).
+  const bool ok = mallopt(M_MMAP_MAX, 0) == 1;
+  return mallopt(M_TRIM_THRESHOLD, 0x7fffffff) == 1 && ok;
+#else
+  return false;
+#endif
 }
 
 inline std::string format_gib(double bytes) {

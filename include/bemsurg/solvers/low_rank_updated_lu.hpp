@@ -91,19 +91,34 @@ class LowRankUpdatedLu {
   /// A new solver for A_new = blockdiag(A, I_{new_size - size()}) + Us Vs^T (Us, Vs: new_size x k).
   /// `kinv_us` (optional) receives K_new^-1 Us, which the caller can finish into A_new^-1 Us
   /// with the new object's finish_solve (the push-through identity), at no further LU cost.
+  /// `also` (optional, new_size rows) is overwritten by K_new^-1 also in the same LU solve as Us
+  /// (one multi-right-hand-side dgetrs instead of two: a cut step's table columns ride along);
+  /// finish it with the new object's finish_solve.
   /// Throws SolverError when the new capacitance matrix is singular (A_new singular).
   LowRankUpdatedLu updated(Index new_size, const Eigen::MatrixXd& Us, const Eigen::MatrixXd& Vs,
-                           Eigen::MatrixXd* kinv_us = nullptr) const {
+                           Eigen::MatrixXd* kinv_us = nullptr, Eigen::MatrixXd* also = nullptr) const {
     if (empty()) throw SolverError("LowRankUpdatedLu::updated: no factorisation");
     if (new_size < n_) throw InvalidArgumentError("LowRankUpdatedLu::updated: the system cannot shrink");
     if (Us.rows() != new_size || Vs.rows() != new_size || Us.cols() != Vs.cols())
       throw InvalidArgumentError("LowRankUpdatedLu::updated: Us and Vs must both be new_size x k");
+    if (also && also->rows() != new_size)
+      throw InvalidArgumentError("LowRankUpdatedLu::updated: the extra right-hand sides must have new_size rows");
     LowRankUpdatedLu out;
     out.base_ = base_;
     out.n_ = new_size;
     const Index r0 = rank(), k = Us.cols(), r = r0 + k;
-    Eigen::MatrixXd Ws = Us;
-    out.apply_base_inverse(Ws);
+    Eigen::MatrixXd Ws;
+    if (also && also->cols() > 0) {
+      Eigen::MatrixXd both(new_size, k + also->cols());
+      both.leftCols(k) = Us;
+      both.rightCols(also->cols()) = *also;
+      out.apply_base_inverse(both);
+      Ws = both.leftCols(k);
+      *also = both.rightCols(also->cols());
+    } else {
+      Ws = Us;
+      out.apply_base_inverse(Ws);
+    }
     auto grow = [&](const Eigen::MatrixXd& old, const Eigen::MatrixXd& add) {
       Eigen::MatrixXd m = large_dense_matrix(new_size, r);  // huge pages: see influence_assembler.hpp
       m.topLeftCorner(n_, r0) = old;

@@ -4,6 +4,8 @@
 // dgetrf + dgetrs (threaded OpenBLAS, no copy of A); otherwise Eigen's PartialPivLU in place.
 // Pivots are judged on the column-equilibrated matrix, as DenseLU does, so the singularity test
 // does not depend on units. Throws SolverError when A is singular or has non-finite entries.
+// LAPACKE's *_work entry points skip the NaN scans of A and B that the plain ones make on every
+// call; finiteness of A is checked here before factorising (solvers/lu_factors.hpp says why).
 #pragma once
 
 #include <Eigen/Core>
@@ -35,14 +37,14 @@ inline void lu_factor_and_solve_in_place(Eigen::MatrixXd& A, Eigen::MatrixXd& B,
   auto t0 = SteadyClock::now();
 #ifdef BEMSURG_HAVE_BLAS
   std::vector<lapack_int> pivots(static_cast<std::size_t>(n));
-  const lapack_int info = LAPACKE_dgetrf(LAPACK_COL_MAJOR, lapack_int(n), lapack_int(n), A.data(), lapack_int(n), pivots.data());
+  const lapack_int info = LAPACKE_dgetrf_work(LAPACK_COL_MAJOR, lapack_int(n), lapack_int(n), A.data(), lapack_int(n), pivots.data());
   if (info < 0) throw SolverError("LAPACK dgetrf: invalid argument " + std::to_string(-info));
   if (info > 0 || !DenseLU::equilibrated_pivots_ok(A.diagonal(), column_max))
     throw SolverError("the system matrix A* is singular to working precision (is the body supported?)");
   if (factor_seconds) *factor_seconds = seconds_since(t0);
   t0 = SteadyClock::now();
   if (B.cols() > 0) {
-    const lapack_int s = LAPACKE_dgetrs(LAPACK_COL_MAJOR, 'N', lapack_int(n), lapack_int(B.cols()), A.data(), lapack_int(n),
+    const lapack_int s = LAPACKE_dgetrs_work(LAPACK_COL_MAJOR, 'N', lapack_int(n), lapack_int(B.cols()), A.data(), lapack_int(n),
                                         pivots.data(), B.data(), lapack_int(n));
     if (s != 0) throw SolverError("LAPACK dgetrs failed with info " + std::to_string(s));
   }

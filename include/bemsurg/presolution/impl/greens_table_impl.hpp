@@ -172,7 +172,7 @@ inline void GreensTable::set_columns_from_solution(Eigen::MatrixXd&& X) {
   for (Index k = 0; k < n; ++k)
     if (base_kinds_[static_cast<std::size_t>(k)] == BcKind::Displacement) reaction_dofs_.push_back(k);
   const Index S = static_cast<Index>(reaction_dofs_.size());
-  reactions_.resize(S, X.cols());
+  reactions_ = large_dense_matrix(S, X.cols());  // first touched below: advise huge pages
   for (Index c = 0; c < X.cols(); ++c)  // column by column: both matrices are column-major
     for (Index i = 0; i < S; ++i) {
       double& x = X(reaction_dofs_[static_cast<std::size_t>(i)], c);
@@ -279,8 +279,35 @@ inline std::shared_ptr<const GreensTable> GreensTable::updated(std::shared_ptr<c
   }
   Us.rightCols(d) = Y;
   Vs.leftCols(d) = X.transpose();
+  // The region after the step and the table's columns to solve afresh come first: their LU solve
+  // rides along with U_s's (one multi-right-hand-side dgetrs). Old elements keep their slots;
+  // added elements near the region join at the end.
+  std::vector<Index> region1 = region_after_cut(*after, delta, options);
+  const Index R0 = static_cast<Index>(region_.size()), R1 = static_cast<Index>(region1.size());
+  std::vector<Index> position(static_cast<std::size_t>(n1), -1);  // dof -> index in D
+  for (Index j = 0; j < d; ++j) position[static_cast<std::size_t>(change.dofs[static_cast<std::size_t>(j)])] = j;
+  // Columns to solve afresh: F for reshaped region elements, G' columns for joining elements.
+  std::vector<Index> fresh_cols;
+  std::vector<Index> fresh_source;  // index j in D of the column's element dof
+  for (Index s = 0; s < R1; ++s)
+    for (int a = 0; a < 3; ++a) {
+      const Index k = 3 * region1[static_cast<std::size_t>(s)] + a, p = position[static_cast<std::size_t>(k)];
+      if (p >= 0) {
+        fresh_cols.push_back(3 * s + a);
+        fresh_source.push_back(p);
+      }
+    }
+  Eigen::MatrixXd F = Eigen::MatrixXd::Zero(n1, static_cast<Index>(fresh_cols.size()));
+  for (std::size_t i = 0; i < fresh_cols.size(); ++i) {
+    const Index j = fresh_source[i], col = static_cast<Index>(i);
+    F.col(col) = change.cols_G.col(j);
+    if (fresh_cols[i] < 3 * R0) {  // an old column whose element was reshaped: its change only
+      F.col(col).head(n) -= change.old_cols_G.col(j);
+      for (Index q = 0; q < d; ++q) F(change.dofs[static_cast<std::size_t>(q)], col) = 0.0;  // in coef already
+    }
+  }
   Eigen::MatrixXd Z;  // K^-1 U_s, then A*_after^-1 U_s (push-through: no further LU solve)
-  auto solver = std::make_shared<const LowRankUpdatedLu>(solver_->updated(n1, Us, Vs, &Z));
+  auto solver = std::make_shared<const LowRankUpdatedLu>(solver_->updated(n1, Us, Vs, &Z, &F));
   solver->finish_solve(Z);
 
   auto out = std::make_shared<GreensTable>();
@@ -305,9 +332,7 @@ inline std::shared_ptr<const GreensTable> GreensTable::updated(std::shared_ptr<c
   }
   const auto t_table = SteadyClock::now();
 
-  // Region: old elements keep their slots; added elements near the region join at the end.
-  t.region_ = region_after_cut(*t.mesh_, delta, options);
-  const Index R0 = static_cast<Index>(region_.size()), R1 = static_cast<Index>(t.region_.size());
+  t.region_ = std::move(region1);
 
   // The old columns: T' = T + A'^-1 (B' - A' T) with T extended by zero rows. The residual is
   // E_D (dB_D - X T) - Y T_D + F (F: whole columns of reshaped region elements outside rows D),
@@ -324,35 +349,13 @@ inline std::shared_ptr<const GreensTable> GreensTable::updated(std::shared_ptr<c
   for (Index j = 0; j < d; ++j) TD.row(j) = T.row(change.dofs[static_cast<std::size_t>(j)]).head(3 * R0);
   Eigen::MatrixXd coef(d, 3 * R0);
   coef.noalias() = -X.leftCols(n) * T.topLeftCorner(n, 3 * R0);
-  std::vector<Index> position(static_cast<std::size_t>(n1), -1);  // dof -> index in D
-  for (Index j = 0; j < d; ++j) position[static_cast<std::size_t>(change.dofs[static_cast<std::size_t>(j)])] = j;
   for (Index s = 0; s < R0; ++s)
     for (int a = 0; a < 3; ++a) {
       const Index k = 3 * region_[static_cast<std::size_t>(s)] + a, col = 3 * s + a;
       coef.col(col).noalias() += change.rows_G.col(k);  // B'_D: the rows D of G' in column k
       if (k < n) coef.col(col).head(change.num_modified_dofs) -= change.old_rows_G.col(k);
     }
-  // Columns to solve afresh: F for reshaped region elements, G' columns for joining elements.
-  std::vector<Index> fresh_cols;
-  std::vector<Index> fresh_source;  // index j in D of the column's element dof
-  for (Index s = 0; s < R1; ++s)
-    for (int a = 0; a < 3; ++a) {
-      const Index k = 3 * t.region_[static_cast<std::size_t>(s)] + a, p = position[static_cast<std::size_t>(k)];
-      if (p >= 0) {
-        fresh_cols.push_back(3 * s + a);
-        fresh_source.push_back(p);
-      }
-    }
-  Eigen::MatrixXd F = Eigen::MatrixXd::Zero(n1, static_cast<Index>(fresh_cols.size()));
-  for (std::size_t i = 0; i < fresh_cols.size(); ++i) {
-    const Index j = fresh_source[i], col = static_cast<Index>(i);
-    F.col(col) = change.cols_G.col(j);
-    if (fresh_cols[i] < 3 * R0) {  // an old column whose element was reshaped: its change only
-      F.col(col).head(n) -= change.old_cols_G.col(j);
-      for (Index q = 0; q < d; ++q) F(change.dofs[static_cast<std::size_t>(q)], col) = 0.0;  // in coef already
-    }
-  }
-  solver->solve_in_place(F);
+  solver->finish_solve(F);  // K^-1 F came with U_s's solve
   T.leftCols(3 * R0).noalias() += Z.leftCols(d) * coef;
   T.leftCols(3 * R0).noalias() -= Z.rightCols(d) * TD;
   for (std::size_t i = 0; i < fresh_cols.size(); ++i) {
