@@ -12,7 +12,10 @@ bash scripts/setup-deps.sh
 BUILD_DIR=${BUILD_DIR:-build}
 cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release -DBEMSURG_BUILD_TESTS=OFF -DBEMSURG_BUILD_BENCHMARKS=OFF
 targets=(bemsurg_cli)
-if cmake --build "$BUILD_DIR" --target help | grep -q bemsurg_viewer; then targets+=(bemsurg_viewer); fi
+# The target list first, then the test: `... | grep -q` under pipefail fails whenever grep stops
+# reading early and cmake gets SIGPIPE, which silently dropped the viewer from the demo.
+target_list=$(cmake --build "$BUILD_DIR" --target help)
+if grep -q bemsurg_viewer <<< "$target_list"; then targets+=(bemsurg_viewer); fi
 cmake --build "$BUILD_DIR" -j"${JOBS:-2}" --target "${targets[@]}"
 
 BEMSURG="$BUILD_DIR/bin/bemsurg"
