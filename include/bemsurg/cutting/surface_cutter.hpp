@@ -7,8 +7,10 @@
 // a gap of width w perpendicular to the surface down to a depth of about one local edge length:
 // two side walls and a bottom. Later steps extend it by one edge along the travel direction;
 // deepen() lowers its bottom by one more level. Every path vertex inside the cut is split into
-// a left and a right rim vertex (w apart) with wall vertices below them; the cut's two ends stay
-// single vertices, where the walls and bottom close in a fan.
+// a left rim vertex (the path vertex, unmoved) and a right rim vertex w to its right, with wall
+// vertices below them; faces left of the path therefore keep their geometry (fewer reshaped
+// elements per step). The cut's two ends stay single vertices, where the walls and bottom close
+// in a fan.
 //
 // Every accepted step leaves a surface that is closed, 2-manifold, outward-oriented and free of
 // self-intersection, and whose changed or new triangles have no angle below min_angle_degrees:

@@ -226,9 +226,9 @@ inline CutStep SurfaceCutter::deepen() {
   ++w.levels;
   for (auto& s : w.path) {
     if (!s.split) continue;
-    const double half = 0.5 * s.width, depth = w.levels * s.level_depth;
-    s.left.push_back(w.add_vertex(s.center + half * s.left_dir - depth * s.normal));
-    s.right.push_back(w.add_vertex(s.center - half * s.left_dir - depth * s.normal));
+    const double depth = w.levels * s.level_depth;  // the groove lies right of the path (split_section)
+    s.left.push_back(w.add_vertex(s.center - depth * s.normal));
+    s.right.push_back(w.add_vertex(s.center - s.width * s.left_dir - depth * s.normal));
   }
   rebuild_groove(w);
   std::string reason;
@@ -417,14 +417,16 @@ inline bool SurfaceCutter::split_section(Work& w, std::size_t i, std::string& re
   s.edge_length = 0.5 * (w.segment_length[i - 1] + w.segment_length[i]);
   s.width = options_.gap_width > 0.0 ? options_.gap_width : options_.gap_fraction * s.edge_length;
   s.level_depth = options_.depth_fraction * s.edge_length;
-  const double half = 0.5 * s.width;
-  // The left rim keeps v's index (moved half a gap to the left); the right rim is new.
-  w.V[static_cast<std::size_t>(v)] = s.center + half * s.left_dir;
+  // The groove lies right of the path: the left rim keeps v (index and position) and the right
+  // rim, a new vertex, is one gap width away. Faces on the left therefore keep their corners bit
+  // for bit and are not reshaped (cutting/mesh_delta.hpp): only the right side's faces change, so
+  // a step's update rank is lower than with a groove centred on the path, which would move both
+  // sides by half a gap (docs/cutting.md "Topology").
   s.left = {v};
-  s.right = {w.add_vertex(s.center - half * s.left_dir)};
+  s.right = {w.add_vertex(s.center - s.width * s.left_dir)};
   for (int l = 1; l <= w.levels; ++l) {
-    s.left.push_back(w.add_vertex(s.center + half * s.left_dir - l * s.level_depth * n));
-    s.right.push_back(w.add_vertex(s.center - half * s.left_dir - l * s.level_depth * n));
+    s.left.push_back(w.add_vertex(s.center - l * s.level_depth * n));
+    s.right.push_back(w.add_vertex(s.center - s.width * s.left_dir - l * s.level_depth * n));
   }
   for (Index f : right)
     for (Index& c : w.F[static_cast<std::size_t>(f)])
