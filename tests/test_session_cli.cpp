@@ -121,6 +121,66 @@ TEST_CASE("bemsurg session cuts through the cutting module and writes each cut s
   }
 }
 
+TEST_CASE("bemsurg session computes its table on the scene's operating region and refuses another region's table file", "[haptics][cli]") {
+  const bemsurg_test::TempDir temp("bemsurg_test_session_region_");
+  std::string plain = kScene;
+  plain.pop_back();  // the closing brace: an operating region is appended
+  const std::string whole_top = plain + R"(, "operating_region": {"box": {"min": [-0.001, -0.001, 0.049], "max": [0.101, 0.101, 0.051]}}})";
+  const std::string part_top = plain + R"(, "operating_region": {"box": {"min": [-0.001, -0.001, 0.049], "max": [0.075, 0.075, 0.051]}}})";
+  const std::string script = temp.write("actions.json", kScript), table = temp.file("table.bin");
+  std::string err;
+  // The grasper pinches at (0.08, 0.08): inside the whole top, outside the part (the punch, 0.02
+  // around (0.05, 0.05), stays inside it): refused, naming the action.
+  CHECK(run("session " + temp.write("part.json", part_top) + " --script " + script + " -o " + temp.file("o1") + " --virtual-clock", &err,
+            temp.path / "e1.txt") == 1);
+  CHECK(err.find("the pinch of tool 'grasper'") != std::string::npos);
+  CHECK(err.find("outside the table's region") != std::string::npos);
+  // A table file saved for every free element is stale for the whole top: recomputed with a
+  // warning that names the reason, and saved again; the next run loads it silently.
+  REQUIRE(run("session " + temp.write("plain.json", kScene) + " --script " + script + " -o " + temp.file("o2") + " --virtual-clock --table " +
+                  table,
+              &err, temp.path / "e2.txt") == 0);
+  const std::string top_scene = temp.write("top.json", whole_top);
+  REQUIRE(run("session " + top_scene + " --script " + script + " -o " + temp.file("o3") + " --virtual-clock --table " + table, &err,
+              temp.path / "e3.txt") == 0);
+  CHECK(err.find("different table region") != std::string::npos);
+  CHECK(err.find("recomputing") != std::string::npos);
+  REQUIRE(run("session " + top_scene + " --script " + script + " -o " + temp.file("o4") + " --virtual-clock --table " + table, &err,
+              temp.path / "e4.txt") == 0);
+  CHECK(err.find("recomputing") == std::string::npos);
+  // The same forces as with the table computed in the run (the file holds the same columns).
+  std::ifstream a(fs::path(temp.file("o3")) / "force_trace.csv"), b(fs::path(temp.file("o4")) / "force_trace.csv");
+  std::stringstream sa, sb;
+  sa << a.rdbuf();
+  sb << b.rdbuf();
+  CHECK(sa.str() == sb.str());
+  CHECK(sa.str().size() > 1000);
+}
+
+TEST_CASE("bemsurg session checks each press depth against the small-strain range, as press does", "[haptics][cli]") {
+  // The block is 0.05 tall and the punch's radius 0.02 (docs/robustness.md: warned beyond 5 % of
+  // the body's extent or 0.1 radius, refused beyond 20 % or 0.5 radius).
+  const bemsurg_test::TempDir temp("bemsurg_test_session_depth_");
+  const std::string scene = temp.write("scene.json", kScene);
+  auto with_depth = [&](const std::string& depth) {
+    std::string script = kScript;
+    script.replace(script.find("\"depth\": 0.001"), 14, "\"depth\": " + depth);
+    return temp.write("actions_" + depth + ".json", script);
+  };
+  std::string err;
+  CHECK(run("session " + scene + " --script " + with_depth("0.02") + " -o " + temp.file("o1") + " --virtual-clock", &err,
+            temp.path / "e1.txt") == 1);
+  CHECK(err.find("the press of tool 'punch'") != std::string::npos);
+  CHECK(err.find("% of the body's extent along the push") != std::string::npos);
+  REQUIRE(run("session " + scene + " --script " + with_depth("0.003") + " -o " + temp.file("o2") + " --virtual-clock", &err,
+              temp.path / "e2.txt") == 0);
+  CHECK(err.find("warning: session:") != std::string::npos);
+  CHECK(err.find("the press of tool 'punch'") != std::string::npos);
+  REQUIRE(run("session " + scene + " --script " + with_depth("0.001") + " -o " + temp.file("o3") + " --virtual-clock", &err,
+              temp.path / "e3.txt") == 0);
+  CHECK(err.find("the press of tool") == std::string::npos);  // inside the range: no warning
+}
+
 TEST_CASE("bemsurg session refuses bad scripts, naming the fault", "[haptics][cli]") {
   const bemsurg_test::TempDir temp("bemsurg_test_session_bad_");
   const std::string scene = temp.write("scene.json", kScene);

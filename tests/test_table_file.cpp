@@ -35,6 +35,25 @@ TEST_CASE("table files round-trip exactly and reject stale or corrupt files", "[
   CHECK(loaded.base_traction().cwiseEqual(table.base_traction()).all());
   CHECK(loaded.region_slot(top[2]) == 2);
 
+  // The region is part of the table: loaded with the region asked for, refused for another one
+  // (a tool landing outside the stored columns would feel only part of its contact) and for the
+  // default "every free element", which is not what this file holds.
+  CHECK(load_greens_table(path, key, top).region() == top);
+  std::vector<Index> fewer(top.begin(), top.end() - 1);
+  CHECK_THROWS_WITH(load_greens_table(path, key, fewer),
+                    Catch::Contains("stale") && Catch::Contains("different table region") && Catch::Contains("operating_region"));
+  CHECK_THROWS_WITH(load_greens_table(path, key, std::vector<Index>{}), Catch::Contains("different table region"));
+  {
+    GreensTableOptions all_free = options;
+    all_free.region.clear();
+    const std::string path_all = path + ".all";
+    save_greens_table(path_all, GreensTable::compute(mesh, material, base, all_free));
+    const GreensTable every = load_greens_table(path_all, key, std::vector<Index>{});
+    CHECK(static_cast<Index>(every.region().size()) == mesh.num_elements() - static_cast<Index>(bottom.size()));
+    CHECK_THROWS_WITH(load_greens_table(path_all, key, top), Catch::Contains("different table region"));
+    std::filesystem::remove(path_all);
+  }
+
   // Stale: another material, another support, another mesh.
   Material softer = material;
   softer.young_modulus = 400.0;

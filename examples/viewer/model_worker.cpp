@@ -116,6 +116,11 @@ void ModelWorker::do_cut(const CutRequest& cut) {
     for (int k = 0; k < 3; ++k) bc.prescribe_component(e, k, old.kind(3 * e + k), old.value(3 * e + k));
   l->scene.problem.mesh = *mesh;
   l->scene.problem.boundary_conditions = bc;
+  // A cut made where tools act: its new surfaces join an operating region (ids are stable, so the
+  // region's old elements keep theirs). Empty means every free element already.
+  if (!l->scene.operating_elements.empty())
+    for (Index e : cut.delta.added)
+      if (bc.is_free(e)) l->scene.operating_elements.push_back(e);
   l->mesh = mesh;
   l->supported.resize(static_cast<std::size_t>(after), 0);
   // New surfaces at once: the previous sag on the old elements, zero on the new walls.
@@ -372,8 +377,12 @@ void ModelWorker::do_precompute() {
   // With zero prescribed values the reference is computed with the scene's gravity and rescaled
   // for E and gravity on/off; otherwise it is computed exactly as asked.
   const Eigen::Vector3d g = (loaded_->homogeneous || gravity_on) ? p.gravity : Eigen::Vector3d::Zero();
-  Index region = 0;
-  for (Index e = 0; e < p.mesh.num_elements(); ++e) region += p.boundary_conditions.is_free(e) ? 1 : 0;
+  // The scene's operating_region, when it has one, is where tools may act: the table holds only
+  // its columns (empty: every free element), as in `bemsurg press` and `session` (docs/graded.md).
+  const std::vector<Index>& operating = loaded_->scene.operating_elements;
+  Index region = static_cast<Index>(operating.size());
+  if (operating.empty())
+    for (Index e = 0; e < p.mesh.num_elements(); ++e) region += p.boundary_conditions.is_free(e) ? 1 : 0;
   set_status(WorkerPhase::Precomputing,
              "precomputing the compliance table (" + std::to_string(p.mesh.num_elements()) + " elements, " +
                  std::to_string(3 * p.mesh.num_elements()) + " equations)");
@@ -384,6 +393,7 @@ void ModelWorker::do_precompute() {
   GreensTableOptions options;
   options.gravity = g;
   options.quadrature = p.quadrature;
+  options.region = operating;
   const double t0 = now_seconds();
   // The shared-mesh form keeps the factorisation and the mesh, so cuts can update the table.
   auto table = std::make_shared<const GreensTable>(GreensTable::compute(loaded_->mesh, m, p.boundary_conditions, options));

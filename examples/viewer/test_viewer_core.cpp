@@ -95,6 +95,22 @@ TEST_CASE("a press whose approach line misses the body is refused naming the act
   }
 }
 
+TEST_CASE("the viewer's table holds the scene's operating region only, as press and session do", "[viewer]") {
+  std::string text = kSmallScene;
+  text.pop_back();  // the closing brace
+  text += R"(, "operating_region": {"box": {"min": [-0.041, -0.041, 0.039], "max": [0.041, 0.041, 0.041]}}})";
+  const std::string path = write_temp("region.json", text);
+  ModelWorker worker;
+  worker.load(path);
+  worker.wait_idle();
+  REQUIRE(worker.status().error.empty());
+  REQUIRE(worker.state()->table);
+  const Scene scene = load_scene(path);
+  REQUIRE(scene.operating_elements.size() == 32u);  // the 4 x 4 top, two triangles per quad
+  CHECK(worker.state()->table->region() == scene.operating_elements);
+  std::remove(path.c_str());
+}
+
 TEST_CASE("rescaling the table for E and gravity equals a recomputation with those values", "[viewer]") {
   const std::string path = write_temp("scene.json", kSmallScene);
   ModelWorker worker;

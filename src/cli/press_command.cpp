@@ -169,7 +169,7 @@ int run_press(int argc, char** argv) {
   bool loaded = false;
   if (!o.table_file.empty() && std::filesystem::exists(o.table_file)) {
     try {
-      table = bemsurg::load_greens_table(o.table_file, key);
+      table = bemsurg::load_greens_table(o.table_file, key, table_options.region);
       loaded = true;
     } catch (const bemsurg::IoError& e) {  // stale or corrupt: recompute
       if (!o.quiet) std::cerr << "bemsurg: warning: " << e.what() << "; recomputing\n";

@@ -178,13 +178,16 @@ int run_session(int argc, char** argv) {
   bemsurg::GreensTableOptions table_options;
   table_options.gravity = p.gravity;
   table_options.quadrature = p.quadrature;
+  // The scene's operating_region, when it has one, is where tools may act: the table holds only
+  // its columns (empty: every free element), as in `press` and the viewer (docs/graded.md).
+  table_options.region = scene.operating_elements;
   const bemsurg::GreensTableKey key =
       bemsurg::make_greens_table_key(p.mesh, p.material, p.boundary_conditions, p.gravity, p.quadrature);
   bemsurg::GreensTable table;
   bool loaded = false;
   if (!table_file.empty() && std::filesystem::exists(table_file)) {
     try {
-      table = bemsurg::load_greens_table(table_file, key);
+      table = bemsurg::load_greens_table(table_file, key, table_options.region);
       loaded = true;
     } catch (const bemsurg::IoError& e) {
       if (!quiet) std::cerr << "bemsurg: warning: " << e.what() << "; recomputing\n";
@@ -198,6 +201,8 @@ int run_session(int argc, char** argv) {
   auto table_ptr = std::make_shared<const bemsurg::GreensTable>(std::move(table));
 
   bemsurg::haptics::Session session(mesh_ptr, table_ptr, script, options);
+  if (!quiet)
+    for (const auto& w : session.warnings()) std::cerr << "bemsurg: warning: session: " << w << "\n";
   std::filesystem::create_directories(output);
   TraceWriter trace(output, session.script());
   const bemsurg::haptics::SessionResult r = session.run(&trace);

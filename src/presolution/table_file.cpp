@@ -95,7 +95,8 @@ void save_greens_table(const std::string& path, const GreensTable& table) {
   if (!out) throw IoError("writing table file " + path + " failed (disk full?)");
 }
 
-GreensTable load_greens_table(const std::string& path, const GreensTableKey& expected) {
+// Both overloads: `expected_region` null means the region is not checked.
+static GreensTable load_checked(const std::string& path, const GreensTableKey& expected, const std::vector<Index>* expected_region) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw IoError("cannot open table file " + path);
   std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -149,6 +150,17 @@ GreensTable load_greens_table(const std::string& path, const GreensTableKey& exp
     if (v > 1) throw IoError("table file " + path + " is corrupt: bad boundary-condition kind");
     kind = static_cast<BcKind>(v);
   }
+  if (expected_region) {
+    // The region is part of what the table is: a table of other columns would make a tool that
+    // lands outside them feel only part of its contact (silently wrong forces), so it is stale.
+    std::vector<Index> want = *expected_region;
+    if (want.empty())  // every free element, in order, as GreensTable::compute chooses
+      for (Index e = 0; e < k.num_elements; ++e)
+        if (BoundaryConditions::is_free_element(kinds, e)) want.push_back(e);
+    if (want != region)
+      throw IoError(stale + "a different table region (" + std::to_string(region.size()) + " elements; the scene asks for " +
+                    std::to_string(want.size()) + ": its operating_region changed)");
+  }
   Eigen::VectorXd ug(n), tg(n);
   r.raw(ug.data(), static_cast<std::size_t>(n) * sizeof(double));
   r.raw(tg.data(), static_cast<std::size_t>(n) * sizeof(double));
@@ -156,6 +168,14 @@ GreensTable load_greens_table(const std::string& path, const GreensTableKey& exp
   r.raw(columns.data(), static_cast<std::size_t>(columns.size()) * sizeof(double));
   if (r.pos() != end) throw IoError("table file " + path + " is corrupt: unexpected trailing bytes");
   return GreensTable(k, std::move(region), std::move(ug), std::move(tg), std::move(kinds), std::move(columns));
+}
+
+GreensTable load_greens_table(const std::string& path, const GreensTableKey& expected) {
+  return load_checked(path, expected, nullptr);
+}
+
+GreensTable load_greens_table(const std::string& path, const GreensTableKey& expected, const std::vector<Index>& expected_region) {
+  return load_checked(path, expected, &expected_region);
 }
 
 }  // namespace bemsurg

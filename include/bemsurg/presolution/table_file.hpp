@@ -10,6 +10,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "bemsurg/presolution/greens_table.hpp"
 
@@ -22,5 +23,10 @@ void save_greens_table(const std::string& path, const GreensTable& table);
 /// Throws IoError naming the path and the reason: unreadable, not a table file, another
 /// format or library version, corrupt (checksum or truncation), or stale (which key differs).
 GreensTable load_greens_table(const std::string& path, const GreensTableKey& expected);
+
+/// As above, and the table's region must be `expected_region` (GreensTableOptions::region of the
+/// table the caller would compute; empty: every free element): a table for other columns is
+/// stale too (IoError), since a tool landing outside its region would feel part of its contact.
+GreensTable load_greens_table(const std::string& path, const GreensTableKey& expected, const std::vector<Index>& expected_region);
 
 }  // namespace bemsurg
