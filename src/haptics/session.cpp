@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "bemsurg/error.hpp"
+#include "bemsurg/presolution/contact_validity.hpp"
 
 namespace bemsurg::haptics {
 
@@ -86,7 +87,13 @@ void Session::build_keyframes() {
   for (std::size_t t = 0; t < script_.tools.size(); ++t) ids.push_back(probe.add_tool(contact_spec(static_cast<int>(t))));
   auto first_contact = [&](const Action& a) -> Eigen::Vector3d {
     const int id = ids[static_cast<std::size_t>(a.tool)];
-    if (!probe.engage(id, a.at, a.direction))
+    bool met = false;
+    try {
+      met = probe.engage(id, a.at, a.direction);
+    } catch (const ContactError& e) {  // e.g. a tool wider than the table's region there
+      throw ContactError(describe(script_, a) + ": " + e.what());
+    }
+    if (!met)
       throw ContactError(describe(script_, a) + ": a tool coming along the direction through `at` does not meet the body "
                                                 "(or only outside the table's region, or the sphere covers no element centroid)");
     const Eigen::Vector3d o = probe.origin(id);
@@ -135,6 +142,15 @@ void Session::build_keyframes() {
           kf.push_back(n);
           break;
         case ActionType::Press: {
+          // The depth must lie in the model's small-strain range, as for `bemsurg press`
+          // (presolution/contact_validity.hpp, docs/robustness.md): refused by action, warned between.
+          const bool has_radius = tool.shape == ScriptToolShape::Flat || tool.shape == ScriptToolShape::Sphere;
+          try {
+            const ContactDepthCheck range = check_contact_depth(*mesh_, a.direction, a.depth, has_radius ? tool.radius : 0.0);
+            if (!range.warning.empty()) warnings_.push_back(describe(script_, a) + ": " + range.warning);
+          } catch (const ContactError& e) {
+            throw ContactError(describe(script_, a) + ": " + e.what());
+          }
           const Eigen::Vector3d p0 = first_contact(a);
           n.position = p0;
           n.direction = a.direction;

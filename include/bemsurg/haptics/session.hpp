@@ -87,6 +87,9 @@ class Session {
   SessionResult run(SessionObserver* observer = nullptr);
 
   const ActionScript& script() const { return script_; }
+  /// Presses deeper than the small-strain warning thresholds (contact_validity.hpp), one line each
+  /// naming the action; presses beyond the refusal thresholds make the constructor throw.
+  const std::vector<std::string>& warnings() const { return warnings_; }
   const std::vector<Keyframe>& keyframes(int tool) const { return keyframes_[static_cast<std::size_t>(tool)]; }
   /// The device channel of each tool.
   int channel_of(int tool) const { return script_.tools[static_cast<std::size_t>(tool)].device; }
@@ -116,6 +119,7 @@ class Session {
   ActionScript script_;
   SessionOptions options_;
   std::vector<std::vector<Keyframe>> keyframes_;
+  std::vector<std::string> warnings_;
   std::vector<Engagement> engagement_;
   std::vector<ScheduledCut> cuts_;
   std::vector<Eigen::Vector3d> position_;  // latest device position per tool (model frame)
