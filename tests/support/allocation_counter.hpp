@@ -2,8 +2,8 @@
 // piece of code runs, so tests can prove that hot paths (Krylov iterations, the haptic force
 // path) allocate nothing. Include it from exactly one translation unit per test executable.
 // Ordinary builds wrap malloc (glibc's __libc_malloc), which sees operator new, Eigen's aligned
-// allocations and std::vector growth alike; AddressSanitizer owns malloc, so there the counter
-// uses the sanitizer's allocation hooks instead and the check stays just as strict.
+// allocations and std::vector growth alike; AddressSanitizer and ThreadSanitizer own malloc, so
+// there the counter uses the sanitizer's allocation hooks instead and the check stays just as strict.
 #pragma once
 
 #include <atomic>
@@ -33,7 +33,7 @@ long allocations_during(F&& f) {
 
 }  // namespace bemsurg_test
 
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
 extern "C" int __sanitizer_install_malloc_and_free_hooks(void (*malloc_hook)(const volatile void*, std::size_t),
                                                          void (*free_hook)(const volatile void*));
 namespace bemsurg_test {
