@@ -121,8 +121,10 @@ class LowRankUpdatedLu {
     }
     auto grow = [&](const Eigen::MatrixXd& old, const Eigen::MatrixXd& add) {
       Eigen::MatrixXd m = large_dense_matrix(new_size, r);  // huge pages: see influence_assembler.hpp
-      m.topLeftCorner(n_, r0) = old;
-      m.bottomLeftCorner(new_size - n_, r0).setZero();
+      if (r0 > 0) {  // at rank 0 `old` is 0 x 0, not n x 0: assigning it to the block asserts in Debug
+        m.topLeftCorner(n_, r0) = old;
+        m.bottomLeftCorner(new_size - n_, r0).setZero();
+      }
       m.rightCols(k) = add;
       return m;
     };
