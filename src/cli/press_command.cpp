@@ -21,9 +21,9 @@
 #include "bemsurg/presolution/contact_tools.hpp"
 #include "bemsurg/presolution/contact_validity.hpp"
 #include "bemsurg/presolution/greens_table.hpp"
-#include "bemsurg/presolution/table_file.hpp"
 #include "bemsurg/timing.hpp"
 #include "commands.hpp"
+#include "scene_table.hpp"
 
 namespace {
 
@@ -156,29 +156,11 @@ int run_press(int argc, char** argv) {
   const bemsurg::ContactDepthCheck range = bemsurg::check_contact_depth(p.mesh, o.direction, o.depth, o.tool_radius);
   if (!o.quiet && !range.warning.empty()) std::cerr << "bemsurg: warning: press: " << range.warning << "\n";
 
-  // The table: loaded when a matching file is given, else computed (and saved when asked).
-  bemsurg::GreensTableOptions table_options;
-  table_options.gravity = p.gravity;
-  table_options.quadrature = p.quadrature;
-  // The scene's operating_region, when it has one, is where tools may act: the table holds only
-  // its columns (empty: every free element). docs/graded.md
-  table_options.region = scene.operating_elements;
-  const bemsurg::GreensTableKey key =
-      bemsurg::make_greens_table_key(p.mesh, p.material, p.boundary_conditions, p.gravity, p.quadrature);
-  bemsurg::GreensTable table;
-  bool loaded = false;
-  if (!o.table_file.empty() && std::filesystem::exists(o.table_file)) {
-    try {
-      table = bemsurg::load_greens_table(o.table_file, key, table_options.region);
-      loaded = true;
-    } catch (const bemsurg::IoError& e) {  // stale or corrupt: recompute
-      if (!o.quiet) std::cerr << "bemsurg: warning: " << e.what() << "; recomputing\n";
-    }
-  }
-  if (!loaded) {
-    table = bemsurg::GreensTable::compute(p.mesh, p.material, p.boundary_conditions, table_options);
-    if (!o.table_file.empty()) bemsurg::save_greens_table(o.table_file, table);
-  }
+  // The table: loaded when a matching file is given, else computed on the operating region
+  // (and saved when asked): src/cli/scene_table.hpp.
+  bemsurg::cli::SceneTable cached = bemsurg::cli::scene_table(scene, o.table_file, o.quiet);
+  bemsurg::GreensTable& table = cached.table;
+  const bool loaded = cached.loaded_from_file;
 
   // The solver holds shared immutable snapshots of the mesh and the table (docs/design.md §9).
   const auto mesh_ptr = std::make_shared<const bemsurg::TriangleMesh>(p.mesh);

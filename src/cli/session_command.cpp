@@ -18,8 +18,8 @@
 #include "bemsurg/io/scene.hpp"
 #include "bemsurg/mesh/mesh_io.hpp"
 #include "bemsurg/presolution/greens_table.hpp"
-#include "bemsurg/presolution/table_file.hpp"
 #include "commands.hpp"
+#include "scene_table.hpp"
 
 namespace {
 
@@ -175,28 +175,11 @@ int run_session(int argc, char** argv) {
   options.cut_hook = session_cut_hook();
 
   const bemsurg::ElastostaticProblem& p = scene.problem;
-  bemsurg::GreensTableOptions table_options;
-  table_options.gravity = p.gravity;
-  table_options.quadrature = p.quadrature;
-  // The scene's operating_region, when it has one, is where tools may act: the table holds only
-  // its columns (empty: every free element), as in `press` and the viewer (docs/graded.md).
-  table_options.region = scene.operating_elements;
-  const bemsurg::GreensTableKey key =
-      bemsurg::make_greens_table_key(p.mesh, p.material, p.boundary_conditions, p.gravity, p.quadrature);
-  bemsurg::GreensTable table;
-  bool loaded = false;
-  if (!table_file.empty() && std::filesystem::exists(table_file)) {
-    try {
-      table = bemsurg::load_greens_table(table_file, key, table_options.region);
-      loaded = true;
-    } catch (const bemsurg::IoError& e) {
-      if (!quiet) std::cerr << "bemsurg: warning: " << e.what() << "; recomputing\n";
-    }
-  }
-  if (!loaded) {
-    table = bemsurg::GreensTable::compute(p.mesh, p.material, p.boundary_conditions, table_options);
-    if (!table_file.empty()) bemsurg::save_greens_table(table_file, table);
-  }
+  // The table: loaded when a matching file is given, else computed on the operating region
+  // (and saved when asked): src/cli/scene_table.hpp.
+  bemsurg::cli::SceneTable cached = bemsurg::cli::scene_table(scene, table_file, quiet);
+  bemsurg::GreensTable& table = cached.table;
+  const bool loaded = cached.loaded_from_file;
   auto mesh_ptr = std::make_shared<const bemsurg::TriangleMesh>(p.mesh);
   auto table_ptr = std::make_shared<const bemsurg::GreensTable>(std::move(table));
 
