@@ -20,6 +20,7 @@
 #include "bemsurg/mesh/mesh_topology.hpp"
 #include "bemsurg/mesh/mesh_validation.hpp"
 #include "bemsurg/mesh/self_intersection.hpp"
+#include "support/skip.hpp"
 
 using namespace bemsurg;
 namespace fs = std::filesystem;
@@ -104,7 +105,7 @@ TEST_CASE("The brain model is a valid, deterministic, mirror-symmetric surface w
 }
 
 TEST_CASE("A graded remesh of the brain is closed, oriented, well shaped and graded within the stated bound", "[graded]") {
-  if (!graded_remesher_available()) return;
+  testing::skip_unless(graded_remesher_available(), "this build has no graded remesher (BEMSURG_WITH_REMESHER=OFF)");
   const BrainModelOptions bo = test_brain();
   const TriangleMesh input = brain_mesh(bo);
   const Vec3 top = brain_surface_point(bo, Vec3(0.1, 0.45, 1.0));
@@ -143,7 +144,7 @@ TEST_CASE("A graded remesh of the brain is closed, oriented, well shaped and gra
 }
 
 TEST_CASE("A graded remesh keeps the creases of a box and both shells of a hollow sphere", "[graded]") {
-  if (!graded_remesher_available()) return;
+  testing::skip_unless(graded_remesher_available(), "this build has no graded remesher (BEMSURG_WITH_REMESHER=OFF)");
   const TriangleMesh box = box_mesh(Vec3(-0.05, -0.05, 0), Vec3(0.05, 0.05, 0.05), 4, 4, 2);
   const GradedRemeshResult r = graded_remesh(box, OperatingRegion::sphere(Vec3(0, 0, 0.05), 0.015), lengths(0.006, 0.02));
   REQUIRE_NOTHROW(require_valid_mesh(r.mesh));
@@ -165,7 +166,7 @@ TEST_CASE("A graded remesh keeps the creases of a box and both shells of a hollo
 }
 
 TEST_CASE("In the operating region a graded brain answers a sphere tool like a uniformly fine one", "[graded][contact]") {
-  if (!graded_remesher_available()) return;
+  testing::skip_unless(graded_remesher_available(), "this build has no graded remesher (BEMSURG_WITH_REMESHER=OFF)");
   BrainModelOptions bo = test_brain();
   bo.fold_amplitude = 0.0;  // at test sizes (9 mm) the folds are not resolved; see docs/graded.md
   const TriangleMesh input = brain_mesh(bo);

@@ -49,4 +49,6 @@ ElastostaticSolution solve_elastostatic(const ElastostaticProblem& problem,
 }  // namespace bemsurg
 
 // Definitions (header-only: the numerical core needs no compiled library, docs/design.md).
+#ifndef BEMSURG_SEPARATE_COMPILATION  // else compiled once by the library (bemsurg/config.hpp)
 #include "bemsurg/impl/elastostatic_solver_impl.hpp"
+#endif

@@ -29,4 +29,6 @@ std::string format_gib(double bytes);
 }  // namespace bemsurg
 
 // Definitions (header-only: the numerical core needs no compiled library, docs/design.md).
+#ifndef BEMSURG_SEPARATE_COMPILATION  // else compiled once by the library (bemsurg/config.hpp)
 #include "bemsurg/impl/memory_budget_impl.hpp"
+#endif

@@ -45,4 +45,6 @@ BoundarySolution recover_boundary_solution(const BoundaryConditions& bc, const E
 }  // namespace bemsurg
 
 // Definitions (header-only: the numerical core needs no compiled library, docs/design.md).
+#ifndef BEMSURG_SEPARATE_COMPILATION  // else compiled once by the library (bemsurg/config.hpp)
 #include "bemsurg/assembly/impl/linear_system_impl.hpp"
+#endif

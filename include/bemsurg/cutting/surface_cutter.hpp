@@ -146,4 +146,6 @@ class SurfaceCutter {
 }  // namespace bemsurg
 
 // Definitions (header-only: the numerical core needs no compiled library, docs/design.md).
+#ifndef BEMSURG_SEPARATE_COMPILATION  // else compiled once by the library (bemsurg/config.hpp)
 #include "bemsurg/cutting/impl/surface_cutter_impl.hpp"
+#endif

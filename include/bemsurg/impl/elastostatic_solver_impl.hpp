@@ -2,6 +2,8 @@
 // columns, solve.
 #pragma once
 
+#include "bemsurg/config.hpp"
+
 #include <chrono>
 #include <string>
 
@@ -11,14 +13,14 @@
 
 namespace bemsurg {
 
-inline double estimate_elastostatic_bytes(Index num_elements) {
+BEMSURG_INLINE double estimate_elastostatic_bytes(Index num_elements) {
   const double n = 3.0 * double(num_elements);
   // Peak: H and G while the system is built (A* is built in H's storage, G is released before
   // the solve, so the LU copy or the Krylov workspace then fits in its place), plus O(n) vectors.
   return 8.0 * (2.0 * n * n + 8.0 * n);
 }
 
-inline ElastostaticSolution solve_elastostatic(const ElastostaticProblem& problem, const LinearSolverSettings& solver) {
+BEMSURG_INLINE ElastostaticSolution solve_elastostatic(const ElastostaticProblem& problem, const LinearSolverSettings& solver) {
   problem.material.validate();
   if (!problem.gravity.allFinite()) throw BoundaryConditionError("gravity must be finite");
   problem.boundary_conditions.require_supported(problem.mesh);

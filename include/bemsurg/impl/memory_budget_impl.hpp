@@ -1,6 +1,8 @@
 // Implementation of bemsurg/memory_budget.hpp (POSIX sysconf).
 #pragma once
 
+#include "bemsurg/config.hpp"
+
 #include <unistd.h>
 #if defined(__GLIBC__)
 #include <malloc.h>
@@ -10,20 +12,20 @@
 
 namespace bemsurg {
 
-inline double physical_memory_bytes() {
+BEMSURG_INLINE double physical_memory_bytes() {
   const long pages = sysconf(_SC_PHYS_PAGES);
   const long page = sysconf(_SC_PAGE_SIZE);
   if (pages <= 0 || page <= 0) return 0.0;
   return double(pages) * double(page);
 }
 
-inline double default_memory_limit_bytes() {
+BEMSURG_INLINE double default_memory_limit_bytes() {
   const double physical = physical_memory_bytes();
   if (physical <= 0.0) return 4.0 * 1024.0 * 1024.0 * 1024.0;
   return 0.8 * physical;
 }
 
-inline bool reuse_freed_memory() {
+BEMSURG_INLINE bool reuse_freed_memory() {
 #if defined(__GLIBC__)
   // M_MMAP_MAX 0: large requests come from the heap, so a freed table's pages are reused by the
   // next one; M_TRIM_THRESHOLD: never give the top of the heap back (glibc mallopt(3)).
@@ -34,7 +36,7 @@ inline bool reuse_freed_memory() {
 #endif
 }
 
-inline std::string format_gib(double bytes) {
+BEMSURG_INLINE std::string format_gib(double bytes) {
   std::ostringstream s;
   s.precision(3);
   s << bytes / (1024.0 * 1024.0 * 1024.0) << " GiB";

@@ -54,4 +54,6 @@ Vec3 brain_surface_point(const BrainModelOptions& options, const Vec3& direction
 }  // namespace bemsurg
 
 // Definitions (header-only: the numerical core needs no compiled library, docs/design.md).
+#ifndef BEMSURG_SEPARATE_COMPILATION  // else compiled once by the library (bemsurg/config.hpp)
 #include "bemsurg/mesh/impl/brain_model_impl.hpp"
+#endif

@@ -77,4 +77,6 @@ RowMatrixX3d deformed_vertices(const TriangleMesh& mesh, const Eigen::VectorXd& 
 }  // namespace bemsurg
 
 // Definitions (header-only: the numerical core needs no compiled library, docs/design.md).
+#ifndef BEMSURG_SEPARATE_COMPILATION  // else compiled once by the library (bemsurg/config.hpp)
 #include "bemsurg/mesh/impl/bvh_impl.hpp"
+#endif

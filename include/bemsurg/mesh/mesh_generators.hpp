@@ -63,4 +63,6 @@ TriangleMesh flip_orientation(const TriangleMesh& mesh);
 }  // namespace bemsurg
 
 // Definitions (header-only: the numerical core needs no compiled library, docs/design.md).
+#ifndef BEMSURG_SEPARATE_COMPILATION  // else compiled once by the library (bemsurg/config.hpp)
 #include "bemsurg/mesh/impl/mesh_generators_impl.hpp"
+#endif

@@ -31,4 +31,6 @@ ThinElements find_thin_elements(const TriangleMesh& mesh);
 }  // namespace bemsurg
 
 // Definitions (header-only: the numerical core needs no compiled library, docs/design.md).
+#ifndef BEMSURG_SEPARATE_COMPILATION  // else compiled once by the library (bemsurg/config.hpp)
 #include "bemsurg/mesh/impl/mesh_thickness_impl.hpp"
+#endif

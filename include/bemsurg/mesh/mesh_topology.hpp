@@ -110,4 +110,6 @@ std::vector<Index> shell_bodies(const TriangleMesh& mesh, const MeshTopology& to
 }  // namespace bemsurg
 
 // Definitions (header-only: the numerical core needs no compiled library, docs/design.md).
+#ifndef BEMSURG_SEPARATE_COMPILATION  // else compiled once by the library (bemsurg/config.hpp)
 #include "bemsurg/mesh/impl/mesh_topology_impl.hpp"
+#endif

@@ -82,4 +82,6 @@ void require_valid_mesh(const TriangleMesh& mesh, const MeshValidationOptions& o
 }  // namespace bemsurg
 
 // Definitions (header-only: the numerical core needs no compiled library, docs/design.md).
+#ifndef BEMSURG_SEPARATE_COMPILATION  // else compiled once by the library (bemsurg/config.hpp)
 #include "bemsurg/mesh/impl/mesh_validation_impl.hpp"
+#endif

@@ -65,4 +65,6 @@ class OperatingRegion {
 }  // namespace bemsurg
 
 // Definitions (header-only: the numerical core needs no compiled library, docs/design.md).
+#ifndef BEMSURG_SEPARATE_COMPILATION  // else compiled once by the library (bemsurg/config.hpp)
 #include "bemsurg/mesh/impl/operating_region_impl.hpp"
+#endif

@@ -45,4 +45,6 @@ bool faces_intersect(const TriangleMesh& mesh, Index f, Index g, double toleranc
 }  // namespace bemsurg
 
 // Definitions (header-only: the numerical core needs no compiled library, docs/design.md).
+#ifndef BEMSURG_SEPARATE_COMPILATION  // else compiled once by the library (bemsurg/config.hpp)
 #include "bemsurg/mesh/impl/self_intersection_impl.hpp"
+#endif

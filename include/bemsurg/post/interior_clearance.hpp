@@ -46,4 +46,6 @@ std::string describe_clearance_violation(const ClearanceViolation& v, const Quad
 }  // namespace bemsurg
 
 // Definitions (header-only: the numerical core needs no compiled library, docs/design.md).
+#ifndef BEMSURG_SEPARATE_COMPILATION  // else compiled once by the library (bemsurg/config.hpp)
 #include "bemsurg/post/impl/interior_clearance_impl.hpp"
+#endif

@@ -48,4 +48,6 @@ class InteriorEvaluator {
 }  // namespace bemsurg
 
 // Definitions (header-only: the numerical core needs no compiled library, docs/design.md).
+#ifndef BEMSURG_SEPARATE_COMPILATION  // else compiled once by the library (bemsurg/config.hpp)
 #include "bemsurg/post/impl/interior_evaluator_impl.hpp"
+#endif

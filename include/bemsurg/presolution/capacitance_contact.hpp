@@ -141,4 +141,6 @@ class CapacitanceContact {
 }  // namespace bemsurg
 
 // Definitions (header-only: the numerical core needs no compiled library, docs/design.md).
+#ifndef BEMSURG_SEPARATE_COMPILATION  // else compiled once by the library (bemsurg/config.hpp)
 #include "bemsurg/presolution/impl/capacitance_contact_impl.hpp"
+#endif

@@ -199,4 +199,6 @@ class ToolContactSolver {
 }  // namespace bemsurg
 
 // Definitions (header-only: the numerical core needs no compiled library, docs/design.md).
+#ifndef BEMSURG_SEPARATE_COMPILATION  // else compiled once by the library (bemsurg/config.hpp)
 #include "bemsurg/presolution/impl/contact_tools_impl.hpp"
+#endif

@@ -44,4 +44,6 @@ ContactDepthCheck check_contact_depth(const TriangleMesh& mesh, const Eigen::Vec
 }  // namespace bemsurg
 
 // Definitions (header-only: the numerical core needs no compiled library, docs/design.md).
+#ifndef BEMSURG_SEPARATE_COMPILATION  // else compiled once by the library (bemsurg/config.hpp)
 #include "bemsurg/presolution/impl/contact_validity_impl.hpp"
+#endif

@@ -235,4 +235,6 @@ class GreensTable {
 }  // namespace bemsurg
 
 // Definitions (header-only: the numerical core needs no compiled library, docs/design.md).
+#ifndef BEMSURG_SEPARATE_COMPILATION  // else compiled once by the library (bemsurg/config.hpp)
 #include "bemsurg/presolution/impl/greens_table_impl.hpp"
+#endif

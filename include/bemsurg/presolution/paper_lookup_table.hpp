@@ -48,4 +48,6 @@ class PaperLookupTable {
 }  // namespace bemsurg
 
 // Definitions (header-only: the numerical core needs no compiled library, docs/design.md).
+#ifndef BEMSURG_SEPARATE_COMPILATION  // else compiled once by the library (bemsurg/config.hpp)
 #include "bemsurg/presolution/impl/paper_lookup_table_impl.hpp"
+#endif

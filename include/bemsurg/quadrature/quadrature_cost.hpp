@@ -48,4 +48,6 @@ void require_assembly_quadrature_within(const TriangleMesh& mesh, const Quadratu
 }  // namespace bemsurg
 
 // Definitions (header-only: the numerical core needs no compiled library, docs/design.md).
+#ifndef BEMSURG_SEPARATE_COMPILATION  // else compiled once by the library (bemsurg/config.hpp)
 #include "bemsurg/quadrature/impl/quadrature_cost_impl.hpp"
+#endif

@@ -86,4 +86,6 @@ Eigen::VectorXd solve_linear_system(const Eigen::MatrixXd& A, const Eigen::Vecto
 }  // namespace bemsurg
 
 // Definitions (header-only: the numerical core needs no compiled library, docs/design.md).
+#ifndef BEMSURG_SEPARATE_COMPILATION  // else compiled once by the library (bemsurg/config.hpp)
 #include "bemsurg/solvers/impl/linear_solve_impl.hpp"
+#endif

@@ -1,17 +1,19 @@
 // Implementation of bemsurg/assembly/linear_system.hpp (the paper's eq. 6 column swap).
 #pragma once
 
+#include "bemsurg/config.hpp"
+
 namespace bemsurg {
 
 namespace detail {
-inline void check_sizes(const InfluenceMatrices& hg, const BoundaryConditions& bc) {
+BEMSURG_INLINE void check_sizes(const InfluenceMatrices& hg, const BoundaryConditions& bc) {
   if (hg.H.rows() != bc.num_dofs() || hg.G.rows() != bc.num_dofs())
     throw BoundaryConditionError("boundary conditions have " + std::to_string(bc.num_dofs()) +
                                  " dofs, the influence matrices " + std::to_string(hg.H.rows()));
 }
 }  // namespace detail
 
-inline Eigen::MatrixXd build_system_matrix(const InfluenceMatrices& hg, const BoundaryConditions& bc) {
+BEMSURG_INLINE Eigen::MatrixXd build_system_matrix(const InfluenceMatrices& hg, const BoundaryConditions& bc) {
   detail::check_sizes(hg, bc);
   const Index n = bc.num_dofs();
   Eigen::MatrixXd A = large_dense_matrix(n, n);  // huge-page advice: see influence_assembler.hpp
@@ -25,7 +27,7 @@ inline Eigen::MatrixXd build_system_matrix(const InfluenceMatrices& hg, const Bo
   return A;
 }
 
-inline Eigen::MatrixXd build_system_matrix_in_place(InfluenceMatrices& hg, const BoundaryConditions& bc) {
+BEMSURG_INLINE Eigen::MatrixXd build_system_matrix_in_place(InfluenceMatrices& hg, const BoundaryConditions& bc) {
   detail::check_sizes(hg, bc);
   const Index n = bc.num_dofs();
   Eigen::MatrixXd A = std::move(hg.H);  // traction-prescribed columns are H's already
@@ -36,7 +38,7 @@ inline Eigen::MatrixXd build_system_matrix_in_place(InfluenceMatrices& hg, const
   return A;
 }
 
-inline Eigen::VectorXd build_right_hand_side(const InfluenceMatrices& hg, const BoundaryConditions& bc, const Eigen::VectorXd& gravity) {
+BEMSURG_INLINE Eigen::VectorXd build_right_hand_side(const InfluenceMatrices& hg, const BoundaryConditions& bc, const Eigen::VectorXd& gravity) {
   detail::check_sizes(hg, bc);
   const Index n = bc.num_dofs();
   // Split the prescribed values by kind, then two matrix-vector products (BLAS-friendly).
@@ -51,7 +53,7 @@ inline Eigen::VectorXd build_right_hand_side(const InfluenceMatrices& hg, const 
   return rhs;
 }
 
-inline BoundarySolution recover_boundary_solution(const BoundaryConditions& bc, const Eigen::VectorXd& x) {
+BEMSURG_INLINE BoundarySolution recover_boundary_solution(const BoundaryConditions& bc, const Eigen::VectorXd& x) {
   const Index E = bc.num_elements();
   if (x.size() != bc.num_dofs())
     throw BoundaryConditionError("solution has " + std::to_string(x.size()) + " entries, expected " +

@@ -2,6 +2,8 @@
 // 2007 §5.3), built on a copy of the state and published only after the surface checks pass.
 #pragma once
 
+#include "bemsurg/config.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -25,7 +27,7 @@ struct CutFanFace {
 };
 
 // The smallest interior angle of a triangle, in degrees (0 for a degenerate one).
-inline double cut_min_angle_degrees(const Vec3& p, const Vec3& q, const Vec3& r) {
+BEMSURG_INLINE double cut_min_angle_degrees(const Vec3& p, const Vec3& q, const Vec3& r) {
   const std::array<Vec3, 3> c{{p, q, r}};
   double smallest = 180.0;
   for (int k = 0; k < 3; ++k) {
@@ -39,7 +41,7 @@ inline double cut_min_angle_degrees(const Vec3& p, const Vec3& q, const Vec3& r)
 }
 // Distance from p to the triangle (a, b, c): closest point by Voronoi regions (Ericson,
 // Real-Time Collision Detection, §5.1.5).
-inline double cut_point_triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+BEMSURG_INLINE double cut_point_triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
   const Vec3 ab = b - a, ac = c - a, ap = p - a;
   const double d1 = ab.dot(ap), d2 = ac.dot(ap);
   if (d1 <= 0.0 && d2 <= 0.0) return ap.norm();
@@ -156,7 +158,7 @@ struct SurfaceCutter::Work {
   }
 };
 
-inline SurfaceCutter::SurfaceCutter(std::shared_ptr<const TriangleMesh> mesh, std::vector<char> locked_elements,
+BEMSURG_INLINE SurfaceCutter::SurfaceCutter(std::shared_ptr<const TriangleMesh> mesh, std::vector<char> locked_elements,
                                     CutOptions options)
     : mesh_(std::move(mesh)), locked_(std::move(locked_elements)), options_(options) {
   if (!mesh_) throw InvalidArgumentError("SurfaceCutter: the mesh is null");
@@ -175,13 +177,13 @@ inline SurfaceCutter::SurfaceCutter(std::shared_ptr<const TriangleMesh> mesh, st
   cut_vertex_.assign(static_cast<std::size_t>(mesh_->num_vertices()), 0);
 }
 
-inline std::vector<Index> SurfaceCutter::path_vertices() const {
+BEMSURG_INLINE std::vector<Index> SurfaceCutter::path_vertices() const {
   std::vector<Index> out;
   for (const auto& s : path_) out.push_back(s.split ? s.left.front() : s.vertex);
   return out;
 }
 
-inline CutStep SurfaceCutter::refuse(std::string reason) const {
+BEMSURG_INLINE CutStep SurfaceCutter::refuse(std::string reason) const {
   CutStep out;
   out.accepted = false;
   out.reason = std::move(reason);
@@ -189,7 +191,7 @@ inline CutStep SurfaceCutter::refuse(std::string reason) const {
   return out;
 }
 
-inline SurfaceCutter::Work SurfaceCutter::start_work() const {
+BEMSURG_INLINE SurfaceCutter::Work SurfaceCutter::start_work() const {
   Work w;
   const TriangleMesh& m = *mesh_;
   w.V.resize(static_cast<std::size_t>(m.num_vertices()));
@@ -208,7 +210,7 @@ inline SurfaceCutter::Work SurfaceCutter::start_work() const {
   return w;
 }
 
-inline CutStep SurfaceCutter::step(const Eigen::Vector3d& from, const Eigen::Vector3d& direction) {
+BEMSURG_INLINE CutStep SurfaceCutter::step(const Eigen::Vector3d& from, const Eigen::Vector3d& direction) {
   if (!from.allFinite() || !direction.allFinite() || direction.norm() == 0.0)
     return refuse("the tool position and direction must be finite and the direction non-zero");
   Work w = start_work();
@@ -220,7 +222,7 @@ inline CutStep SurfaceCutter::step(const Eigen::Vector3d& from, const Eigen::Vec
   return commit(w);
 }
 
-inline CutStep SurfaceCutter::deepen() {
+BEMSURG_INLINE CutStep SurfaceCutter::deepen() {
   if (path_.empty()) return refuse("there is no cut to deepen: open one with step() first");
   Work w = start_work();
   ++w.levels;
@@ -236,7 +238,7 @@ inline CutStep SurfaceCutter::deepen() {
   return commit(w);
 }
 
-inline bool SurfaceCutter::open(Work& w, const Vec3& from, const Vec3& direction, std::string& reason) const {
+BEMSURG_INLINE bool SurfaceCutter::open(Work& w, const Vec3& from, const Vec3& direction, std::string& reason) const {
   // The surface vertex nearest the tool (the paper's starting node).
   std::vector<char> used(w.V.size(), 0);
   for (const auto& f : w.F)
@@ -303,7 +305,7 @@ inline bool SurfaceCutter::open(Work& w, const Vec3& from, const Vec3& direction
   return split_section(w, 1, reason);
 }
 
-inline bool SurfaceCutter::touches_lock(const Work& w, Index v, std::string& reason) const {
+BEMSURG_INLINE bool SurfaceCutter::touches_lock(const Work& w, Index v, std::string& reason) const {
   for (std::size_t f = 0; f < w.F.size() && f < locked_.size(); ++f)
     if (locked_[f] && std::find(w.F[f].begin(), w.F[f].end(), v) != w.F[f].end()) {
       reason = "the cut would reach supported element " + std::to_string(f) + " at vertex " + std::to_string(v);
@@ -312,7 +314,7 @@ inline bool SurfaceCutter::touches_lock(const Work& w, Index v, std::string& rea
   return false;
 }
 
-inline bool SurfaceCutter::extend(Work& w, const Vec3& direction, std::string& reason) const {
+BEMSURG_INLINE bool SurfaceCutter::extend(Work& w, const Vec3& direction, std::string& reason) const {
   const Index v = w.path.back().vertex;
   const auto fan = w.fan(v, -1, reason);
   if (fan.empty()) return false;
@@ -353,7 +355,7 @@ inline bool SurfaceCutter::extend(Work& w, const Vec3& direction, std::string& r
   return split_section(w, w.path.size() - 2, reason);
 }
 
-inline bool SurfaceCutter::split_section(Work& w, std::size_t i, std::string& reason) const {
+BEMSURG_INLINE bool SurfaceCutter::split_section(Work& w, std::size_t i, std::string& reason) const {
   Section& s = w.path[i];
   const Section& prev = w.path[i - 1];
   const Section& next = w.path[i + 1];
@@ -434,7 +436,7 @@ inline bool SurfaceCutter::split_section(Work& w, std::size_t i, std::string& re
   return true;
 }
 
-inline void SurfaceCutter::rebuild_groove(Work& w) const {
+BEMSURG_INLINE void SurfaceCutter::rebuild_groove(Work& w) const {
   const int L = w.levels;
   auto ring = [L](const Section& s) {
     std::vector<Index> r;
@@ -489,7 +491,7 @@ inline void SurfaceCutter::rebuild_groove(Work& w) const {
   }
 }
 
-inline bool SurfaceCutter::check(Work& w, std::string& reason) const {
+BEMSURG_INLINE bool SurfaceCutter::check(Work& w, std::string& reason) const {
   const TriangleMesh& old = *mesh_;
   RowMatrixX3d V(static_cast<Index>(w.V.size()), 3);
   for (std::size_t v = 0; v < w.V.size(); ++v) V.row(static_cast<Index>(v)) = w.V[v].transpose();
@@ -603,7 +605,7 @@ inline bool SurfaceCutter::check(Work& w, std::string& reason) const {
   return true;
 }
 
-inline CutStep SurfaceCutter::commit(Work& w) {
+BEMSURG_INLINE CutStep SurfaceCutter::commit(Work& w) {
   CutStep out;
   out.accepted = true;
   out.delta = w.delta;

@@ -1,6 +1,8 @@
 // The radial function of the brain-like surface (mesh/brain_model.hpp) and its icosphere mesh.
 #pragma once
 
+#include "bemsurg/config.hpp"
+
 #include <cmath>
 #include <string>
 #include <vector>
@@ -13,14 +15,14 @@ namespace detail {
 
 // The flat underside cuts the ellipsoid this fraction of its vertical semi-axis below its centre:
 // at 0.5 the rim meets the support at 55-65 degrees, a crease the remesher keeps as a feature.
-inline constexpr double kBrainClipFraction = 0.5;
+BEMSURG_INLINE constexpr double kBrainClipFraction = 0.5;
 
-inline double smoothstep(double lo, double hi, double x) {
+BEMSURG_INLINE double smoothstep(double lo, double hi, double x) {
   const double t = std::min(1.0, std::max(0.0, (x - lo) / (hi - lo)));
   return t * t * (3.0 - 2.0 * t);
 }
 
-inline void check_brain_options(const BrainModelOptions& o) {
+BEMSURG_INLINE void check_brain_options(const BrainModelOptions& o) {
   auto bad = [](const std::string& what) { throw InvalidMeshError("brain_mesh: " + what); };
   if (!(o.size.allFinite() && (o.size.array() > 0.0).all())) bad("size must be three positive lengths");
   if (!(o.fissure_depth >= 0.0 && o.fissure_depth < 0.8)) bad("fissure_depth must lie in [0, 0.8)");
@@ -36,13 +38,13 @@ struct BrainFrame {
   Vec3 centre;     // of the ellipsoid; the support plane z = 0 lies kBrainClipFraction * c below it
 };
 
-inline BrainFrame brain_frame(const BrainModelOptions& o) {
+BEMSURG_INLINE BrainFrame brain_frame(const BrainModelOptions& o) {
   const double c = o.size.z() / (1.0 + kBrainClipFraction);
   return {Vec3(0.5 * o.size.x(), 0.5 * o.size.y(), c), Vec3(0.0, 0.0, kBrainClipFraction * c)};
 }
 
 // R(d): distance from the centre to the surface along unit direction d.
-inline double brain_radius(const BrainModelOptions& o, const BrainFrame& fr, const Vec3& d) {
+BEMSURG_INLINE double brain_radius(const BrainModelOptions& o, const BrainFrame& fr, const Vec3& d) {
   const Vec3 s = d.cwiseQuotient(fr.semi_axes);
   const double r_ellipsoid = 1.0 / s.norm();
   const Vec3 p0 = r_ellipsoid * d;  // the ellipsoid point, relative to the centre
@@ -67,7 +69,7 @@ inline double brain_radius(const BrainModelOptions& o, const BrainFrame& fr, con
 
 }  // namespace detail
 
-inline Vec3 brain_surface_point(const BrainModelOptions& options, const Vec3& direction) {
+BEMSURG_INLINE Vec3 brain_surface_point(const BrainModelOptions& options, const Vec3& direction) {
   detail::check_brain_options(options);
   if (!(direction.allFinite() && direction.norm() > 0.0))
     throw InvalidArgumentError("brain_surface_point: direction must be a non-zero finite vector");
@@ -76,7 +78,7 @@ inline Vec3 brain_surface_point(const BrainModelOptions& options, const Vec3& di
   return fr.centre + detail::brain_radius(options, fr, d) * d;
 }
 
-inline TriangleMesh brain_mesh(const BrainModelOptions& options) {
+BEMSURG_INLINE TriangleMesh brain_mesh(const BrainModelOptions& options) {
   detail::check_brain_options(options);
   const detail::BrainFrame fr = detail::brain_frame(options);
   std::vector<Vec3> v;

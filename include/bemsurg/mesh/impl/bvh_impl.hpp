@@ -2,6 +2,8 @@
 // queries (picking on the deformed surface, Wang et al. 2007 §6).
 #pragma once
 
+#include "bemsurg/config.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -11,11 +13,11 @@
 namespace bemsurg {
 
 namespace detail {
-inline thread_local Index g_nodes_visited = 0;
-inline constexpr int kLeafSize = 4;
-inline constexpr int kStackSize = 128;
+BEMSURG_INLINE thread_local Index g_nodes_visited = 0;
+BEMSURG_INLINE constexpr int kLeafSize = 4;
+BEMSURG_INLINE constexpr int kStackSize = 128;
 
-inline bool ray_box(const Eigen::Vector3d& o, const Eigen::Vector3d& inv_d, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+BEMSURG_INLINE bool ray_box(const Eigen::Vector3d& o, const Eigen::Vector3d& inv_d, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
              double t_min, double t_max) {
   for (int a = 0; a < 3; ++a) {
     double t0 = (lo(a) - o(a)) * inv_d(a);
@@ -30,9 +32,9 @@ inline bool ray_box(const Eigen::Vector3d& o, const Eigen::Vector3d& inv_d, cons
 }
 }  // namespace detail
 
-inline Index TriangleBvh::last_nodes_visited() { return detail::g_nodes_visited; }
+BEMSURG_INLINE Index TriangleBvh::last_nodes_visited() { return detail::g_nodes_visited; }
 
-inline TriangleBvh::TriangleBvh(const RowMatrixX3d& vertices, const RowMatrixX3i& faces) : vertices_(vertices), faces_(faces) {
+BEMSURG_INLINE TriangleBvh::TriangleBvh(const RowMatrixX3d& vertices, const RowMatrixX3i& faces) : vertices_(vertices), faces_(faces) {
   const Index E = faces.rows();
   if (E == 0) throw InvalidMeshError("TriangleBvh: the mesh has no faces");
   if (!vertices.allFinite()) throw InvalidMeshError("TriangleBvh: a vertex is not finite");
@@ -51,7 +53,7 @@ inline TriangleBvh::TriangleBvh(const RowMatrixX3d& vertices, const RowMatrixX3i
   build(0, static_cast<int>(E), centers);
 }
 
-inline void TriangleBvh::triangle_box(Index f, Eigen::Vector3d& lo, Eigen::Vector3d& hi) const {
+BEMSURG_INLINE void TriangleBvh::triangle_box(Index f, Eigen::Vector3d& lo, Eigen::Vector3d& hi) const {
   const Eigen::Vector3d a = vertices_.row(faces_(f, 0)).transpose();
   const Eigen::Vector3d b = vertices_.row(faces_(f, 1)).transpose();
   const Eigen::Vector3d c = vertices_.row(faces_(f, 2)).transpose();
@@ -59,7 +61,7 @@ inline void TriangleBvh::triangle_box(Index f, Eigen::Vector3d& lo, Eigen::Vecto
   hi = a.cwiseMax(b).cwiseMax(c);
 }
 
-inline int TriangleBvh::build(int begin, int end, std::vector<Eigen::Vector3d>& centers) {
+BEMSURG_INLINE int TriangleBvh::build(int begin, int end, std::vector<Eigen::Vector3d>& centers) {
   const int index = static_cast<int>(nodes_.size());
   nodes_.emplace_back();
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
@@ -93,7 +95,7 @@ inline int TriangleBvh::build(int begin, int end, std::vector<Eigen::Vector3d>& 
   return index;
 }
 
-inline void TriangleBvh::refit(const RowMatrixX3d& vertices) {
+BEMSURG_INLINE void TriangleBvh::refit(const RowMatrixX3d& vertices) {
   if (vertices.rows() != vertices_.rows())
     throw InvalidMeshError("TriangleBvh::refit: " + std::to_string(vertices.rows()) + " vertices given, the hierarchy has " +
                            std::to_string(vertices_.rows()));
@@ -118,7 +120,7 @@ inline void TriangleBvh::refit(const RowMatrixX3d& vertices) {
   }
 }
 
-inline bool TriangleBvh::intersect_ray(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, RayHit& hit, double t_max,
+BEMSURG_INLINE bool TriangleBvh::intersect_ray(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, RayHit& hit, double t_max,
                                 bool front_only) const {
   detail::g_nodes_visited = 0;
   hit = RayHit();
@@ -172,11 +174,11 @@ inline bool TriangleBvh::intersect_ray(const Eigen::Vector3d& origin, const Eige
   return true;
 }
 
-inline bool TriangleBvh::intersect_segment(const Eigen::Vector3d& a, const Eigen::Vector3d& b, RayHit& hit, bool front_only) const {
+BEMSURG_INLINE bool TriangleBvh::intersect_segment(const Eigen::Vector3d& a, const Eigen::Vector3d& b, RayHit& hit, bool front_only) const {
   return intersect_ray(a, b - a, hit, 1.0, front_only);
 }
 
-inline Index TriangleBvh::query_box(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, std::vector<Index>& out,
+BEMSURG_INLINE Index TriangleBvh::query_box(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, std::vector<Index>& out,
                              bool no_grow) const {
   detail::g_nodes_visited = 0;
   Index found = 0;
@@ -207,7 +209,7 @@ inline Index TriangleBvh::query_box(const Eigen::Vector3d& lo, const Eigen::Vect
   return found;
 }
 
-inline RowMatrixX3d deformed_vertices(const TriangleMesh& mesh, const Eigen::VectorXd& element_displacement) {
+BEMSURG_INLINE RowMatrixX3d deformed_vertices(const TriangleMesh& mesh, const Eigen::VectorXd& element_displacement) {
   if (element_displacement.size() != mesh.num_dofs())
     throw InvalidArgumentError("deformed_vertices: " + std::to_string(element_displacement.size()) + " displacement entries, expected " +
                 std::to_string(mesh.num_dofs()));

@@ -1,6 +1,8 @@
 // Generators for boxes (uniform and graded), icospheres, ellipsoids and hollow spheres.
 #pragma once
 
+#include "bemsurg/config.hpp"
+
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -11,12 +13,12 @@ namespace bemsurg {
 
 namespace detail {
 
-inline std::string str(double x) {
+BEMSURG_INLINE std::string str(double x) {
   std::string s = std::to_string(x);
   return s;
 }
 
-inline void check_grid(const std::vector<double>& g, const char* name) {
+BEMSURG_INLINE void check_grid(const std::vector<double>& g, const char* name) {
   if (g.size() < 2)
     throw InvalidMeshError(std::string("box_mesh_from_grid: ") + name + " needs at least two coordinates, got " +
                            std::to_string(g.size()));
@@ -32,22 +34,22 @@ inline void check_grid(const std::vector<double>& g, const char* name) {
 
 /// Grid lines per side beyond which graded_coordinates refuses: such a grid is a mistake (h_min
 /// in the wrong unit, say), and the dense BEM could never use it.
-inline constexpr int kMaxLines = 10000000;
+BEMSURG_INLINE constexpr int kMaxLines = 10000000;
 
-[[noreturn]] inline void too_many_lines(double h_min) {
+[[noreturn]] BEMSURG_INLINE void too_many_lines(double h_min) {
   throw InvalidMeshError("graded_coordinates: h_min = " + str(h_min) + " would need more than " +
                          std::to_string(kMaxLines) + " grid lines");
 }
 
 /// Sum of m graded steps min(h_min q^k, h_max), k = k0 .. k0 + m - 1.
-inline double graded_sum(int m, int k0, double h_min, double h_max, double q) {
+BEMSURG_INLINE double graded_sum(int m, int k0, double h_min, double h_max, double q) {
   double sum = 0.0, h = h_min * std::pow(q, k0);
   for (int k = 0; k < m; ++k, h *= q) sum += std::min(h, h_max);
   return sum;
 }
 
 /// Offsets (increasing, the last exactly L) of the grid lines on one side of the focus.
-inline std::vector<double> side_offsets(double L, double h_min, double h_max, double growth, double plateau) {
+BEMSURG_INLINE std::vector<double> side_offsets(double L, double h_min, double h_max, double growth, double plateau) {
   std::vector<double> out;
   if (!(L > 0.0)) return out;
   auto uniform = [&](long n) {
@@ -99,7 +101,7 @@ inline std::vector<double> side_offsets(double L, double h_min, double h_max, do
 }
 
 /// Twelve vertices of the unit icosahedron and its twenty faces, counter-clockwise from outside.
-inline void icosahedron(std::vector<Vec3>& v, std::vector<std::array<int, 3>>& f) {
+BEMSURG_INLINE void icosahedron(std::vector<Vec3>& v, std::vector<std::array<int, 3>>& f) {
   const double t = (1.0 + std::sqrt(5.0)) / 2.0;
   v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
        {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
@@ -115,7 +117,7 @@ inline void icosahedron(std::vector<Vec3>& v, std::vector<std::array<int, 3>>& f
       std::swap(face[1], face[2]);
 }
 
-inline TriangleMesh to_mesh(const std::vector<Vec3>& v, const std::vector<std::array<int, 3>>& f) {
+BEMSURG_INLINE TriangleMesh to_mesh(const std::vector<Vec3>& v, const std::vector<std::array<int, 3>>& f) {
   RowMatrixX3d V(static_cast<Index>(v.size()), 3);
   RowMatrixX3i F(static_cast<Index>(f.size()), 3);
   for (std::size_t i = 0; i < v.size(); ++i) V.row(static_cast<Index>(i)) = v[i].transpose();
@@ -125,7 +127,7 @@ inline TriangleMesh to_mesh(const std::vector<Vec3>& v, const std::vector<std::a
 }
 
 /// Unit icosphere (vertices on the unit sphere, centred at the origin).
-inline void unit_icosphere(int subdivisions, std::vector<Vec3>& v, std::vector<std::array<int, 3>>& f) {
+BEMSURG_INLINE void unit_icosphere(int subdivisions, std::vector<Vec3>& v, std::vector<std::array<int, 3>>& f) {
   if (subdivisions < 0 || subdivisions > 10)
     throw InvalidMeshError("icosphere: subdivisions must be in [0, 10] (20 * 4^s faces), got " +
                            std::to_string(subdivisions));
@@ -158,7 +160,7 @@ inline void unit_icosphere(int subdivisions, std::vector<Vec3>& v, std::vector<s
 
 }  // namespace detail
 
-inline TriangleMesh box_mesh(const Vec3& lo, const Vec3& hi, int nx, int ny, int nz) {
+BEMSURG_INLINE TriangleMesh box_mesh(const Vec3& lo, const Vec3& hi, int nx, int ny, int nz) {
   const std::array<int, 3> n{{nx, ny, nz}};
   std::array<std::vector<double>, 3> grid;
   for (int a = 0; a < 3; ++a) {
@@ -175,7 +177,7 @@ inline TriangleMesh box_mesh(const Vec3& lo, const Vec3& hi, int nx, int ny, int
   return box_mesh_from_grid(grid[0], grid[1], grid[2]);
 }
 
-inline TriangleMesh box_mesh_from_grid(const std::vector<double>& xs, const std::vector<double>& ys,
+BEMSURG_INLINE TriangleMesh box_mesh_from_grid(const std::vector<double>& xs, const std::vector<double>& ys,
                                 const std::vector<double>& zs) {
   detail::check_grid(xs, "xs");
   detail::check_grid(ys, "ys");
@@ -232,7 +234,7 @@ inline TriangleMesh box_mesh_from_grid(const std::vector<double>& xs, const std:
   return detail::to_mesh(vertices, faces);
 }
 
-inline std::vector<double> graded_coordinates(double lo, double hi, double focus, double h_min, double h_max, double growth,
+BEMSURG_INLINE std::vector<double> graded_coordinates(double lo, double hi, double focus, double h_min, double h_max, double growth,
                                        double fine_half_width) {
   if (!(std::isfinite(lo) && std::isfinite(hi) && lo < hi))
     throw InvalidMeshError("graded_coordinates: need finite lo < hi, got lo = " + detail::str(lo) + ", hi = " + detail::str(hi));
@@ -256,13 +258,13 @@ inline std::vector<double> graded_coordinates(double lo, double hi, double focus
   return out;
 }
 
-inline TriangleMesh icosphere_mesh(const Vec3& center, double radius, int subdivisions) {
+BEMSURG_INLINE TriangleMesh icosphere_mesh(const Vec3& center, double radius, int subdivisions) {
   if (!(radius > 0.0 && std::isfinite(radius)))
     throw InvalidMeshError("icosphere_mesh: radius must be positive, got " + detail::str(radius));
   return ellipsoid_mesh(center, Vec3::Constant(radius), subdivisions);
 }
 
-inline TriangleMesh ellipsoid_mesh(const Vec3& center, const Vec3& semi_axes, int subdivisions) {
+BEMSURG_INLINE TriangleMesh ellipsoid_mesh(const Vec3& center, const Vec3& semi_axes, int subdivisions) {
   if (!((semi_axes.array() > 0.0).all() && semi_axes.allFinite()))
     throw InvalidMeshError("ellipsoid_mesh: semi-axes must be positive, got (" + detail::str(semi_axes.x()) + ", " +
                            detail::str(semi_axes.y()) + ", " + detail::str(semi_axes.z()) + ")");
@@ -273,7 +275,7 @@ inline TriangleMesh ellipsoid_mesh(const Vec3& center, const Vec3& semi_axes, in
   return detail::to_mesh(v, f);
 }
 
-inline TriangleMesh hollow_sphere_mesh(const Vec3& center, double inner_radius, double outer_radius, int subdivisions_inner,
+BEMSURG_INLINE TriangleMesh hollow_sphere_mesh(const Vec3& center, double inner_radius, double outer_radius, int subdivisions_inner,
                                 int subdivisions_outer) {
   if (!(inner_radius > 0.0 && inner_radius < outer_radius))
     throw InvalidMeshError("hollow_sphere_mesh: need 0 < inner_radius < outer_radius, got " + detail::str(inner_radius) +
@@ -282,7 +284,7 @@ inline TriangleMesh hollow_sphere_mesh(const Vec3& center, double inner_radius, 
                       flip_orientation(icosphere_mesh(center, inner_radius, subdivisions_inner)));
 }
 
-inline TriangleMesh merge_meshes(const TriangleMesh& a, const TriangleMesh& b) {
+BEMSURG_INLINE TriangleMesh merge_meshes(const TriangleMesh& a, const TriangleMesh& b) {
   RowMatrixX3d V(a.num_vertices() + b.num_vertices(), 3);
   V << a.vertices(), b.vertices();
   RowMatrixX3i F(a.num_elements() + b.num_elements(), 3);
@@ -290,7 +292,7 @@ inline TriangleMesh merge_meshes(const TriangleMesh& a, const TriangleMesh& b) {
   return TriangleMesh(std::move(V), std::move(F));
 }
 
-inline TriangleMesh flip_orientation(const TriangleMesh& mesh) {
+BEMSURG_INLINE TriangleMesh flip_orientation(const TriangleMesh& mesh) {
   RowMatrixX3i F = mesh.faces();
   F.col(1).swap(F.col(2));
   return TriangleMesh(mesh.vertices(), std::move(F));

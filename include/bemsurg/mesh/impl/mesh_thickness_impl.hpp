@@ -1,13 +1,15 @@
 // Implementation of bemsurg/mesh/mesh_thickness.hpp.
 #pragma once
 
+#include "bemsurg/config.hpp"
+
 #include <cmath>
 
 #include "bemsurg/mesh/bvh.hpp"
 
 namespace bemsurg {
 
-inline ThinElements find_thin_elements(const TriangleMesh& mesh) {
+BEMSURG_INLINE ThinElements find_thin_elements(const TriangleMesh& mesh) {
   ThinElements out;
   if (mesh.num_elements() == 0) return out;
   const TriangleBvh bvh(mesh);

@@ -1,6 +1,8 @@
 // Construction of MeshTopology: half-edges sorted into edges, union-find into shells.
 #pragma once
 
+#include "bemsurg/config.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -18,7 +20,7 @@ struct HalfEdge {
   bool forward;
 };
 
-inline Index find_root(std::vector<Index>& parent, Index x) {
+BEMSURG_INLINE Index find_root(std::vector<Index>& parent, Index x) {
   while (parent[static_cast<std::size_t>(x)] != x) {
     // Path halving keeps the trees flat without recursion.
     parent[static_cast<std::size_t>(x)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(x)])];
@@ -29,7 +31,7 @@ inline Index find_root(std::vector<Index>& parent, Index x) {
 
 }  // namespace detail
 
-inline MeshTopology::MeshTopology(const TriangleMesh& mesh) {
+BEMSURG_INLINE MeshTopology::MeshTopology(const TriangleMesh& mesh) {
   const Index nf = mesh.num_elements();
   const auto& F = mesh.faces();
 
@@ -105,34 +107,34 @@ inline MeshTopology::MeshTopology(const TriangleMesh& mesh) {
   }
 }
 
-inline Index MeshTopology::find_edge(Index a, Index b) const {
+BEMSURG_INLINE Index MeshTopology::find_edge(Index a, Index b) const {
   const std::array<Index, 2> key{{std::min(a, b), std::max(a, b)}};
   const auto it = std::lower_bound(edges_.begin(), edges_.end(), key,
                                    [](const MeshEdge& e, const std::array<Index, 2>& k) { return e.vertices < k; });
   return (it != edges_.end() && it->vertices == key) ? static_cast<Index>(it - edges_.begin()) : -1;
 }
 
-inline Index MeshTopology::neighbour(Index f, int k) const {
+BEMSURG_INLINE Index MeshTopology::neighbour(Index f, int k) const {
   const MeshEdge& e = edge(face_edge(f, k));
   if (e.faces.size() != 2) return -1;
   return e.faces[0].face == f && e.faces[0].local == k ? e.faces[1].face : e.faces[0].face;
 }
 
-inline std::vector<Index> MeshTopology::boundary_edges() const {
+BEMSURG_INLINE std::vector<Index> MeshTopology::boundary_edges() const {
   std::vector<Index> out;
   for (Index e = 0; e < num_edges(); ++e)
     if (edge(e).is_boundary()) out.push_back(e);
   return out;
 }
 
-inline std::vector<Index> MeshTopology::non_manifold_edges() const {
+BEMSURG_INLINE std::vector<Index> MeshTopology::non_manifold_edges() const {
   std::vector<Index> out;
   for (Index e = 0; e < num_edges(); ++e)
     if (edge(e).is_non_manifold()) out.push_back(e);
   return out;
 }
 
-inline bool MeshTopology::is_closed_and_oriented() const {
+BEMSURG_INLINE bool MeshTopology::is_closed_and_oriented() const {
   return std::all_of(edges_.begin(), edges_.end(), [](const MeshEdge& e) { return e.is_manifold_oriented(); });
 }
 
@@ -159,19 +161,19 @@ double winding_number_over(const TriangleMesh& mesh, const Vec3& p, bool* on_sur
 }
 }  // namespace detail
 
-inline double winding_number(const TriangleMesh& mesh, const std::vector<Index>& faces, const Vec3& p, bool* on_surface) {
+BEMSURG_INLINE double winding_number(const TriangleMesh& mesh, const std::vector<Index>& faces, const Vec3& p, bool* on_surface) {
   return detail::winding_number_over(mesh, p, on_surface, [&](auto&& visit) {
     for (Index f : faces) visit(f);
   });
 }
 
-inline double winding_number(const TriangleMesh& mesh, const Vec3& p, bool* on_surface) {
+BEMSURG_INLINE double winding_number(const TriangleMesh& mesh, const Vec3& p, bool* on_surface) {
   return detail::winding_number_over(mesh, p, on_surface, [&](auto&& visit) {
     for (Index f = 0; f < mesh.num_elements(); ++f) visit(f);
   });
 }
 
-inline std::vector<Index> shell_bodies(const TriangleMesh& mesh, const MeshTopology& topo) {
+BEMSURG_INLINE std::vector<Index> shell_bodies(const TriangleMesh& mesh, const MeshTopology& topo) {
   const Index ns = topo.num_shells();
   std::vector<Index> root(static_cast<std::size_t>(ns));
   std::iota(root.begin(), root.end(), Index{0});

@@ -3,6 +3,8 @@
 // closed, oriented shells to have a meaningful volume).
 #pragma once
 
+#include "bemsurg/config.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -16,7 +18,7 @@ namespace bemsurg {
 
 namespace detail {
 
-inline const char* kind_name(MeshIssueKind kind) {
+BEMSURG_INLINE const char* kind_name(MeshIssueKind kind) {
   switch (kind) {
     case MeshIssueKind::EmptyMesh: return "empty mesh";
     case MeshIssueKind::NonFiniteVertex: return "non-finite vertices";
@@ -32,18 +34,18 @@ inline const char* kind_name(MeshIssueKind kind) {
   return "issues";
 }
 
-inline std::string num(double x) {
+BEMSURG_INLINE std::string num(double x) {
   std::ostringstream s;
   s.precision(6);
   s << x;
   return s.str();
 }
 
-inline std::string edge_name(const MeshEdge& e) {
+BEMSURG_INLINE std::string edge_name(const MeshEdge& e) {
   return "edge (" + std::to_string(e.vertices[0]) + ", " + std::to_string(e.vertices[1]) + ")";
 }
 
-inline std::string shell_name(const MeshTopology& topo, Index s) {
+BEMSURG_INLINE std::string shell_name(const MeshTopology& topo, Index s) {
   return "shell " + std::to_string(s) + " (" + std::to_string(topo.shell(s).size()) + " faces, first face " +
          std::to_string(topo.shell(s).front()) + ")";
 }
@@ -72,7 +74,7 @@ struct Box {
   }
 };
 
-inline void check_shell_orientation(const TriangleMesh& mesh, const MeshTopology& topo, double diag, Collector& out) {
+BEMSURG_INLINE void check_shell_orientation(const TriangleMesh& mesh, const MeshTopology& topo, double diag, Collector& out) {
   std::vector<Index> closed;
   for (Index s = 0; s < topo.num_shells(); ++s)
     if (topo.shell_is_closed_and_oriented(s)) closed.push_back(s);
@@ -130,18 +132,18 @@ inline void check_shell_orientation(const TriangleMesh& mesh, const MeshTopology
 
 }  // namespace detail
 
-inline std::size_t MeshValidationReport::num_errors() const {
+BEMSURG_INLINE std::size_t MeshValidationReport::num_errors() const {
   std::size_t n = 0;
   for (std::size_t k = 0; k < counts.size(); ++k)
     if (static_cast<MeshIssueKind>(k) != MeshIssueKind::UnreferencedVertex) n += counts[k];
   return n;
 }
 
-inline std::size_t MeshValidationReport::num_warnings() const {
+BEMSURG_INLINE std::size_t MeshValidationReport::num_warnings() const {
   return count(MeshIssueKind::UnreferencedVertex);
 }
 
-inline std::string MeshValidationReport::summary() const {
+BEMSURG_INLINE std::string MeshValidationReport::summary() const {
   std::ostringstream s;
   for (auto severity : {MeshIssueSeverity::Error, MeshIssueSeverity::Warning})
     for (const MeshIssue& issue : issues)
@@ -155,7 +157,7 @@ inline std::string MeshValidationReport::summary() const {
   return s.str();
 }
 
-inline MeshValidationReport validate_mesh(const TriangleMesh& mesh, const MeshValidationOptions& options) {
+BEMSURG_INLINE MeshValidationReport validate_mesh(const TriangleMesh& mesh, const MeshValidationOptions& options) {
   MeshValidationReport report;
   report.counts.assign(kNumMeshIssueKinds, 0);
   detail::Collector out(report, options.max_issues_per_kind);
@@ -280,7 +282,7 @@ inline MeshValidationReport validate_mesh(const TriangleMesh& mesh, const MeshVa
   return report;
 }
 
-inline void require_valid_mesh(const TriangleMesh& mesh, const MeshValidationOptions& options) {
+BEMSURG_INLINE void require_valid_mesh(const TriangleMesh& mesh, const MeshValidationOptions& options) {
   const MeshValidationReport report = validate_mesh(mesh, options);
   if (report.valid()) return;
   const auto first = std::find_if(report.issues.begin(), report.issues.end(),

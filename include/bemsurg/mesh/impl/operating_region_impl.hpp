@@ -1,6 +1,8 @@
 // Operating regions: construction, distance, membership (mesh/operating_region.hpp).
 #pragma once
 
+#include "bemsurg/config.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -8,7 +10,7 @@
 
 namespace bemsurg {
 
-inline OperatingRegion OperatingRegion::sphere(const Vec3& center, double radius) {
+BEMSURG_INLINE OperatingRegion OperatingRegion::sphere(const Vec3& center, double radius) {
   if (!center.allFinite()) throw InvalidArgumentError("operating region: sphere centre is not finite");
   if (!(radius > 0.0 && std::isfinite(radius)))
     throw InvalidArgumentError("operating region: sphere radius must be positive, got " + std::to_string(radius));
@@ -19,7 +21,7 @@ inline OperatingRegion OperatingRegion::sphere(const Vec3& center, double radius
   return r;
 }
 
-inline OperatingRegion OperatingRegion::box(const Vec3& lo, const Vec3& hi) {
+BEMSURG_INLINE OperatingRegion OperatingRegion::box(const Vec3& lo, const Vec3& hi) {
   if (!(lo.allFinite() && hi.allFinite() && (lo.array() < hi.array()).all()))
     throw InvalidArgumentError("operating region: box needs min < max in every coordinate");
   OperatingRegion r;
@@ -30,7 +32,7 @@ inline OperatingRegion OperatingRegion::box(const Vec3& lo, const Vec3& hi) {
   return r;
 }
 
-inline OperatingRegion OperatingRegion::element_set(const TriangleMesh& mesh, const std::vector<Index>& elements) {
+BEMSURG_INLINE OperatingRegion OperatingRegion::element_set(const TriangleMesh& mesh, const std::vector<Index>& elements) {
   if (elements.empty()) throw InvalidArgumentError("operating region: the element set is empty");
   OperatingRegion r;
   r.kind_ = Kind::Elements;
@@ -51,7 +53,7 @@ inline OperatingRegion OperatingRegion::element_set(const TriangleMesh& mesh, co
   return r;
 }
 
-inline double OperatingRegion::distance(const Vec3& x) const {
+BEMSURG_INLINE double OperatingRegion::distance(const Vec3& x) const {
   switch (kind_) {
     case Kind::Sphere:
       return std::max(0.0, (x - center_).norm() - radius_);
@@ -70,14 +72,14 @@ inline double OperatingRegion::distance(const Vec3& x) const {
   return std::numeric_limits<double>::infinity();
 }
 
-inline std::vector<Index> OperatingRegion::elements_of(const TriangleMesh& mesh, double slack) const {
+BEMSURG_INLINE std::vector<Index> OperatingRegion::elements_of(const TriangleMesh& mesh, double slack) const {
   std::vector<Index> out;
   for (Index e = 0; e < mesh.num_elements(); ++e)
     if (distance(mesh.centroid(e)) <= slack) out.push_back(e);
   return out;
 }
 
-inline void OperatingRegion::require_meets_surface(const TriangleMesh& mesh, double slack) const {
+BEMSURG_INLINE void OperatingRegion::require_meets_surface(const TriangleMesh& mesh, double slack) const {
   if (mesh.num_elements() == 0) throw InvalidArgumentError("operating region: the mesh is empty");
   bool meets = false;
   if (kind_ == Kind::Sphere) {
@@ -103,7 +105,7 @@ inline void OperatingRegion::require_meets_surface(const TriangleMesh& mesh, dou
                                " does not meet the surface of the body (tools could never act there)");
 }
 
-inline std::string OperatingRegion::describe() const {
+BEMSURG_INLINE std::string OperatingRegion::describe() const {
   std::ostringstream s;
   s.precision(6);
   auto v = [&s](const Vec3& p) { s << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")"; };

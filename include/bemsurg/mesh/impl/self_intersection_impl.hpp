@@ -2,6 +2,8 @@
 // with a length tolerance, and a BVH sweep over candidate pairs.
 #pragma once
 
+#include "bemsurg/config.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -17,16 +19,16 @@ struct SiTriangle {
   Vec3 unit_normal;  // zero for a degenerate triangle
 };
 
-inline SiTriangle si_triangle(const Vec3& a, const Vec3& b, const Vec3& c) {
+BEMSURG_INLINE SiTriangle si_triangle(const Vec3& a, const Vec3& b, const Vec3& c) {
   const Vec3 n = (b - a).cross(c - a);
   const double len = n.norm();
   return {a, b, c, len > 0.0 ? Vec3(n / len) : Vec3(Vec3::Zero())};
 }
 
-inline double si_plane_distance(const SiTriangle& t, const Vec3& p) { return t.unit_normal.dot(p - t.a); }
+BEMSURG_INLINE double si_plane_distance(const SiTriangle& t, const Vec3& p) { return t.unit_normal.dot(p - t.a); }
 
 // Distance between segments [p0, p1] and [q0, q1] (closest points, clamped; Ericson §5.1.9).
-inline double si_segment_distance(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3& q1) {
+BEMSURG_INLINE double si_segment_distance(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3& q1) {
   const Vec3 d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
   const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
   double s = 0.0, t = 0.0;
@@ -54,7 +56,7 @@ inline double si_segment_distance(const Vec3& p0, const Vec3& p1, const Vec3& q0
 }
 
 // p (assumed in or near the triangle's plane) lies inside the triangle or within tol of it.
-inline bool si_point_in_triangle(const SiTriangle& t, const Vec3& p, double tol) {
+BEMSURG_INLINE bool si_point_in_triangle(const SiTriangle& t, const Vec3& p, double tol) {
   const std::array<Vec3, 3> v{{t.a, t.b, t.c}};
   for (int k = 0; k < 3; ++k) {
     const Vec3 e = v[(k + 1) % 3] - v[k];
@@ -67,7 +69,7 @@ inline bool si_point_in_triangle(const SiTriangle& t, const Vec3& p, double tol)
 }
 
 // Segment [p, q] meets the triangle (touching within tol counts).
-inline bool si_segment_triangle(const Vec3& p, const Vec3& q, const SiTriangle& t, double tol) {
+BEMSURG_INLINE bool si_segment_triangle(const Vec3& p, const Vec3& q, const SiTriangle& t, double tol) {
   if (t.unit_normal.isZero()) return false;  // degenerate: validation reports it, not this test
   const double dp = si_plane_distance(t, p), dq = si_plane_distance(t, q);
   if ((dp > tol && dq > tol) || (dp < -tol && dq < -tol)) return false;
@@ -83,7 +85,7 @@ inline bool si_segment_triangle(const Vec3& p, const Vec3& q, const SiTriangle& 
 
 }  // namespace detail
 
-inline bool faces_intersect(const TriangleMesh& mesh, Index f, Index g, double tol) {
+BEMSURG_INLINE bool faces_intersect(const TriangleMesh& mesh, Index f, Index g, double tol) {
   if (f == g) return false;
   const auto& F = mesh.faces();
   std::array<int, 3> fi{{F(f, 0), F(f, 1), F(f, 2)}}, gi{{F(g, 0), F(g, 1), F(g, 2)}};
@@ -124,7 +126,7 @@ inline bool faces_intersect(const TriangleMesh& mesh, Index f, Index g, double t
 }
 
 namespace detail {
-inline std::vector<std::pair<Index, Index>> si_search(const TriangleMesh& mesh, const std::vector<Index>* subset,
+BEMSURG_INLINE std::vector<std::pair<Index, Index>> si_search(const TriangleMesh& mesh, const std::vector<Index>* subset,
                                                       const SelfIntersectionOptions& options) {
   std::vector<std::pair<Index, Index>> pairs;
   if (mesh.num_elements() < 2) return pairs;
@@ -169,12 +171,12 @@ inline std::vector<std::pair<Index, Index>> si_search(const TriangleMesh& mesh, 
 }
 }  // namespace detail
 
-inline std::vector<std::pair<Index, Index>> find_self_intersections(const TriangleMesh& mesh,
+BEMSURG_INLINE std::vector<std::pair<Index, Index>> find_self_intersections(const TriangleMesh& mesh,
                                                                     const SelfIntersectionOptions& options) {
   return detail::si_search(mesh, nullptr, options);
 }
 
-inline std::vector<std::pair<Index, Index>> find_self_intersections(const TriangleMesh& mesh,
+BEMSURG_INLINE std::vector<std::pair<Index, Index>> find_self_intersections(const TriangleMesh& mesh,
                                                                     const std::vector<Index>& faces,
                                                                     const SelfIntersectionOptions& options) {
   for (Index f : faces)

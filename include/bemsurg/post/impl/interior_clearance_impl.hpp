@@ -1,6 +1,8 @@
 // Implementation of bemsurg/post/interior_clearance.hpp.
 #pragma once
 
+#include "bemsurg/config.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -8,11 +10,11 @@
 
 namespace bemsurg {
 
-inline double min_clearance_fraction(const QuadratureOptions& options) {
+BEMSURG_INLINE double min_clearance_fraction(const QuadratureOptions& options) {
   return 2.0 * options.mid_ratio * std::ldexp(1.0, -options.max_depth);
 }
 
-inline ClearanceViolation find_point_too_close(const TriangleMesh& mesh, const RowMatrixX3d& points,
+BEMSURG_INLINE ClearanceViolation find_point_too_close(const TriangleMesh& mesh, const RowMatrixX3d& points,
                                                const QuadratureOptions& options) {
   const double fraction = min_clearance_fraction(options);
   ClearanceViolation v;
@@ -36,7 +38,7 @@ inline ClearanceViolation find_point_too_close(const TriangleMesh& mesh, const R
   return v;
 }
 
-inline std::string describe_clearance_violation(const ClearanceViolation& v, const QuadratureOptions& options) {
+BEMSURG_INLINE std::string describe_clearance_violation(const ClearanceViolation& v, const QuadratureOptions& options) {
   std::ostringstream s;
   s.precision(3);
   s << "is " << v.distance << " from element " << v.element << " (longest edge " << v.element_size << "), closer than "

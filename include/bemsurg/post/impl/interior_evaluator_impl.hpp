@@ -1,6 +1,8 @@
 // Implementation of bemsurg/post/interior_evaluator.hpp (Somigliana's identity and its gradient).
 #pragma once
 
+#include "bemsurg/config.hpp"
+
 #include <sstream>
 
 #include "bemsurg/kernels/kelvin_kernel.hpp"
@@ -8,13 +10,13 @@
 
 namespace bemsurg {
 
-inline InteriorEvaluator::InteriorEvaluator(const TriangleMesh& mesh, const Material& material, const Eigen::Vector3d& gravity,
+BEMSURG_INLINE InteriorEvaluator::InteriorEvaluator(const TriangleMesh& mesh, const Material& material, const Eigen::Vector3d& gravity,
                                      const QuadratureOptions& options)
     : mesh_(mesh), material_(material), body_force_(material.density * gravity), quadrature_(options) {
   material_.validate();
 }
 
-inline void InteriorEvaluator::require_clearance(const RowMatrixX3d& points) const {
+BEMSURG_INLINE void InteriorEvaluator::require_clearance(const RowMatrixX3d& points) const {
   const ClearanceViolation v = find_point_too_close(mesh_, points, quadrature_.options());
   if (v.point < 0) return;
   std::ostringstream s;
@@ -24,7 +26,7 @@ inline void InteriorEvaluator::require_clearance(const RowMatrixX3d& points) con
   throw InvalidArgumentError(s.str());
 }
 
-inline RowMatrixX3d InteriorEvaluator::displacement(const RowMatrixX3d& points, const BoundarySolution& s) const {
+BEMSURG_INLINE RowMatrixX3d InteriorEvaluator::displacement(const RowMatrixX3d& points, const BoundarySolution& s) const {
   require_clearance(points);
   const KelvinKernel kernel(material_);
   const GravityKernel gravity(material_, body_force_);
@@ -44,7 +46,7 @@ inline RowMatrixX3d InteriorEvaluator::displacement(const RowMatrixX3d& points, 
   return out;
 }
 
-inline StressRows InteriorEvaluator::stress(const RowMatrixX3d& points, const BoundarySolution& s) const {
+BEMSURG_INLINE StressRows InteriorEvaluator::stress(const RowMatrixX3d& points, const BoundarySolution& s) const {
   require_clearance(points);
   const KelvinKernelGradients grad(material_);
   const bool has_gravity = body_force_.squaredNorm() > 0.0;

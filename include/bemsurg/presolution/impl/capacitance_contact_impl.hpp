@@ -4,6 +4,8 @@
 // buffers so that nothing allocates after construction.
 #pragma once
 
+#include "bemsurg/config.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -14,7 +16,7 @@ namespace bemsurg {
 
 namespace detail {
 // C(m x n) = alpha * A(m x k) B(k x n) + beta * C; column-major with leading dimensions.
-inline void gemm(Index m, Index n, Index k, double alpha, const double* A, Index lda, const double* B, Index ldb, double beta,
+BEMSURG_INLINE void gemm(Index m, Index n, Index k, double alpha, const double* A, Index lda, const double* B, Index ldb, double beta,
           double* C, Index ldc) {
   for (Index j = 0; j < n; ++j) {
     double* c = C + j * ldc;
@@ -32,7 +34,7 @@ inline void gemm(Index m, Index n, Index k, double alpha, const double* A, Index
 }
 }  // namespace detail
 
-inline CapacitanceContact::CapacitanceContact(std::shared_ptr<const TriangleMesh> mesh_ptr,
+BEMSURG_INLINE CapacitanceContact::CapacitanceContact(std::shared_ptr<const TriangleMesh> mesh_ptr,
                                               std::shared_ptr<const GreensTable> table_ptr, Index capacity)
     : mesh_(std::move(mesh_ptr)), table_(std::move(table_ptr)), capacity_(capacity) {
   if (!mesh_ || !table_) throw ContactError("CapacitanceContact: the mesh or the Green's-function table is missing (null)");
@@ -58,7 +60,7 @@ inline CapacitanceContact::CapacitanceContact(std::shared_ptr<const TriangleMesh
   force_op_.assign(3 * cap, 0.0);
 }
 
-inline void CapacitanceContact::clear() {
+BEMSURG_INLINE void CapacitanceContact::clear() {
   for (Index a = 0; a < k_; ++a) rows_of_[static_cast<std::size_t>(rows_[static_cast<std::size_t>(a)].element)] = 0;
   k_ = 0;
   num_elements_ = 0;
@@ -66,7 +68,7 @@ inline void CapacitanceContact::clear() {
   base_force_.setZero();
 }
 
-inline double CapacitanceContact::s_entry(const ContactRow& a, const ContactRow& b) const {
+BEMSURG_INLINE double CapacitanceContact::s_entry(const ContactRow& a, const ContactRow& b) const {
   const Index ld = table_->columns().rows();
   const double* col = table_->column_data(b.element);
   const Index r = 3 * a.element;
@@ -78,12 +80,12 @@ inline double CapacitanceContact::s_entry(const ContactRow& a, const ContactRow&
   return s;
 }
 
-inline double CapacitanceContact::base_target(Index a) const {
+BEMSURG_INLINE double CapacitanceContact::base_target(Index a) const {
   const ContactRow& r = rows_[static_cast<std::size_t>(a)];
   return r.direction.dot(table_->base_displacement().segment<3>(3 * r.element));
 }
 
-inline bool CapacitanceContact::invert_into(double* M, double* inv, Index m) noexcept {
+BEMSURG_INLINE bool CapacitanceContact::invert_into(double* M, double* inv, Index m) noexcept {
   const Index ld = capacity_;
   double scale = 0.0;
   for (Index j = 0; j < m; ++j)
@@ -129,13 +131,13 @@ inline bool CapacitanceContact::invert_into(double* M, double* inv, Index m) noe
 }
 
 namespace detail {
-[[noreturn]] inline void throw_singular_contact() {
+[[noreturn]] BEMSURG_INLINE void throw_singular_contact() {
   throw SolverError("CapacitanceContact: the contact rows are dependent (the same element and direction twice, or "
                     "rows on supported elements): the small system G_CC is singular");
 }
 }  // namespace detail
 
-inline void CapacitanceContact::add_rows(const ContactRow* rows, Index m) {
+BEMSURG_INLINE void CapacitanceContact::add_rows(const ContactRow* rows, Index m) {
   if (m <= 0) return;
   if (k_ + m > capacity_)
     throw CapacityError("CapacitanceContact: " + std::to_string(k_ + m) + " contact rows exceed the capacity of " +
@@ -159,13 +161,13 @@ inline void CapacitanceContact::add_rows(const ContactRow* rows, Index m) {
   if (!add_rows_unchecked(rows, m)) detail::throw_singular_contact();
 }
 
-inline bool CapacitanceContact::try_add_rows(const ContactRow* rows, Index m) noexcept {
+BEMSURG_INLINE bool CapacitanceContact::try_add_rows(const ContactRow* rows, Index m) noexcept {
   if (m <= 0) return true;
   if (k_ + m > capacity_) return false;
   return add_rows_unchecked(rows, m);
 }
 
-inline bool CapacitanceContact::add_rows_unchecked(const ContactRow* rows, Index m) noexcept {
+BEMSURG_INLINE bool CapacitanceContact::add_rows_unchecked(const ContactRow* rows, Index m) noexcept {
   const Index k = k_, ld = capacity_;
   double* X = work_a_.data();  // P b      (k x m)
   double* Y = work_b_.data();  // c P      (m x k)
@@ -222,20 +224,20 @@ inline bool CapacitanceContact::add_rows_unchecked(const ContactRow* rows, Index
   return true;
 }
 
-inline void CapacitanceContact::add_bonded(Index element, int tag) {
+BEMSURG_INLINE void CapacitanceContact::add_bonded(Index element, int tag) {
   const ContactRow r[3] = {{element, Eigen::Vector3d::UnitX(), tag}, {element, Eigen::Vector3d::UnitY(), tag},
                            {element, Eigen::Vector3d::UnitZ(), tag}};
   add_rows(r, 3);
 }
 
-inline void CapacitanceContact::add_normal(Index element, const Eigen::Vector3d& direction, int tag) {
+BEMSURG_INLINE void CapacitanceContact::add_normal(Index element, const Eigen::Vector3d& direction, int tag) {
   const double len = direction.allFinite() ? direction.stableNorm() : 0.0;  // stable for 1e-200 / 1e200
   if (!(len > 0.0) || !std::isfinite(len)) throw ContactError("CapacitanceContact: a contact normal must be a non-zero finite vector");
   const ContactRow r{element, direction / len, tag};
   add_rows(&r, 1);
 }
 
-inline void CapacitanceContact::swap_rows(Index i, Index j) {
+BEMSURG_INLINE void CapacitanceContact::swap_rows(Index i, Index j) {
   if (i == j) return;
   const Index ld = capacity_;
   for (Index c = 0; c < k_; ++c) std::swap(P_[static_cast<std::size_t>(i + c * ld)], P_[static_cast<std::size_t>(j + c * ld)]);
@@ -247,7 +249,7 @@ inline void CapacitanceContact::swap_rows(Index i, Index j) {
   std::swap(row_base_[static_cast<std::size_t>(i)], row_base_[static_cast<std::size_t>(j)]);
 }
 
-inline void CapacitanceContact::update_force_operator() {
+BEMSURG_INLINE void CapacitanceContact::update_force_operator() {
   // K(c, b) = -sum_a area(e_a) w_a(c) P(a, b): O(k^2), once per structure change.
   const Index k = k_, ld = capacity_;
   const double* area = mesh_->areas().data();
@@ -272,7 +274,7 @@ inline void CapacitanceContact::update_force_operator() {
   }
 }
 
-inline Eigen::Vector3d CapacitanceContact::force_for_targets() const {
+BEMSURG_INLINE Eigen::Vector3d CapacitanceContact::force_for_targets() const {
   const Index k = k_, ld = capacity_;
   const double* __restrict t = target_.data();
   const double* __restrict base = row_base_.data();
@@ -289,7 +291,7 @@ inline Eigen::Vector3d CapacitanceContact::force_for_targets() const {
   return base_force_ + Eigen::Vector3d(fx, fy, fz);
 }
 
-inline void CapacitanceContact::remove_element(Index element) noexcept {
+BEMSURG_INLINE void CapacitanceContact::remove_element(Index element) noexcept {
   if (element < 0 || element >= mesh_->num_elements() || rows_of_[static_cast<std::size_t>(element)] == 0) return;
   // Move the element's rows to the end (a symmetric permutation of S permutes P the same way).
   Index tail = k_;
@@ -321,11 +323,11 @@ inline void CapacitanceContact::remove_element(Index element) noexcept {
   update_force_operator();
 }
 
-inline void CapacitanceContact::refactor() {
+BEMSURG_INLINE void CapacitanceContact::refactor() {
   if (!refactor_unchecked()) detail::throw_singular_contact();
 }
 
-inline bool CapacitanceContact::refactor_unchecked() noexcept {
+BEMSURG_INLINE bool CapacitanceContact::refactor_unchecked() noexcept {
   const Index k = k_, ld = capacity_;
   double* S = work_c_.data();
   for (Index j = 0; j < k; ++j)
@@ -339,7 +341,7 @@ inline bool CapacitanceContact::refactor_unchecked() noexcept {
   return true;
 }
 
-inline void CapacitanceContact::solve() {
+BEMSURG_INLINE void CapacitanceContact::solve() {
   const Index k = k_, ld = capacity_;
   for (Index a = 0; a < k; ++a)
     rhs_[static_cast<std::size_t>(a)] = target_[static_cast<std::size_t>(a)] - row_base_[static_cast<std::size_t>(a)];
@@ -364,7 +366,7 @@ inline void CapacitanceContact::solve() {
   }
 }
 
-inline Eigen::Vector3d CapacitanceContact::force_of_tag(int tag) const {
+BEMSURG_INLINE Eigen::Vector3d CapacitanceContact::force_of_tag(int tag) const {
   Eigen::Vector3d f = Eigen::Vector3d::Zero();
   const double* tb = table_->base_traction().data();
   const double* area = mesh_->areas().data();
@@ -384,7 +386,7 @@ inline Eigen::Vector3d CapacitanceContact::force_of_tag(int tag) const {
   return f;
 }
 
-inline Eigen::Vector3d CapacitanceContact::traction(Index element) const {
+BEMSURG_INLINE Eigen::Vector3d CapacitanceContact::traction(Index element) const {
   Eigen::Vector3d t = table_->base_traction().segment<3>(3 * element);
   for (Index a = 0; a < k_; ++a) {
     const ContactRow& r = rows_[static_cast<std::size_t>(a)];
@@ -393,7 +395,7 @@ inline Eigen::Vector3d CapacitanceContact::traction(Index element) const {
   return t;
 }
 
-inline Eigen::Vector3d CapacitanceContact::displacement_of(Index element) const {
+BEMSURG_INLINE Eigen::Vector3d CapacitanceContact::displacement_of(Index element) const {
   Eigen::Vector3d u = table_->base_displacement().segment<3>(3 * element);
   const Index ld = table_->columns().rows();
   for (Index a = 0; a < k_; ++a) {
@@ -412,7 +414,7 @@ inline Eigen::Vector3d CapacitanceContact::displacement_of(Index element) const 
   return u;
 }
 
-inline Index CapacitanceContact::contact_tractions(Index* elements, double* tractions) const noexcept {
+BEMSURG_INLINE Index CapacitanceContact::contact_tractions(Index* elements, double* tractions) const noexcept {
   Index count = 0;
   for (Index a = 0; a < k_; ++a) {
     const ContactRow& r = rows_[static_cast<std::size_t>(a)];
@@ -433,7 +435,7 @@ inline Index CapacitanceContact::contact_tractions(Index* elements, double* trac
   return count;
 }
 
-inline void CapacitanceContact::displacement_field(Eigen::VectorXd& u) const {
+BEMSURG_INLINE void CapacitanceContact::displacement_field(Eigen::VectorXd& u) const {
   // Local buffers: a const method that wrote member scratch would race with any other reader.
   std::vector<Index> elements(static_cast<std::size_t>(std::max<Index>(num_elements_, 1)));
   std::vector<double> tractions(3 * elements.size());

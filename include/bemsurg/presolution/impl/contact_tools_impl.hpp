@@ -2,6 +2,8 @@
 // capacitance solve, with the unilateral active set (docs/design.md §6; Hertz / Boussinesq checks).
 #pragma once
 
+#include "bemsurg/config.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -12,7 +14,7 @@
 namespace bemsurg {
 
 namespace detail {
-inline Eigen::Vector3d unit_or_throw(const Eigen::Vector3d& v, const char* what) {
+BEMSURG_INLINE Eigen::Vector3d unit_or_throw(const Eigen::Vector3d& v, const char* what) {
   // stableNorm: components like 1e-200 or 1e200 would underflow / overflow in norm().
   if (!v.allFinite()) throw ContactError(std::string("contact tool: ") + what + " must be a non-zero finite vector");
   const double n = v.stableNorm();
@@ -21,7 +23,7 @@ inline Eigen::Vector3d unit_or_throw(const Eigen::Vector3d& v, const char* what)
 }
 
 // Point in polygon (projected onto the plane with normal m) by the winding/crossing rule.
-inline bool inside_polygon(const std::vector<Eigen::Vector3d>& poly, const Eigen::Vector3d& m, const Eigen::Vector3d& x) {
+BEMSURG_INLINE bool inside_polygon(const std::vector<Eigen::Vector3d>& poly, const Eigen::Vector3d& m, const Eigen::Vector3d& x) {
   Eigen::Vector3d e1 = (std::abs(m.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY()).cross(m).normalized();
   const Eigen::Vector3d e2 = m.cross(e1);
   const double px = x.dot(e1), py = x.dot(e2);
@@ -34,7 +36,7 @@ inline bool inside_polygon(const std::vector<Eigen::Vector3d>& poly, const Eigen
 }
 }  // namespace detail
 
-inline const char* to_string(ContactStatus status) noexcept {
+BEMSURG_INLINE const char* to_string(ContactStatus status) noexcept {
   switch (status) {
     case ContactStatus::Ok: return "ok";
     case ContactStatus::Unsettled: return "active set unsettled";
@@ -45,7 +47,7 @@ inline const char* to_string(ContactStatus status) noexcept {
   return "?";
 }
 
-inline ToolContactSolver::ToolContactSolver(std::shared_ptr<const TriangleMesh> mesh, std::shared_ptr<const GreensTable> table,
+BEMSURG_INLINE ToolContactSolver::ToolContactSolver(std::shared_ptr<const TriangleMesh> mesh, std::shared_ptr<const GreensTable> table,
                                             Index capacity_rows)
     : mesh_(mesh),
       table_(table),
@@ -55,7 +57,7 @@ inline ToolContactSolver::ToolContactSolver(std::shared_ptr<const TriangleMesh> 
   add_buffer_.reserve(static_cast<std::size_t>(capacity_rows));
 }
 
-inline int ToolContactSolver::add_tool(const ToolSpec& spec) {
+BEMSURG_INLINE int ToolContactSolver::add_tool(const ToolSpec& spec) {
   if ((spec.shape == ToolShape::FlatPunch || spec.shape == ToolShape::Sphere) && !(spec.radius > 0.0 && std::isfinite(spec.radius)))
     throw ContactError("contact tool: a flat punch or sphere needs a finite positive radius");
   if (spec.shape == ToolShape::Pinch && !(spec.radius >= 0.0 && std::isfinite(spec.radius)))
@@ -72,37 +74,37 @@ inline int ToolContactSolver::add_tool(const ToolSpec& spec) {
   return static_cast<int>(tools_.size()) - 1;
 }
 
-inline void ToolContactSolver::set_translation(int tool, const Eigen::Vector3d& delta) {
+BEMSURG_INLINE void ToolContactSolver::set_translation(int tool, const Eigen::Vector3d& delta) {
   Tool& t = tools_.at(static_cast<std::size_t>(tool));
   if (!delta.allFinite()) throw ContactError("contact tool: set_translation: the translation `delta` is not finite");
   t.delta = delta;
 }
 
-inline void ToolContactSolver::set_rotation(int tool, const Eigen::Vector3d& rotation) {
+BEMSURG_INLINE void ToolContactSolver::set_rotation(int tool, const Eigen::Vector3d& rotation) {
   Tool& t = tools_.at(static_cast<std::size_t>(tool));
   if (!rotation.allFinite()) throw ContactError("contact tool: set_rotation: the rotation vector `rotation` is not finite");
   t.rotation = rotation;
 }
 
-inline bool ToolContactSolver::try_set_translation(int tool, const Eigen::Vector3d& delta) noexcept {
+BEMSURG_INLINE bool ToolContactSolver::try_set_translation(int tool, const Eigen::Vector3d& delta) noexcept {
   if (tool < 0 || tool >= static_cast<int>(tools_.size()) || !delta.allFinite()) return false;
   tools_[static_cast<std::size_t>(tool)].delta = delta;
   return true;
 }
 
-inline bool ToolContactSolver::try_set_rotation(int tool, const Eigen::Vector3d& rotation) noexcept {
+BEMSURG_INLINE bool ToolContactSolver::try_set_rotation(int tool, const Eigen::Vector3d& rotation) noexcept {
   if (tool < 0 || tool >= static_cast<int>(tools_.size()) || !rotation.allFinite()) return false;
   tools_[static_cast<std::size_t>(tool)].rotation = rotation;
   return true;
 }
 
-inline void ToolContactSolver::set_depth(int tool, double depth) {
+BEMSURG_INLINE void ToolContactSolver::set_depth(int tool, double depth) {
   Tool& t = tools_.at(static_cast<std::size_t>(tool));
   if (!std::isfinite(depth)) throw ContactError("contact tool: set_depth: the depth `depth` is not finite");
   t.delta = depth * t.direction;
 }
 
-inline void ToolContactSolver::collect_candidates(Tool& t) {
+BEMSURG_INLINE void ToolContactSolver::collect_candidates(Tool& t) {
   t.candidates.clear();
   const Eigen::Matrix<double, 3, 2> box = mesh_->bounding_box();
   const double L = 2.0 * (box.col(1) - box.col(0)).norm() + (t.origin - box.col(0)).norm();
@@ -120,7 +122,7 @@ inline void ToolContactSolver::collect_candidates(Tool& t) {
   }
 }
 
-inline bool ToolContactSolver::engage(int tool, const Eigen::Vector3d& at, const Eigen::Vector3d& direction) {
+BEMSURG_INLINE bool ToolContactSolver::engage(int tool, const Eigen::Vector3d& at, const Eigen::Vector3d& direction) {
   Tool& t = tools_.at(static_cast<std::size_t>(tool));
   release(tool);
   t.direction = detail::unit_or_throw(direction, "the approach direction");
@@ -217,7 +219,7 @@ inline bool ToolContactSolver::engage(int tool, const Eigen::Vector3d& at, const
   return true;
 }
 
-inline void ToolContactSolver::place(int tool, const Eigen::Vector3d& position, const Eigen::Vector3d& direction) {
+BEMSURG_INLINE void ToolContactSolver::place(int tool, const Eigen::Vector3d& position, const Eigen::Vector3d& direction) {
   Tool& t = tools_.at(static_cast<std::size_t>(tool));
   if (t.spec.shape != ToolShape::FlatPunch && t.spec.shape != ToolShape::Sphere) {
     if (!engage(tool, position, direction))
@@ -237,7 +239,7 @@ inline void ToolContactSolver::place(int tool, const Eigen::Vector3d& position, 
   t.engaged = true;
 }
 
-inline void ToolContactSolver::release(int tool) {
+BEMSURG_INLINE void ToolContactSolver::release(int tool) {
   Tool& t = tools_.at(static_cast<std::size_t>(tool));
   for (Index e : t.candidates)
     if (owner_[static_cast<std::size_t>(e)] == tool) {
@@ -247,7 +249,7 @@ inline void ToolContactSolver::release(int tool) {
   t.engaged = false;
 }
 
-inline bool ToolContactSolver::geometric_contact(const Tool& t, Index e, Eigen::Vector3d& push, Eigen::Vector3d& w) const {
+BEMSURG_INLINE bool ToolContactSolver::geometric_contact(const Tool& t, Index e, Eigen::Vector3d& push, Eigen::Vector3d& w) const {
   const Eigen::Vector3d n = mesh_->normal(e);
   switch (t.spec.shape) {
     case ToolShape::Point: {
@@ -292,7 +294,7 @@ inline bool ToolContactSolver::geometric_contact(const Tool& t, Index e, Eigen::
   return false;
 }
 
-inline void ToolContactSolver::set_targets() {
+BEMSURG_INLINE void ToolContactSolver::set_targets() {
   const Index k = contact_.num_rows();
   const double* ug = table_->base_displacement().data();
   for (Index a = 0; a < k; ++a) {
@@ -305,7 +307,7 @@ inline void ToolContactSolver::set_targets() {
   }
 }
 
-inline void ToolContactSolver::add_element_rows(const Tool& t, int tag, Index e, const Eigen::Vector3d& w) {
+BEMSURG_INLINE void ToolContactSolver::add_element_rows(const Tool& t, int tag, Index e, const Eigen::Vector3d& w) {
   if (t.spec.mode == ContactMode::Bonded) {
     add_buffer_.push_back({e, Eigen::Vector3d::UnitX(), tag});
     add_buffer_.push_back({e, Eigen::Vector3d::UnitY(), tag});
@@ -315,12 +317,12 @@ inline void ToolContactSolver::add_element_rows(const Tool& t, int tag, Index e,
   }
 }
 
-inline void ToolContactSolver::rollback_additions() {
+BEMSURG_INLINE void ToolContactSolver::rollback_additions() {
   for (const ContactRow& r : add_buffer_) owner_[static_cast<std::size_t>(r.element)] = -1;
   add_buffer_.clear();
 }
 
-inline ContactUpdateReport ToolContactSolver::update(int max_iterations) {
+BEMSURG_INLINE ContactUpdateReport ToolContactSolver::update(int max_iterations) {
   ContactUpdateReport report;
   switch (step(report, max_iterations)) {
     case ContactStatus::CapacityExceeded:
@@ -333,7 +335,7 @@ inline ContactUpdateReport ToolContactSolver::update(int max_iterations) {
   return report;
 }
 
-inline ContactStatus ToolContactSolver::step(ContactUpdateReport& report, int max_iterations) noexcept {
+BEMSURG_INLINE ContactStatus ToolContactSolver::step(ContactUpdateReport& report, int max_iterations) noexcept {
   report = ContactUpdateReport{};
   report.consistent = false;
   for (int iter = 0; iter < std::max(1, max_iterations); ++iter) {
@@ -442,14 +444,14 @@ inline ContactStatus ToolContactSolver::step(ContactUpdateReport& report, int ma
   return report.consistent ? ContactStatus::Ok : ContactStatus::Unsettled;
 }
 
-inline Index ToolContactSolver::contact_elements(int tool) const {
+BEMSURG_INLINE Index ToolContactSolver::contact_elements(int tool) const {
   Index count = 0;
   for (Index e : tools_.at(static_cast<std::size_t>(tool)).candidates)
     if (owner_[static_cast<std::size_t>(e)] == tool) ++count;
   return count;
 }
 
-inline void ToolContactSolver::contact_element_list(int tool, std::vector<Index>& out) const {
+BEMSURG_INLINE void ToolContactSolver::contact_element_list(int tool, std::vector<Index>& out) const {
   for (Index e : tools_.at(static_cast<std::size_t>(tool)).candidates)
     if (owner_[static_cast<std::size_t>(e)] == tool) out.push_back(e);
 }

@@ -1,6 +1,8 @@
 // Definitions for contact_validity.hpp (inline; docs/design.md §6 depth range).
 #pragma once
 
+#include "bemsurg/config.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -11,7 +13,7 @@
 namespace bemsurg {
 
 namespace detail {
-inline std::string short_number(double x) {
+BEMSURG_INLINE std::string short_number(double x) {
   std::ostringstream s;
   s.precision(3);
   s << x;
@@ -19,7 +21,7 @@ inline std::string short_number(double x) {
 }
 }  // namespace detail
 
-inline ContactDepthCheck check_contact_depth(const TriangleMesh& mesh, const Eigen::Vector3d& direction, double depth,
+BEMSURG_INLINE ContactDepthCheck check_contact_depth(const TriangleMesh& mesh, const Eigen::Vector3d& direction, double depth,
                                              double tool_radius, const ContactDepthLimits& limits) {
   using detail::short_number;
   if (!std::isfinite(depth) || depth < 0.0)

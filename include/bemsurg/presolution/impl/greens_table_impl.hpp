@@ -3,6 +3,8 @@
 // the region's unit-traction columns as one multi-right-hand-side back-substitution.
 #pragma once
 
+#include "bemsurg/config.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -22,7 +24,7 @@
 
 namespace bemsurg {
 
-inline std::uint64_t fnv1a64(const void* data, std::size_t bytes, std::uint64_t seed) {
+BEMSURG_INLINE std::uint64_t fnv1a64(const void* data, std::size_t bytes, std::uint64_t seed) {
   const auto* p = static_cast<const unsigned char*>(data);
   std::uint64_t h = seed;
   for (std::size_t i = 0; i < bytes; ++i) {
@@ -32,25 +34,25 @@ inline std::uint64_t fnv1a64(const void* data, std::size_t bytes, std::uint64_t 
   return h;
 }
 
-inline std::uint64_t hash_mesh(const TriangleMesh& mesh) {
+BEMSURG_INLINE std::uint64_t hash_mesh(const TriangleMesh& mesh) {
   std::uint64_t h = fnv1a64(mesh.vertices().data(), static_cast<std::size_t>(mesh.vertices().size()) * sizeof(double));
   return fnv1a64(mesh.faces().data(), static_cast<std::size_t>(mesh.faces().size()) * sizeof(int), h);
 }
 
-inline std::uint64_t hash_conditions(const BoundaryConditions& bc) {
+BEMSURG_INLINE std::uint64_t hash_conditions(const BoundaryConditions& bc) {
   std::vector<unsigned char> kinds(bc.kinds().size());
   for (std::size_t i = 0; i < kinds.size(); ++i) kinds[i] = static_cast<unsigned char>(bc.kinds()[i]);
   std::uint64_t h = fnv1a64(kinds.data(), kinds.size());
   return fnv1a64(bc.values().data(), static_cast<std::size_t>(bc.values().size()) * sizeof(double), h);
 }
 
-inline std::uint64_t hash_quadrature(const QuadratureOptions& q) {
+BEMSURG_INLINE std::uint64_t hash_quadrature(const QuadratureOptions& q) {
   const double v[6] = {q.far_ratio, q.mid_ratio, double(q.mid_order), double(q.max_depth), double(q.polar_order),
                        q.polar_max_angle};
   return fnv1a64(v, sizeof(v));
 }
 
-inline GreensTableKey make_greens_table_key(const TriangleMesh& mesh, const Material& material, const BoundaryConditions& base,
+BEMSURG_INLINE GreensTableKey make_greens_table_key(const TriangleMesh& mesh, const Material& material, const BoundaryConditions& base,
                                      const Eigen::Vector3d& gravity, const QuadratureOptions& quadrature) {
   GreensTableKey key;
   key.mesh_hash = hash_mesh(mesh);
@@ -62,13 +64,13 @@ inline GreensTableKey make_greens_table_key(const TriangleMesh& mesh, const Mate
   return key;
 }
 
-inline BoundaryConditions supported_base_conditions(Index num_elements, const std::vector<Index>& supported) {
+BEMSURG_INLINE BoundaryConditions supported_base_conditions(Index num_elements, const std::vector<Index>& supported) {
   BoundaryConditions bc(num_elements);
   for (Index e : supported) bc.prescribe_displacement(e, Eigen::Vector3d::Zero());
   return bc;
 }
 
-inline double GreensTable::estimate_bytes(Index num_elements, Index region_elements) {
+BEMSURG_INLINE double GreensTable::estimate_bytes(Index num_elements, Index region_elements) {
   const double n = 3.0 * double(num_elements);
   // Peak: A* (built in H's storage) and G during assembly, with the right-hand sides (region
   // columns and the base state) and O(n) vectors; G is released before the factorisation, whose
@@ -76,14 +78,14 @@ inline double GreensTable::estimate_bytes(Index num_elements, Index region_eleme
   return 8.0 * (2.0 * n * n + n * (3.0 * double(region_elements) + 1.0) + 8.0 * n) + 4.0 * n;
 }
 
-inline double GreensTable::default_memory_limit_bytes() { return bemsurg::default_memory_limit_bytes(); }
+BEMSURG_INLINE double GreensTable::default_memory_limit_bytes() { return bemsurg::default_memory_limit_bytes(); }
 
-inline GreensTable GreensTable::compute(const TriangleMesh& mesh, const Material& material, const BoundaryConditions& base,
+BEMSURG_INLINE GreensTable GreensTable::compute(const TriangleMesh& mesh, const Material& material, const BoundaryConditions& base,
                                  const GreensTableOptions& options) {
   return compute(std::make_shared<const TriangleMesh>(mesh), material, base, options);
 }
 
-inline GreensTable GreensTable::compute(std::shared_ptr<const TriangleMesh> mesh_ptr, const Material& material,
+BEMSURG_INLINE GreensTable GreensTable::compute(std::shared_ptr<const TriangleMesh> mesh_ptr, const Material& material,
                                         const BoundaryConditions& base, const GreensTableOptions& options) {
   if (!mesh_ptr) throw InvalidArgumentError("GreensTable: no mesh");
   const TriangleMesh& mesh = *mesh_ptr;
@@ -164,7 +166,7 @@ inline GreensTable GreensTable::compute(std::shared_ptr<const TriangleMesh> mesh
   return table;
 }
 
-inline void GreensTable::set_columns_from_solution(Eigen::MatrixXd&& X) {
+BEMSURG_INLINE void GreensTable::set_columns_from_solution(Eigen::MatrixXd&& X) {
   // Rows of displacement-prescribed dofs: the solution there is a traction (kept as reactions_,
   // which updated() needs); the table holds the change of the prescribed displacement, zero.
   const Index n = X.rows();
@@ -182,7 +184,7 @@ inline void GreensTable::set_columns_from_solution(Eigen::MatrixXd&& X) {
   columns_.swap(X);
 }
 
-inline BoundaryConditions GreensTable::base_conditions() const {
+BEMSURG_INLINE BoundaryConditions GreensTable::base_conditions() const {
   BoundaryConditions bc(key_.num_elements);
   for (Index k = 0; k < num_dofs(); ++k)
     bc.prescribe_component(k / 3, static_cast<int>(k % 3), base_kinds_[static_cast<std::size_t>(k)],
@@ -190,7 +192,7 @@ inline BoundaryConditions GreensTable::base_conditions() const {
   return bc;
 }
 
-inline std::shared_ptr<const GreensTable> GreensTable::updated(std::shared_ptr<const TriangleMesh> after, const MeshDelta& delta,
+BEMSURG_INLINE std::shared_ptr<const GreensTable> GreensTable::updated(std::shared_ptr<const TriangleMesh> after, const MeshDelta& delta,
                                                                const GreensTableUpdateOptions& options,
                                                                GreensTableUpdateReport* report) const {
   const auto t_start = SteadyClock::now();
@@ -203,7 +205,7 @@ inline std::shared_ptr<const GreensTable> GreensTable::updated(std::shared_ptr<c
   return out;
 }
 
-inline std::vector<Index> GreensTable::region_after_cut(const TriangleMesh& after, const MeshDelta& delta,
+BEMSURG_INLINE std::vector<Index> GreensTable::region_after_cut(const TriangleMesh& after, const MeshDelta& delta,
                                                         const GreensTableUpdateOptions& options) const {
   std::vector<Index> region = region_;
   Index free_count = 0;
@@ -226,7 +228,7 @@ inline std::vector<Index> GreensTable::region_after_cut(const TriangleMesh& afte
   return region;
 }
 
-inline std::shared_ptr<const GreensTable> GreensTable::recomputed_after(std::shared_ptr<const TriangleMesh> after,
+BEMSURG_INLINE std::shared_ptr<const GreensTable> GreensTable::recomputed_after(std::shared_ptr<const TriangleMesh> after,
                                                                         const MeshDelta& delta,
                                                                         const GreensTableUpdateOptions& options) const {
   if (!mesh_) throw InvalidArgumentError("GreensTable::recomputed_after: this table has no mesh (read from a file)");
@@ -241,7 +243,7 @@ inline std::shared_ptr<const GreensTable> GreensTable::recomputed_after(std::sha
   return out;
 }
 
-inline std::shared_ptr<const GreensTable> GreensTable::refactored() const {
+BEMSURG_INLINE std::shared_ptr<const GreensTable> GreensTable::refactored() const {
   if (!mesh_) throw InvalidArgumentError("GreensTable::refactored: this table has no mesh (read from a file)");
   GreensTableOptions o;
   o.region = region_;
@@ -252,7 +254,7 @@ inline std::shared_ptr<const GreensTable> GreensTable::refactored() const {
   return out;
 }
 
-inline std::shared_ptr<const GreensTable> GreensTable::updated(std::shared_ptr<const TriangleMesh> after, const MeshDelta& delta,
+BEMSURG_INLINE std::shared_ptr<const GreensTable> GreensTable::updated(std::shared_ptr<const TriangleMesh> after, const MeshDelta& delta,
                                                                const CutChange& change, const GreensTableUpdateOptions& options,
                                                                GreensTableUpdateReport* report) const {
   const auto t_start = SteadyClock::now();
@@ -422,7 +424,7 @@ inline std::shared_ptr<const GreensTable> GreensTable::updated(std::shared_ptr<c
   return out;
 }
 
-inline GreensTable::GreensTable(GreensTableKey key, std::vector<Index> region, Eigen::VectorXd base_displacement,
+BEMSURG_INLINE GreensTable::GreensTable(GreensTableKey key, std::vector<Index> region, Eigen::VectorXd base_displacement,
                          Eigen::VectorXd base_traction, std::vector<BcKind> base_kinds, Eigen::MatrixXd columns)
     : key_(key),
       region_(std::move(region)),
@@ -442,7 +444,7 @@ inline GreensTable::GreensTable(GreensTableKey key, std::vector<Index> region, E
   build_slots();
 }
 
-inline void GreensTable::build_slots() {
+BEMSURG_INLINE void GreensTable::build_slots() {
   slot_.assign(static_cast<std::size_t>(key_.num_elements), -1);
   for (std::size_t s = 0; s < region_.size(); ++s) {
     if (slot_[static_cast<std::size_t>(region_[s])] != -1)
@@ -451,7 +453,7 @@ inline void GreensTable::build_slots() {
   }
 }
 
-inline void GreensTable::displacement_field(const Index* elements, const double* tractions, Index count, Eigen::VectorXd& u) const {
+BEMSURG_INLINE void GreensTable::displacement_field(const Index* elements, const double* tractions, Index count, Eigen::VectorXd& u) const {
   const Index n = num_dofs();
   if (u.size() != n) throw InvalidArgumentError("GreensTable::displacement_field: u must have " + std::to_string(n) + " entries");
   u = base_displacement_;

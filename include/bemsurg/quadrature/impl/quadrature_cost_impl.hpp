@@ -1,6 +1,8 @@
 // Implementation of bemsurg/quadrature/quadrature_cost.hpp (docs/design.md §4, §10).
 #pragma once
 
+#include "bemsurg/config.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -9,7 +11,7 @@
 
 namespace bemsurg {
 
-inline QuadratureCostEstimate estimate_assembly_quadrature(const TriangleMesh& mesh, const QuadratureOptions& options,
+BEMSURG_INLINE QuadratureCostEstimate estimate_assembly_quadrature(const TriangleMesh& mesh, const QuadratureOptions& options,
                                                             double limit_points, Index max_sampled_sources) {
   QuadratureCostEstimate est;
   const Index E = mesh.num_elements();
@@ -40,7 +42,7 @@ inline QuadratureCostEstimate estimate_assembly_quadrature(const TriangleMesh& m
   return est;
 }
 
-inline void require_assembly_quadrature_within(const TriangleMesh& mesh, const QuadratureOptions& options,
+BEMSURG_INLINE void require_assembly_quadrature_within(const TriangleMesh& mesh, const QuadratureOptions& options,
                                                const std::string& who) {
   const QuadratureCostEstimate reference = estimate_assembly_quadrature(mesh, QuadratureOptions(), 1e300);
   const double limit = std::max(kQuadratureCostFloor, kQuadratureCostFactor * reference.points);

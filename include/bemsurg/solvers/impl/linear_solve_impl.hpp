@@ -4,6 +4,8 @@
 // path fills the summary before it returns or throws, so a failed solve is still reported.
 #pragma once
 
+#include "bemsurg/config.hpp"
+
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -23,14 +25,14 @@
 namespace bemsurg {
 namespace detail {
 
-inline std::string scientific(double v) {
+BEMSURG_INLINE std::string scientific(double v) {
   char buffer[32];
   std::snprintf(buffer, sizeof buffer, "%.3e", v);
   return buffer;
 }
 
 template <template <class, class> class Solver, class Preconditioner>
-inline Eigen::VectorXd run_krylov(const DenseOperator& A, const Preconditioner& M, const Eigen::VectorXd& b, const KrylovSettings& ks,
+BEMSURG_INLINE Eigen::VectorXd run_krylov(const DenseOperator& A, const Preconditioner& M, const Eigen::VectorXd& b, const KrylovSettings& ks,
                            const Eigen::VectorXd& x0, LinearSolveSummary& summary) {
   Solver<DenseOperator, Preconditioner> solver(ks);
   solver.compute(A, M);
@@ -51,7 +53,7 @@ inline Eigen::VectorXd run_krylov(const DenseOperator& A, const Preconditioner& 
 }
 
 template <template <class, class> class Solver>
-inline Eigen::VectorXd run_with_preconditioner(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const LinearSolverSettings& settings,
+BEMSURG_INLINE Eigen::VectorXd run_with_preconditioner(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const LinearSolverSettings& settings,
                                         const KrylovSettings& ks, LinearSolveSummary& summary, const TriangleMesh* mesh,
                                         const Eigen::VectorXd& x0) {
   const DenseOperator op(A);
@@ -87,7 +89,7 @@ inline Eigen::VectorXd run_with_preconditioner(const Eigen::MatrixXd& A, const E
 /// Refuses a matrix or right-hand side with NaN or infinite entries before any solver sees it:
 /// LAPACK's factorisation is undefined on them (it may crash) and a Krylov solve would spread
 /// them into the result. Unknown k of A* is component k % 3 of element k / 3 (docs/design.md §2).
-inline void require_finite_system(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, LinearSolveSummary& summary) {
+BEMSURG_INLINE void require_finite_system(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, LinearSolveSummary& summary) {
   static const char* const likely =
       "; the likely cause is the material's Young's modulus (too small or too large: the Kelvin kernels divide by the "
       "shear modulus) or the mesh scale (coordinates far from metres overflow the kernels and the element areas)";
@@ -109,7 +111,7 @@ inline void require_finite_system(const Eigen::MatrixXd& A, const Eigen::VectorX
     }
 }
 
-inline Eigen::VectorXd solve_lu(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, LinearSolveSummary& summary) {
+BEMSURG_INLINE Eigen::VectorXd solve_lu(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, LinearSolveSummary& summary) {
   const auto start = SteadyClock::now();
   const DenseLU lu(A);
   summary.setup_seconds = seconds_since(start);
@@ -136,7 +138,7 @@ inline Eigen::VectorXd solve_lu(const Eigen::MatrixXd& A, const Eigen::VectorXd&
 
 }  // namespace detail
 
-inline Eigen::VectorXd solve_linear_system(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const LinearSolverSettings& settings,
+BEMSURG_INLINE Eigen::VectorXd solve_linear_system(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const LinearSolverSettings& settings,
                                     LinearSolveSummary& summary, const TriangleMesh* mesh, const Eigen::VectorXd& x0) {
   summary = LinearSolveSummary();
   summary.method = settings.method;
