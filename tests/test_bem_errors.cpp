@@ -55,7 +55,9 @@ TEST_CASE("a dense solve that cannot fit in memory is refused before allocating"
   const TriangleMesh m = box_mesh(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones(), 80, 80, 80);
   REQUIRE(m.num_elements() == 76800);
   const double need = estimate_elastostatic_bytes(m.num_elements());
-  CHECK(need == Approx(2.0 * 8.0 * 230400.0 * 230400.0).epsilon(1e-4));
+  // The estimate is 8 (2 n^2 + 8 n) bytes (H, G and eight n-vectors): 4 / n = 1.74e-5 above the
+  // matrices' 16 n^2. Window ~3x that.
+  CHECK(need == Approx(2.0 * 8.0 * 230400.0 * 230400.0).epsilon(5e-5));
   if (need <= default_memory_limit_bytes()) {
     WARN("this machine has more than 1 TB of memory; the refusal is not exercised");
     return;
@@ -179,7 +181,10 @@ TEST_CASE("a second closed body without support is named, not solved") {
   const ElastostaticSolution alone = solve_elastostatic({a, Material{1e3, 0.3, 0.0}, Eigen::Vector3d::Zero(), alone_bc, {}});
   const double scale = alone.boundary.displacement.cwiseAbs().maxCoeff();
   REQUIRE(scale > 0.0);
-  CHECK((sol.boundary.displacement.topRows(na) - alone.boundary.displacement).cwiseAbs().maxCoeff() < 0.05 * scale);
+  // The discretised bodies still see each other a little (the other body's traces integrate to
+  // zero only up to quadrature and collocation error): measured 5.0e-3 of the displacement; bound
+  // ~3x. The second body, loaded alike, moves about as much: measured 1.005 x scale.
+  CHECK((sol.boundary.displacement.topRows(na) - alone.boundary.displacement).cwiseAbs().maxCoeff() < 0.015 * scale);
   CHECK(sol.boundary.displacement.bottomRows(n - na).cwiseAbs().maxCoeff() < 2.0 * scale);
 }
 

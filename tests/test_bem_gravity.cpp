@@ -48,7 +48,7 @@ TEST_CASE("hanging bar: held at the top, sagging under gravity") {
 TEST_CASE("hanging bar without the gravity term is far off (the term is what carries the load)") {
   const TriangleMesh m = bar(2);
   const RelativeErrors e = solve_exact_trace_problem(m, kMaterial, kBar, [&](Index k) { return m.centroid(k).z() > kL - 1e-9; });
-  CHECK(e.displacement > 0.5);
+  CHECK(e.displacement > 0.5);  // measured 0.99: without the term the solution hardly moves
 }
 
 TEST_CASE("solid cube under uniform pressure: u = -p (1 - 2 nu) x / E") {

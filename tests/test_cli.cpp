@@ -10,6 +10,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -76,6 +77,7 @@ Table read_table(const std::string& path) {
 }
 
 constexpr double kE = 3000.0, kNu = 0.3, kP = 100.0;
+constexpr double kEps = std::numeric_limits<double>::epsilon();
 
 /// Errors of the uniform-pressure solve of the cube [-1/2, 1/2]^3 with `div` divisions per side.
 struct PressureErrors {
@@ -130,17 +132,18 @@ PressureErrors solve_cube_under_pressure(int div, const TempDir& dir) {
     REQUIRE(row.size() == 14);
     CHECK(row[0] == static_cast<double>(e));
     const Vec3 c(row[1], row[2], row[3]), n(row[4], row[5], row[6]), u(row[8], row[9], row[10]), t(row[11], row[12], row[13]);
-    CHECK((c - mesh.centroid(static_cast<Index>(e))).norm() < 1e-12);
-    CHECK((n - mesh.normal(static_cast<Index>(e))).norm() < 1e-12);
-    CHECK(row[7] == Approx(mesh.area(static_cast<Index>(e))).epsilon(1e-12));
+    // The CSV holds round-trip text of the same computations: measured 0; bounds 4 eps.
+    CHECK((c - mesh.centroid(static_cast<Index>(e))).norm() <= 4 * kEps);
+    CHECK((n - mesh.normal(static_cast<Index>(e))).norm() <= 4 * kEps);
+    CHECK(row[7] == Approx(mesh.area(static_cast<Index>(e))).epsilon(4 * kEps));
     err.displacement = std::max(err.displacement, (u - k * c).norm());
     u_max = std::max(u_max, (k * c).norm());
     const bool is_pinned = std::find(pinned.begin(), pinned.end(), static_cast<Index>(e)) != pinned.end();
     if (is_pinned) {
-      CHECK((u - k * c).norm() < 1e-12);  // prescribed values come back exactly
+      CHECK((u - k * c).norm() <= 4 * kEps * (k * c).norm());  // prescribed values come back exactly (measured 0)
       err.support_traction = std::max(err.support_traction, (t + kP * n).norm() / kP);
     } else {
-      CHECK((t + kP * n).norm() < 1e-12);
+      CHECK((t + kP * n).norm() <= 4 * kEps * kP);  // prescribed: measured 0
     }
   }
   err.displacement /= u_max;
@@ -240,7 +243,7 @@ TEST_CASE("solve writes surface.vtk and a complete report.json", "[cli]") {
   }
   const double total = timings.at("total").get<double>();
   INFO("phases " << phases << " s, total " << total << " s, wall time of the run " << wall << " s");
-  CHECK(phases <= total * (1.0 + 1e-9));
+  CHECK(phases <= total * (1.0 + 4 * kEps));  // a sum of 5 (measured: 2.1 % below the total)
   CHECK(total <= wall);
   CHECK(report.at("peak_memory_mb").get<double>() > 1.0);
   const auto& solver = report.at("solver");
@@ -248,7 +251,8 @@ TEST_CASE("solve writes surface.vtk and a complete report.json", "[cli]") {
   CHECK(solver.at("preconditioner") == "block_jacobi");
   CHECK(solver.at("status") == "converged");
   CHECK(solver.at("iterations").get<int>() >= 1);
-  CHECK(solver.at("relative_residual").get<double>() < 1e-9);
+  // Converged means a true residual at most the scene's tolerance 1e-10 (measured 6.2e-11).
+  CHECK(solver.at("relative_residual").get<double>() <= 1e-10);
   CHECK(report.at("bemsurg_version").is_string());
 
   // Gravity pulls the free top down; the fixed bottom stays put.
@@ -319,19 +323,21 @@ TEST_CASE("press: --direction is any finite nonzero vector, however large or sma
   CHECK(forces[1] == forces[0]);  // the same unit direction
   CHECK(forces[2] == forces[0]);
   // 1e-200,0,-1e-200 is the unit direction (1, 0, -1)/sqrt(2) (its norm() underflows to 0): the
-  // force equals that of 1,0,-1 (measured: identical; bound 1e-14 relative, rounding of the
-  // normalisation) and differs from straight down (measured |F3 - F0| = 0.5 |F0|).
+  // force equals that of 1,0,-1 (measured: identical; bound 16 eps, the normalisation's 2 eps per
+  // component through a bonded point's 3 rows) and differs from straight down (measured
+  // |F3 - F0| = 0.51 |F0|).
   INFO("F(0,0,-1) = " << F[0].transpose() << ", F(1e-200,0,-1e-200) = " << F[3].transpose() << ", F(1,0,-1) = "
                       << F[4].transpose() << ", F(-1,0,-1) = " << F[5].transpose() << "; |F3 - F4|/|F4| = "
                       << (F[3] - F[4]).norm() / F[4].norm() << ", |F3 + F5 - sqrt2 F0|/|F0| = "
                       << (F[3] + F[5] - std::sqrt(2.0) * F[0]).norm() / F[0].norm());
-  CHECK((F[3] - F[4]).norm() <= 1e-14 * F[4].norm());
+  CHECK((F[3] - F[4]).norm() <= 16 * kEps * F[4].norm());
   CHECK((F[3] - F[0]).norm() > 0.1 * F[0].norm());
   // A bonded point tool is linear in its displacement, depth x unit direction, and the body (no
   // weight) is in its reference state, so the two oblique presses add up to sqrt(2) times the
-  // straight one: F(1,0,-1)/sqrt(2) + F(-1,0,-1)/sqrt(2) = 2 F(0,0,-1)/sqrt(2). Measured 4e-16
-  // relative; bound 1e-13 (a press that ignored the direction's x part, or a wrong sign, is O(1)).
-  CHECK((F[3] + F[5] - std::sqrt(2.0) * F[0]).norm() <= 1e-13 * F[0].norm());
+  // straight one: F(1,0,-1)/sqrt(2) + F(-1,0,-1)/sqrt(2) = 2 F(0,0,-1)/sqrt(2). Measured 2.1e-16
+  // relative; bound 16 eps on each of the three forces (a press that ignored the direction's x
+  // part, or a wrong sign, is O(1)).
+  CHECK((F[3] + F[5] - std::sqrt(2.0) * F[0]).norm() <= 16 * kEps * (F[3].norm() + F[5].norm() + std::sqrt(2.0) * F[0].norm()));
   for (const char* direction : {"0,0,0", "0,0,1e400"}) {
     const Run r = run_cli("press '" + dir.file("scene.json") + "' --tool point --at 0,0,0.05 --direction " + direction +
                               " --depth 0.001 -o '" + dir.file("bad") + "'",

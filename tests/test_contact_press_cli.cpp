@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
@@ -44,16 +45,15 @@ TEST_CASE("bemsurg press writes elements.csv and force.json consistent with each
   REQUIRE(force.size() == 3);
   CHECK(force[2] > 0.0);  // the tissue pushes the tool back up
   CHECK(j.at("contact_elements").get<int>() > 0);
-  // Timings: the run's total lies within the wall time measured here; the force update (median of
-  // 2001 timed repetitions inside the run, so at least 1001 of them took as long) is positive and
-  // at most 2 x total / 2001; the table's phases add up
-  // to at most the total. Measured: update 0.03 us (bound ~480 us: a logical bound, it catches a
-  // value in ms or s, not one in ns); total 0.48 s, wall 0.51 s.
+  // Timings, checked for consistency only (the speed is bench_contact's subject: its
+  // "force_only_update_us" median, beside "bare_force_product_us" in the same run, is the path
+  // force_update_us times; these tests also run under sanitizers): the run's total lies within the
+  // wall time measured here, the force update is reported, and the table's phases add up to at
+  // most the total. Measured: update 0.03 us, total 0.14 s, wall 0.25 s.
   const double total = j.at("total_seconds").get<double>(), update_us = j.at("force_update_us").get<double>();
   INFO("force update " << update_us << " us, total " << total << " s, wall " << wall << " s");
   CHECK(total <= wall);
   CHECK(update_us > 0.0);
-  CHECK(update_us <= 2.0 * total * 1e6 / 2001.0);
   const auto& table = j.at("table");
   CHECK(table.at("loaded_from_file") == false);
   CHECK(table.at("assembly_seconds").get<double>() > 0.0);
@@ -81,7 +81,9 @@ TEST_CASE("bemsurg press writes elements.csv and force.json consistent with each
     }
   }
   CHECK(loaded == j.at("contact_elements").get<int>());
-  CHECK(fz == Approx(force[2]).epsilon(1e-9));
+  // The same `loaded` terms of one sign summed in another order, read back exactly (shortest
+  // round-trip text): 2 loaded eps (measured 0, 8 elements).
+  CHECK(fz == Approx(force[2]).epsilon(2.0 * loaded * std::numeric_limits<double>::epsilon()));
   // Refusals: unknown tool (usage, 2), a line that misses the body (error, 1).
   CHECK(run("press " + scene + " --tool cone --at 0,0,1 --direction 0,0,-1 --depth 0.001 -o " + out) == 2);
   CHECK(run("press " + scene + " --tool point --at 5,5,1 --direction 0,0,-1 --depth 0.001 -o " + out) == 1);
@@ -140,7 +142,7 @@ TEST_CASE("bemsurg press refuses depths beyond the small-strain range and stays 
   // Inside the range the force grows continuously with the depth up to the limit (20 % of the
   // 0.05 body = 0.01; the sphere's own limit 0.5 R = 0.02 is further): a frictionless sphere on a
   // fixed contact set is linear in the depth, and the set grows from 8 to 16 elements at 0.009.
-  // Measured F/d relative to the shallowest: 1.000 up to 0.008, then 1.015, 1.082; bound 12 %.
+  // Measured F/d relative to the shallowest: 1.000 up to 0.008, then 1.015, 1.082; bound 12 % (1.5x).
   // Above 5 % strain (0.0025) a warning says the model is approximate.
   const std::vector<double> depths = {0.001, 0.003, 0.005, 0.007, 0.009, 0.01};
   double stiffness0 = 0.0, previous = 0.0;

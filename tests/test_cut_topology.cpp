@@ -6,6 +6,7 @@
 // steps (supported elements, slivers, thin parts, another cut's wall) change nothing.
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <random>
 
@@ -140,6 +141,10 @@ std::vector<char> lock_where(const TriangleMesh& mesh, const Vec3& normal) {
 TEST_CASE("opening a cut makes a groove of the asked width and depth and removes the predicted volume", "[cut]") {
   const double h = 0.125;  // edge length of the 8 x 8 x 8 unit box
   const auto mesh = std::make_shared<const TriangleMesh>(box_mesh(Vec3(0, 0, 0), Vec3(1, 1, 1), 8, 8, 8));
+  // Bounds of 1e-15 on coordinates <= 1.5 are about 4.5 eps: a few roundings of the cutter's
+  // interpolations (measured 0 to 1.7e-17). The volumes are sums over the faces, but the box's
+  // vertices are dyadic (multiples of 1/8), so only the faces around the groove round: measured
+  // 1.7e-16 to 2.4e-16 on a unit volume, bound 1e-15 (1e-14 after deepening, two levels of faces).
   SECTION("default width and depth, opened, extended and deepened") {
     SurfaceCutter cutter(mesh, {});
     REQUIRE(cutter.options().gap_fraction == 0.1);
@@ -227,12 +232,13 @@ TEST_CASE("on a sphere the groove is cut along the normal to the asked depth", "
   const Vec3 bottom = 0.5 * (m.vertex(s[1].left[1]) + m.vertex(s[1].right[1]));
   CHECK(std::abs((m.vertex(s[1].left[0]) - m.vertex(s[1].right[0])).norm() - 0.1 * h) < 1e-15);
   // Radial depth: the vertex normal is nearly radial on an icosphere. Measured relative
-  // difference from h: see the message; bound 1%.
+  // difference from h: -2.2e-4; bound 3x that.
   const double radial = rim.norm() - bottom.norm();
   INFO("radial depth " << radial << " for h = " << h);
-  CHECK(std::abs(radial - h) < 0.01 * h);
+  CHECK(std::abs(radial - h) < 7e-4 * h);
   // The walls are perpendicular to the surface: the gap's side direction is tangent.
-  // At the path vertex (the left rim, unmoved): measured 0.0114, the discrete normal is not quite radial.
+  // At the path vertex (the left rim, unmoved): measured 0.0114, the discrete normal is not quite
+  // radial; bound 0.015 (1.3x).
   const Vec3 path_vertex = m.vertex(s[1].left[0]);
   INFO("side direction . radial = " << (path_vertex - m.vertex(s[1].right[0])).normalized().dot(path_vertex.normalized()));
   CHECK(std::abs((path_vertex - m.vertex(s[1].right[0])).normalized().dot(path_vertex.normalized())) < 0.015);
@@ -297,10 +303,13 @@ TEST_CASE("seeded random cut sequences keep the surface closed manifold oriented
     }
   }
   INFO("accepted " << accepted << ", refused " << refused << ", deepened " << deepened << ", second-cut steps " << second_cuts);
-  // Measured with this seed: 263 accepted (27 deepens, 49 steps of second cuts), 325 refused.
+  // Measured with this seed: 271 accepted (26 deepens, 44 steps of second cuts), 309 refused (an
+  // earlier build: 263, 27, 49, 325; the directions come from std::uniform_real_distribution,
+  // whose output the standard leaves to the library). Lower bounds: a third of the measured, or
+  // the old bound where that was already within 3x.
   CHECK(accepted + refused >= 400);
   CHECK(accepted >= 200);  // the sequences really cut
-  CHECK(refused >= 10);    // and meet refusals on the way
+  CHECK(refused >= 100);   // and meet refusals on the way
   CHECK(deepened >= 20);
   CHECK(second_cuts >= 20);
 }
@@ -315,13 +324,14 @@ TEST_CASE("steps that cannot be done cleanly are refused with the reason and cha
     SurfaceCutter locked(mesh, all);
     CHECK_FALSE(checked_action(locked, false, Vec3(0.5, 0.5, 1), Vec3(1, 0, 0), box, all, &reason));
     CHECK_THAT(reason, Catch::Contains("supported element"));
-    // Down the front face towards the supported bottom: refused on reaching it.
+    // Down the front face towards the supported bottom: refused on reaching it. From the vertex at
+    // z = 0.5 one edge (0.125) per step: to 0.375 (opening), 0.25, 0.125; the fourth would end on
+    // the bottom edge, whose faces are supported: 3 steps (measured 3).
     const auto bottom = lock_where(box, Vec3(0, 0, -1));
     SurfaceCutter down(mesh, bottom);
     int steps = 0;
     while (checked_action(down, false, Vec3(0.5, 0, 0.5), Vec3(0, 0, -1), box, bottom, &reason)) ++steps;
-    CHECK(steps >= 2);
-    CHECK(steps <= 4);
+    CHECK(steps == 3);
     CHECK_THAT(reason, Catch::Contains("supported element"));
   }
   SECTION("a gap so narrow that its triangles would be slivers") {
@@ -363,10 +373,13 @@ TEST_CASE("steps that cannot be done cleanly are refused with the reason and cha
   SECTION("crossing another cut's wall") {
     SurfaceCutter first(mesh, {});
     for (int i = 0; i < 4; ++i) REQUIRE(checked_action(first, false, Vec3(0.25, 0.5, 1), Vec3(1, 0, 0), box, none));
+    // The first groove runs along y = 0.5, on its -y side (width 0.0125). The second, along +y from
+    // y = 0.25, opens to 0.375; its next step would end at 0.5, through the first groove's wall:
+    // 1 step (measured 1).
     SurfaceCutter second(first.mesh(), first.locked_elements());
     int steps = 0;
     while (steps < 8 && checked_action(second, false, Vec3(0.5, 0.25, 1), Vec3(0, 1, 0), box, none, &reason)) ++steps;
-    CHECK(steps < 8);
+    CHECK(steps == 1);
     CHECK_THAT(reason, Catch::Contains("wall"));
   }
   SECTION("no direction along the surface, and nothing to deepen") {
@@ -401,15 +414,21 @@ TEST_CASE("the halves of the split edge name their parent and the walls are new 
   // The halves cover their parent less the sliver the rim vertex moved into: same normal, areas
   // adding up to the parent's on the left of the path (+y: the left rim does not move) and to
   // the parent's minus h w / 2 on the right, where the right rim is w away (h = 0.125, w = 0.1 h).
+  // Measured: normals 0 (bound 1e-15, about 4.5 eps on a unit vector), areas <= 8.7e-19 on areas of
+  // 7.8e-3 (bound 16 eps x the area: three areas, each a cross product and a norm).
   for (std::size_t i = 0; i < open.delta.added.size(); ++i) {
     const Index p = open.added_parent[i], e = open.delta.added[i];
     if (p < 0) continue;
     CHECK((cutter.mesh()->normal(e) - mesh->normal(p)).norm() < 1e-15);
     const double h = 0.125, w = 0.1 * h;
     const double sliver = mesh->centroid(p).y() < 0.5 ? h * w / 2.0 : 0.0;
-    CHECK(std::abs(cutter.mesh()->area(e) + cutter.mesh()->area(p) - (mesh->area(p) - sliver)) < 1e-15);
+    CHECK(std::abs(cutter.mesh()->area(e) + cutter.mesh()->area(p) - (mesh->area(p) - sliver)) <
+          16.0 * std::numeric_limits<double>::epsilon() * mesh->area(p));
   }
   const CutStep extend = cutter.step(Vec3::Zero(), Vec3(1, 0, 0));
   REQUIRE(extend.accepted);
+  // New cut surface of the extension: the old end fan's 3 triangles become half of the section
+  // between the old end and the new one (walls and bottom, 6 triangles: 3 new), and a new end fan
+  // of 3 closes the groove: 6 elements without a parent (measured 6).
   CHECK(std::count(extend.added_parent.begin(), extend.added_parent.end(), Index(-1)) == 6);
 }

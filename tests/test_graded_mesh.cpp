@@ -9,6 +9,7 @@
 #include <cmath>
 #include <filesystem>
 #include <functional>
+#include <limits>
 #include <set>
 #include <string>
 
@@ -26,6 +27,8 @@ using namespace bemsurg;
 namespace fs = std::filesystem;
 
 namespace {
+
+constexpr double kEps = std::numeric_limits<double>::epsilon();
 
 const fs::path kScenes = fs::path(__FILE__).parent_path().parent_path() / "examples" / "scenes";
 
@@ -88,18 +91,20 @@ TEST_CASE("The brain model is a valid, deterministic, mirror-symmetric surface w
     for (Index w = 0; w < a.num_vertices(); ++w) best = std::min(best, (a.vertex(w) - m).norm());
     worst = std::max(worst, best);
   }
-  CHECK(worst < 1e-12);  // measured ~1e-17
+  // Measured 0: every vertex's mirror image comes from the same operations with y negated (odd and
+  // even functions of y), exact in floating point; bound a few roundings of the largest coordinate.
+  CHECK(worst <= 16.0 * kEps * a.vertices().cwiseAbs().maxCoeff());
   // The underside lies on z = 0 and is flat; the top of a hemisphere stands well above the fissure.
   const auto box = a.bounding_box();
   CHECK(box(2, 0) == 0.0);
-  CHECK(box(2, 1) == Approx(o.size.z()).epsilon(0.1));
+  CHECK(box(2, 1) == Approx(o.size.z()).epsilon(0.08));  // measured 2.6 % below
   double flat_area = 0.0;
   for (Index e = 0; e < a.num_elements(); ++e)
     if (a.normal(e).z() < -0.999999) flat_area += a.area(e);
-  CHECK(flat_area > 0.4 * M_PI * 0.25 * o.size.x() * o.size.y());  // the rim lies at 0.87 of the semi-axes
+  CHECK(flat_area > 0.4 * M_PI * 0.25 * o.size.x() * o.size.y());  // the rim lies at 0.87 of the semi-axes (measured 0.68)
   const double fissure_top = brain_surface_point(o, Vec3(0, 0, 1)).z();
   const double hemisphere_top = brain_surface_point(o, Vec3(0.1, 0.45, 1.0)).z();
-  CHECK(hemisphere_top - fissure_top > 0.008);  // a groove of more than 8 mm (measured ~16 mm)
+  CHECK(hemisphere_top - fissure_top > 0.008);  // a groove of more than 8 mm (measured 9.7 mm)
   CHECK_THROWS_WITH(brain_mesh([] { BrainModelOptions x; x.size.y() = -1; return x; }()),
                     Catch::Contains("size must be three positive lengths"));
 }
@@ -138,8 +143,8 @@ TEST_CASE("A graded remesh of the brain is closed, oriented, well shaped and gra
   }
   REQUIRE(n_inside > 10);
   REQUIRE(n_far > 10);
-  CHECK(inside / n_inside == Approx(o.inside_edge_length).epsilon(0.25));
-  CHECK(far / n_far == Approx(far_target / n_far).epsilon(0.25));
+  CHECK(inside / n_inside == Approx(o.inside_edge_length).epsilon(0.03));  // measured 1.0 % below
+  CHECK(far / n_far == Approx(far_target / n_far).epsilon(0.25));            // measured 11 % below
   CHECK(far / n_far > 2.0 * o.inside_edge_length);
 }
 
@@ -151,8 +156,12 @@ TEST_CASE("A graded remesh keeps the creases of a box and both shells of a hollo
   // Edges and corners kept: the volume of a polyhedron with the box's faces is the box's, exactly
   // up to rounding, and the bounding box is unchanged.
   CHECK(find_self_intersections(r.mesh).empty());
-  CHECK(r.mesh.enclosed_volume() == Approx(0.1 * 0.1 * 0.05).epsilon(1e-9));
-  CHECK((r.mesh.bounding_box() - box.bounding_box()).cwiseAbs().maxCoeff() < 1e-12);
+  // Round-off: the origin lies on the box, so every face's signed tetrahedron volume is >= 0 and the
+  // N-term sum is within ~N eps of the box's (measured 4.3e-16 relative). Gmsh's parametrisation puts
+  // the vertices within a few roundings of the box's planes (measured 1 ulp of 0.05): bound 64 eps
+  // of the box's size 0.1.
+  CHECK(r.mesh.enclosed_volume() == Approx(0.1 * 0.1 * 0.05).epsilon(static_cast<double>(r.mesh.num_elements()) * kEps));
+  CHECK((r.mesh.bounding_box() - box.bounding_box()).cwiseAbs().maxCoeff() < 64.0 * kEps * 0.1);
   CHECK(r.quality.max_neighbour_size_ratio < 1.6);
 
   const TriangleMesh hollow = hollow_sphere_mesh(Vec3::Zero(), 0.02, 0.04, 3, 3);
@@ -245,7 +254,8 @@ TEST_CASE("The cuboid scene's operating region is its top face and feeds the Gre
   CHECK_FALSE(s.graded);
   REQUIRE(s.has_operating_region);
   CHECK(s.operating_elements.size() == 72u);  // 6 x 6 quads on top, two triangles each
-  for (Index e : s.operating_elements) CHECK(s.problem.mesh.centroid(e).z() == Approx(0.05));
+  for (Index e : s.operating_elements)
+    CHECK(s.problem.mesh.centroid(e).z() == Approx(0.05).epsilon(4.0 * kEps));  // (3 x 0.05) / 3: measured 0.6 eps
   GreensTableOptions options;
   options.region = s.operating_elements;
   const BoundaryConditions& bc = s.problem.boundary_conditions;
@@ -274,7 +284,7 @@ TEST_CASE("The brain scene is graded around its operating region and held on its
   for (Index e = 0; e < s.problem.mesh.num_elements(); ++e)
     if (!s.problem.boundary_conditions.is_free(e)) {
       ++held;
-      CHECK(std::abs(s.problem.mesh.centroid(e).z()) < 1e-9);
+      CHECK(std::abs(s.problem.mesh.centroid(e).z()) < 64.0 * kEps * 0.1);  // on z = 0: measured 0
     }
-  CHECK(held > 20);
+  CHECK(held > 20);  // measured 70
 }

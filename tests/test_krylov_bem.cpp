@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <limits>
 #include <string>
 
 #include "bemsurg/solvers/bicg.hpp"
@@ -24,8 +25,11 @@ using bemsurg_test::BemSystem;
 
 namespace {
 
+constexpr double kEps = std::numeric_limits<double>::epsilon();
+
 const BemSystem& base_system() {
-  static const BemSystem s = bemsurg_test::make_bem_system(3, 3, 3);  // 108 elements, 324 equations
+  // 3 x 3 x 3 cells: 6 faces x 9 quads x 2 triangles = 108 elements, 3 unknowns each: 324 equations.
+  static const BemSystem s = bemsurg_test::make_bem_system(3, 3, 3);
   return s;
 }
 const BemSystem& perturbed_system() {
@@ -61,8 +65,9 @@ std::array<Run, 3> solve_all(const BemSystem& s, const KrylovSettings& settings)
           solve_with<Solver>(s, near, settings)};
 }
 
+/// `error_bound`: ~3x the largest error reached at tolerance 1e-10 over the three preconditioners.
 template <template <class, class> class Solver>
-void check_method(const char* name, int restart = 0) {
+void check_method(const char* name, double error_bound, int restart = 0) {
   const BemSystem& s = base_system();
   KrylovSettings loose, tight;
   loose.tolerance = 1e-6;
@@ -78,11 +83,13 @@ void check_method(const char* name, int restart = 0) {
     REQUIRE(fine[p].status == KrylovStatus::Converged);
     REQUIRE(coarse[p].status == KrylovStatus::Converged);
     CHECK(fine[p].residual <= tight.tolerance);
-    // Error bound from the residual: ||x - x_LU|| / ||x_LU|| <= cond(A) * relative residual ...
+    // Error bound from the residual: ||x - x_LU|| / ||x_LU|| <= cond(A) * relative residual
+    // (3.2e6 x 1e-10 = 3.2e-4), which holds for any iterate; the errors reached are far below it ...
     CHECK(fine[p].error <= s.lu_condition * tight.tolerance);
-    // ... and the error follows the tolerance down (four decades of tolerance, at least two of error).
+    // ... and the error follows the tolerance down (four decades of tolerance, at least two of error:
+    // measured at least 2.4).
     CHECK(fine[p].error < 1e-2 * coarse[p].error);
-    CHECK(fine[p].error < 1e-6);
+    CHECK(fine[p].error < error_bound);
   }
   // Each preconditioner cuts the iteration count, and the near field more than the 3x3 blocks.
   CHECK(fine[1].iterations < fine[0].iterations);
@@ -94,14 +101,26 @@ void check_method(const char* name, int restart = 0) {
 TEST_CASE("the BEM test system is what the tests assume", "[krylov][bem]") {
   const BemSystem& s = base_system();
   CHECK(s.A.rows() == 324);
-  CHECK((s.A * s.x_lu - s.b).norm() <= 1e-10 * s.b.norm());
-  CHECK(s.lu_condition > 1e3);  // hard enough that preconditioning shows
+  // LU with partial pivoting is backward stable column by column: |b - A x| <= ~3 n eps |A| |x|
+  // (entrywise; the unknowns mix displacements and tractions of very different size, so the
+  // normwise |A| |x| would be 5.9e5 |b|). Measured 4.0e-16 |b|.
+  CHECK((s.A * s.x_lu - s.b).norm() <= 3.0 * 324 * kEps * (s.A.cwiseAbs() * s.x_lu.cwiseAbs()).norm());
+  CHECK(s.lu_condition > 1e6);  // hard enough that preconditioning shows (measured 3.2e6)
 }
 
-TEST_CASE("full GMRES reaches the LU solution with each preconditioner", "[krylov][bem]") { check_method<Gmres>("GMRES"); }
-TEST_CASE("GMRES(40) reaches the LU solution with each preconditioner", "[krylov][bem]") { check_method<Gmres>("GMRES(40)", 40); }
-TEST_CASE("BiCGStab reaches the LU solution with each preconditioner", "[krylov][bem]") { check_method<BiCgStab>("BiCGStab"); }
-TEST_CASE("BiCG reaches the LU solution with each preconditioner", "[krylov][bem]") { check_method<BiCg>("BiCG"); }
+// Errors reached at tolerance 1e-10 (none, block-Jacobi, near field), iterations in brackets:
+//   GMRES       4.5e-10 (185), 1.3e-10 (38), 1.8e-10 (17)
+//   GMRES(40)   1.1e-9 (1916), 1.3e-10 (38), 1.8e-10 (17)
+//   BiCGStab    6.0e-10 (2506), 1.8e-10 (26), 1.1e-10 (10)
+//   BiCG        1.5e-10 (415), 1.2e-10 (40), 5.6e-11 (18)
+TEST_CASE("full GMRES reaches the LU solution with each preconditioner", "[krylov][bem]") { check_method<Gmres>("GMRES", 1.4e-9); }
+TEST_CASE("GMRES(40) reaches the LU solution with each preconditioner", "[krylov][bem]") {
+  check_method<Gmres>("GMRES(40)", 3.3e-9, 40);
+}
+TEST_CASE("BiCGStab reaches the LU solution with each preconditioner", "[krylov][bem]") {
+  check_method<BiCgStab>("BiCGStab", 1.8e-9);
+}
+TEST_CASE("BiCG reaches the LU solution with each preconditioner", "[krylov][bem]") { check_method<BiCg>("BiCG", 4.5e-10); }
 
 TEST_CASE("a warm start from the solution before a local change takes fewer iterations", "[krylov][bem][warm]") {
   const BemSystem& before = base_system();
@@ -116,6 +135,7 @@ TEST_CASE("a warm start from the solution before a local change takes fewer iter
     INFO(name << ": cold " << cold.iterations << ", warm " << warm.iterations << " iterations");
     REQUIRE(cold.status == KrylovStatus::Converged);
     REQUIRE(warm.status == KrylovStatus::Converged);
+    // cond(A) x tolerance = 3.2e-2; reached: 1.6e-8 (GMRES), 9.6e-9 (BiCGStab), 1.4e-8 (BiCG).
     CHECK(warm.error <= after.lu_condition * settings.tolerance);
     CHECK(warm.iterations < cold.iterations);
   };
@@ -156,6 +176,8 @@ TEST_CASE("the near-field preconditioner keeps what it says and becomes exact at
   CHECK(whole.statistics().element_pairs == E * E);
   Eigen::VectorXd z(s.A.rows());
   whole.apply(s.b, z);
+  // Measured 2.5e-15 and 5.7e-12 (transposed): the same matrix factored twice. Worst-case rounding
+  // for two different solves would be cond(A) n eps = 2e-7; bounds 1e-9 kept.
   CHECK(error_vs_lu(s, z) < 1e-9);
   Eigen::VectorXd zt(s.A.rows()), lu_t = s.A.transpose().partialPivLu().solve(s.b);
   whole.apply_transpose(s.b, zt);
@@ -175,10 +197,14 @@ TEST_CASE("block-Jacobi inverts the 3x3 diagonal blocks and names a singular one
   Eigen::VectorXd z(s.A.rows()), zt(s.A.rows());
   M.apply(s.b, z);
   M.apply_transpose(s.b, zt);
+  // A 3x3 solve through the column-equilibrated block (condition number <= 1.08 over every block
+  // of this system, and no block mixes H and G columns): LU, inverse, scaling and the product each
+  // cost a few eps. Measured 0.7 eps |b_e|; bound 32 eps.
   for (Index e = 0; e < s.mesh.num_elements(); e += 17) {
     const Eigen::Matrix3d block = s.A.block<3, 3>(3 * e, 3 * e);
-    CHECK((block * z.segment<3>(3 * e) - s.b.segment<3>(3 * e)).norm() <= 1e-12 * s.b.segment<3>(3 * e).norm() + 1e-300);
-    CHECK((block.transpose() * zt.segment<3>(3 * e) - s.b.segment<3>(3 * e)).norm() <= 1e-12 * s.b.segment<3>(3 * e).norm() + 1e-300);
+    CHECK((block * z.segment<3>(3 * e) - s.b.segment<3>(3 * e)).norm() <= 32.0 * kEps * s.b.segment<3>(3 * e).norm() + 1e-300);
+    CHECK((block.transpose() * zt.segment<3>(3 * e) - s.b.segment<3>(3 * e)).norm() <=
+          32.0 * kEps * s.b.segment<3>(3 * e).norm() + 1e-300);
   }
   Eigen::MatrixXd broken = s.A;
   broken.block<3, 3>(15, 15).setZero();
@@ -207,6 +233,7 @@ TEST_CASE("solve_linear_system dispatches to every method and reports", "[krylov
       CHECK(summary.status == KrylovStatus::Converged);
       CHECK(summary.relative_residual == Approx((s.b - s.A * x).norm() / s.b.norm()).epsilon(1e-6));
       CHECK(summary.relative_residual <= (method == SolverMethod::Lu ? 1e-12 : settings.tolerance));
+      // Reached: 0 (LU) and 4.2e-11 to 6.0e-10 (Krylov) against cond(A) x tolerance = 3.2e-4.
       CHECK(error_vs_lu(s, x) <= s.lu_condition * settings.tolerance);
       if (method == SolverMethod::Lu) {
         CHECK(summary.iterations == 0);

@@ -65,13 +65,14 @@ TEST_CASE("each method converges on a well-conditioned system and reports the re
     REQUIRE(report.residual_history.size() >= 2);
     CHECK(report.residual_history.front() == Approx(1.0));
     CHECK(report.iterations > 0);
+    // cond(A) x tolerance = 6.2e-11; reached 3.1e-13 to 8.0e-13 (GMRES, GMRES(10), BiCGStab, BiCG).
     CHECK((x - exact).norm() / exact.norm() <= condition * settings.tolerance);
   };
   SECTION("full GMRES") {
     Gmres<> solver(settings);
     Eigen::VectorXd x;
     check(timed(solver, op, b, x), x);
-    CHECK(solver.iterations() <= 60);
+    CHECK(solver.iterations() <= 60);  // n = 60 steps at most in exact arithmetic; measured 16
   }
   SECTION("GMRES(10)") {
     settings.restart = 10;
@@ -154,7 +155,9 @@ TEST_CASE("GMRES(m) stagnation on a cyclic shift is reported, and full GMRES sol
   const KrylovReport& full_report = full.compute(op).solve(b, y);
   CHECK(full_report.status == KrylovStatus::Converged);
   CHECK(full_report.iterations == n);
-  CHECK((y - A.transpose() * b).norm() < 1e-12);  // A^-1 = A^T for a permutation
+  // A^-1 = A^T for a permutation. Measured 0: Arnoldi on a permutation meets only unit vectors and
+  // rotations by 90 degrees, exact in floating point; bound one rounding per step (|y| = 1).
+  CHECK((y - A.transpose() * b).norm() <= n * std::numeric_limits<double>::epsilon());
 }
 
 TEST_CASE("GMRES on a singular system reports a breakdown, not a solution", "[krylov][breakdown]") {
@@ -165,7 +168,9 @@ TEST_CASE("GMRES on a singular system reports a breakdown, not a solution", "[kr
   const KrylovReport& report = solver.compute(op).solve(Eigen::Vector3d(1.0, 1.0, 1.0), x);
   CHECK(report.status == KrylovStatus::Breakdown);
   CHECK_FALSE(report.breakdown.empty());
-  CHECK(report.true_residual == Approx(1.0 / std::sqrt(3.0)).epsilon(1e-10));  // the best any x can do
+  // The best any x can do: r = (1 - x1, 1 - 2 x2, 1) with x1 = 1, x2 = 1/2 up to rounding d, so
+  // |r| = sqrt(1 + O(d^2)) and |r| / |b| = 1/sqrt(3) up to the sqrt and quotient's roundings (measured 0).
+  CHECK(report.true_residual == Approx(1.0 / std::sqrt(3.0)).epsilon(4.0 * std::numeric_limits<double>::epsilon()));
 }
 
 TEST_CASE("an unattainable tolerance is never reported as converged", "[krylov]") {
@@ -184,7 +189,9 @@ TEST_CASE("an unattainable tolerance is never reported as converged", "[krylov]"
     CHECK((report->status == KrylovStatus::Stagnation || report->status == KrylovStatus::IterationLimit ||
            report->status == KrylovStatus::Breakdown));
     CHECK(report->true_residual > settings.tolerance);
-    CHECK(report->true_residual < 1e-12);  // it got as far as double precision allows
+    // It got as far as double precision allows: measured 7.2e-17 to 1.4e-16. The attainable floor
+    // for n = 40 and up to 400 iterations, ~(n + iterations) eps |A| |x| / |b|, is ~1e-12: kept.
+    CHECK(report->true_residual < 1e-12);
   }
 }
 

@@ -17,6 +17,8 @@ using namespace bemsurg;
 
 namespace {
 
+constexpr double kEps = std::numeric_limits<double>::epsilon();
+
 TriangleMesh with_faces(const TriangleMesh& mesh, const RowMatrixX3i& faces) { return TriangleMesh(mesh.vertices(), faces); }
 
 /// Each face gets its own three vertices: what an STL file holds before welding.
@@ -46,7 +48,9 @@ TEST_CASE("MeshTopology of a closed sphere", "[mesh][topology]") {
   CHECK(topo.non_manifold_edges().empty());
   REQUIRE(topo.num_shells() == 1);
   CHECK(topo.shell_is_closed_and_oriented(0));
-  CHECK(topo.shell_volume(0) == Approx(sphere.enclosed_volume()).epsilon(1e-13));
+  // Two sums of the same 320 terms, all positive (a sphere about the origin), in different orders:
+  // they differ by <= N eps V (measured 2 eps).
+  CHECK(topo.shell_volume(0) == Approx(sphere.enclosed_volume()).epsilon(static_cast<double>(sphere.num_elements()) * kEps));
 
   for (Index f = 0; f < topo.num_faces(); ++f)
     for (int k = 0; k < 3; ++k) {
@@ -72,11 +76,15 @@ TEST_CASE("MeshTopology of a closed sphere", "[mesh][topology]") {
 TEST_CASE("winding number tells inside from outside", "[mesh][topology]") {
   const TriangleMesh sphere = icosphere_mesh(Vec3(1, 1, 1), 2.0, 2);
   const MeshTopology topo(sphere);
-  CHECK(winding_number(sphere, topo.shell(0), Vec3(1, 1, 1)) == Approx(1.0).margin(1e-12));
-  CHECK(winding_number(sphere, topo.shell(0), Vec3(2.5, 1, 1)) == Approx(1.0).margin(1e-12));
-  CHECK(winding_number(sphere, topo.shell(0), Vec3(3.5, 1, 1)) == Approx(0.0).margin(1e-12));
+  // A sum of N = 320 solid angles over 4 pi whose absolute values add up to at most 4 pi (inside,
+  // all one sign; outside, the near and far sides cancel, each <= 2 pi): summation <= N eps/2, each
+  // angle's own rounding a few eps; bound 2 N eps = 1.4e-13. Measured 2.2e-15 at worst.
+  const double margin = 2.0 * static_cast<double>(sphere.num_elements()) * kEps;
+  CHECK(winding_number(sphere, topo.shell(0), Vec3(1, 1, 1)) == Approx(1.0).margin(margin));
+  CHECK(winding_number(sphere, topo.shell(0), Vec3(2.5, 1, 1)) == Approx(1.0).margin(margin));
+  CHECK(winding_number(sphere, topo.shell(0), Vec3(3.5, 1, 1)) == Approx(0.0).margin(margin));
   const TriangleMesh flipped = flip_orientation(sphere);
-  CHECK(winding_number(flipped, topo.shell(0), Vec3(1, 1, 1)) == Approx(-1.0).margin(1e-12));
+  CHECK(winding_number(flipped, topo.shell(0), Vec3(1, 1, 1)) == Approx(-1.0).margin(margin));
 }
 
 TEST_CASE("good meshes pass validation", "[mesh][validation]") {
@@ -160,6 +168,8 @@ TEST_CASE("an unwelded mesh reports coincident vertices and open edges", "[mesh]
   MeshValidationOptions options;
   options.max_issues_per_kind = 5;
   const MeshValidationReport report = validate_mesh(soup, options);
+  // 12 faces x 3 corners = 36 vertices at the cube's 8 positions: 28 duplicates; each face's 3
+  // edges now border that face alone: 36 open edges.
   CHECK(report.count(MeshIssueKind::DuplicateVertex) == 36 - 8);
   CHECK(report.count(MeshIssueKind::BoundaryEdge) == 36);
   CHECK(report.issues.size() == 10);  // 5 stored per kind, the rest counted
@@ -175,7 +185,7 @@ TEST_CASE("an open mesh names the boundary edge", "[mesh][validation]") {
   const RowMatrixX3i F = sphere.faces().bottomRows(sphere.num_elements() - 1);  // drop face 0
   const TriangleMesh open = with_faces(sphere, F);
   const MeshValidationReport report = validate_mesh(open);
-  CHECK(report.count(MeshIssueKind::BoundaryEdge) == 3);
+  CHECK(report.count(MeshIssueKind::BoundaryEdge) == 3);  // the dropped face's three edges
   CHECK_FALSE(has_kind(report, MeshIssueKind::InwardShell));  // an open shell has no inside to judge
   const int a = sphere.faces()(0, 0), b = sphere.faces()(0, 1);
   const std::string edge = "edge (" + std::to_string(std::min(a, b)) + ", " + std::to_string(std::max(a, b)) + ")";
@@ -207,7 +217,7 @@ TEST_CASE("one flipped face is an inconsistent orientation", "[mesh][validation]
   RowMatrixX3i F = sphere.faces();
   std::swap(F(11, 1), F(11, 2));
   const MeshValidationReport report = validate_mesh(with_faces(sphere, F));
-  CHECK(report.count(MeshIssueKind::InconsistentOrientation) == 3);
+  CHECK(report.count(MeshIssueKind::InconsistentOrientation) == 3);  // one per edge of the flipped face
   CHECK(report.num_errors() == 3);
   for (const MeshIssue& issue : report.issues) CHECK_THAT(issue.message, Catch::Contains("11"));
   CHECK_THROWS_WITH(require_valid_mesh(with_faces(sphere, F)), Catch::Contains("same direction"));
@@ -283,7 +293,7 @@ TEST_CASE("coincident_vertex_representatives respects the tolerance", "[mesh][va
   CHECK(rep_tight == std::vector<Index>{0, 1, 2, 3, 4});
   const auto rep_loose = coincident_vertex_representatives(V, 1e-6);
   CHECK(rep_loose == std::vector<Index>{0, 1, 0, 1, 4});
-  CHECK(bounding_box_diagonal(V) == Approx(std::sqrt(4.0 + 4.0 + 4.0)));
+  CHECK(bounding_box_diagonal(V) == Approx(std::sqrt(4.0 + 4.0 + 4.0)).epsilon(2.0 * kEps));  // exact inputs, one sqrt
 }
 
 namespace {
@@ -338,8 +348,10 @@ TEST_CASE("elements larger than the local thickness are found", "[mesh][validati
   // The 16 top and bottom triangles: size sqrt(2 x 0.125) = 0.5 over a thickness of 0.001.
   CHECK(thin.count == 16);
   REQUIRE(thin.element >= 0);
-  CHECK(thin.size == Approx(0.5).epsilon(1e-12));
-  CHECK(thin.thickness == Approx(0.001).epsilon(1e-6));
+  // Round-off: size sqrt(0.25) from exact inputs (measured 0); the thickness is a difference of
+  // positions of size ~1, so ~16 eps absolute, 0.001 of it relative (measured 0).
+  CHECK(thin.size == Approx(0.5).epsilon(4.0 * kEps));
+  CHECK(thin.thickness == Approx(0.001).epsilon(16.0 * kEps / 0.001));
   // A cube as thick as its elements (one division), and a finely meshed sphere, are not thin.
   CHECK(find_thin_elements(box_mesh(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones(), 1, 1, 1)).count == 0);
   CHECK(find_thin_elements(icosphere_mesh(Eigen::Vector3d::Zero(), 1.0, 2)).count == 0);

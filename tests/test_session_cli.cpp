@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
@@ -56,7 +57,7 @@ TEST_CASE("bemsurg session writes the force trace and report.json with the loop 
     for (const char* p : {"p50", "p99", "p999"}) CHECK(j.at(group).contains(p));
   const long ticks = j.at("ticks").get<long>();
   CHECK(ticks == 251);  // 0 .. 0.25 s (release at 0.15 s + 0.1 s) at 1 kHz
-  CHECK(j.at("rate_hz").get<double>() == Approx(1000.0));  // virtual clock: exact
+  CHECK(j.at("rate_hz").get<double>() == Approx(1000.0).epsilon(4 * std::numeric_limits<double>::epsilon()));  // virtual clock: measured exact
   CHECK(j.at("faults").get<long>() == 0);
   // The trace: a header and one row per tool per tick.
   std::ifstream trace(fs::path(out) / "force_trace.csv");
@@ -75,13 +76,13 @@ TEST_CASE("bemsurg session writes the force trace and report.json with the loop 
     std::getline(ss, fz, ',');
     std::getline(ss, f, ',');
     std::getline(ss, k, ',');
-    CHECK(std::stod(f) <= 3.3 + 1e-9);  // the device limit
+    CHECK(std::stod(f) <= 3.3 + 1e-9);  // the device limit (a limit, not a measurement: measured at most 0.18 N)
     if (tool == "punch" && std::stod(fz) > 0.01 && std::stoi(k) > 0) ++punch_pushed;
     if (tool == "grasper" && std::stod(fz) < -0.01 && std::stoi(k) == 1) ++grasper_pulled;
   }
   CHECK(rows == 2 * ticks);
-  CHECK(punch_pushed > 50);
-  CHECK(grasper_pulled > 50);
+  CHECK(punch_pushed > 80);    // measured 245 ticks: a third of it
+  CHECK(grasper_pulled > 50);  // measured 132 ticks (within 3x)
 }
 
 TEST_CASE("bemsurg session runs in real time on the haptic thread", "[haptics][cli]") {
