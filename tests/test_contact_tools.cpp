@@ -10,6 +10,7 @@
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/presolution/contact_tools.hpp"
 #include "bemsurg/presolution/greens_table.hpp"
+#include "support/cached_greens_table.hpp"
 
 using namespace bemsurg;
 
@@ -39,6 +40,13 @@ struct Block {
   std::shared_ptr<const GreensTable> table_ptr;
 };
 
+// Round-off bounds of the form c n eps (the same on any CPU and BLAS). A contact solve on one
+// table is a solve with the capacitance block G_CC of the rows in contact, whose condition number
+// is at most about 30 on these meshes (1.5, 6.6, 27 for 1, 7, 50 bonded elements on the top of the
+// 6 x 6 x 3 box: tests/test_contact_capacitance.cpp): c = kCond, n = the rows.
+constexpr double kEps = std::numeric_limits<double>::epsilon();
+constexpr double kCond = 30.0;
+
 double contact_area(const ToolContactSolver& s, const TriangleMesh& mesh, int tool) {
   std::vector<Index> list;
   s.contact_element_list(tool, list);
@@ -57,7 +65,9 @@ struct SmallBox {
       if (mesh.normal(e).z() < -0.99) bottom.push_back(e);
     GreensTableOptions options;
     options.gravity = Eigen::Vector3d(0, 0, -9.81);
-    table = GreensTable::compute(mesh, material, supported_base_conditions(mesh.num_elements(), bottom), options);
+    // Shared by 11 cases, each its own process under ctest: computed once, then read from its file.
+    table = testing::cached_greens_table("contact-tools-small-box", mesh, material,
+                                         supported_base_conditions(mesh.num_elements(), bottom), options);
     mesh_ptr = std::make_shared<const TriangleMesh>(mesh);  // the solvers hold shared snapshots
     table_ptr = std::make_shared<const GreensTable>(table);
   }
@@ -92,7 +102,10 @@ TEST_CASE("frictionless flat punch converges towards Boussinesq 2aEd/(1-nu^2) as
     const ContactUpdateReport report = solver.update();
     REQUIRE(report.consistent);
     const Eigen::Vector3d F = solver.force(punch);
-    CHECK(std::abs(F.x()) < 1e-9 * F.z());  // symmetric block: no lateral force
+    // No lateral force: measured 0 (frictionless rows act along the axis, the base state is zero);
+    // bound 2 k eps of Fz over the k elements: each row's direction within an eps of the axis, and
+    // the k-term sum's rounding.
+    CHECK(std::abs(F.x()) < 2.0 * solver.contact_elements(punch) * kEps * F.z());
     const double err = F.z() / boussinesq - 1.0;
     errors.push_back(std::abs(err));
     std::cout << "flat punch: L/a = " << lv.L << ", h/a = " << lv.h << ", " << block.mesh.num_elements()
@@ -104,10 +117,14 @@ TEST_CASE("frictionless flat punch converges towards Boussinesq 2aEd/(1-nu^2) as
     solver.update();
     bonded_ratio = solver.force(bonded).z() / F.z();
   }
+  // Measured F/F_Boussinesq - 1 = 0.272, 0.0702, 0.00565 (L/a = 3, 8, 20): the error falls, and the
+  // last is bounded at 3x its measurement.
   for (std::size_t i = 1; i < errors.size(); ++i) CHECK(errors[i] < errors[i - 1]);
-  CHECK(errors.back() < 0.03);
-  // A bonded punch is a few per cent stiffer than a frictionless one at nu = 0.3.
-  CHECK(bonded_ratio > 1.0);
+  CHECK(errors.back() < 0.017);  // measured 0.0057
+  // A bonded punch is a few per cent stiffer than a frictionless one at nu = 0.3: measured 1.0178 at
+  // L/a = 20 (1.0133, 1.0176 at 3, 8). Window: at least a third of the measured excess, at most the
+  // old 5 % (3x the excess, 5.3 %, would be wider).
+  CHECK(bonded_ratio > 1.006);
   CHECK(bonded_ratio < 1.05);
 }
 
@@ -115,7 +132,9 @@ TEST_CASE("sphere: Hertz force and a contact set that grows as sqrt(R d)", "[con
   // R = 8, fine spacing 0.3 within 0.9 of the axis on a block of half-width 14: contact radii
   // sqrt(R d) = 0.63 .. 0.94 at the depths asserted, i.e. 4 to 6 elements across the contact.
   // The remaining 5-8 % excess is mostly the truncated half-space (the punch test shows the same
-  // trend with the block size); see docs/contact.md.
+  // trend with the block size); see docs/contact.md. Measured F/F_Hertz = 1.050, 1.060, 1.072, 1.075
+  // and area / pi R d = 1.43, 1.15, 1.25, 1.04 at d = 0.02, 0.05, 0.08, 0.11: the excess over Hertz
+  // grows with the contact radius relative to the block, as the truncation error does.
   const Material m{1.0, 0.3, 0.0};
   const double R = 8.0;
   Block block(14.0, 0.3, 2.2, 6.0, 0.9, 1.6, m);
@@ -123,6 +142,7 @@ TEST_CASE("sphere: Hertz force and a contact set that grows as sqrt(R d)", "[con
   const int sphere = solver.add_tool(ToolSpec::sphere(R));
   solver.place(sphere, Vec3(0, 0, R), Vec3(0, 0, -1));  // touching the top face z = 0 at the origin
   Index last_count = 0;
+  double last_ratio = 1.0;
   for (double d : {0.02, 0.05, 0.08, 0.11}) {
     solver.set_depth(sphere, d);
     const ContactUpdateReport report = solver.update();
@@ -135,11 +155,16 @@ TEST_CASE("sphere: Hertz force and a contact set that grows as sqrt(R d)", "[con
               << report.active_set_iterations << "\n";
     CHECK(solver.contact_elements(sphere) > last_count);  // the set grows with depth
     last_count = solver.contact_elements(sphere);
+    // The excess over Hertz is positive and grows with the depth (the truncated block's trend).
+    CHECK(F / hertz > last_ratio);
+    last_ratio = F / hertz;
     if (d >= 0.05) {
-      CHECK(std::abs(F / hertz - 1.0) < 0.10);
-      CHECK(std::abs(area / (M_PI * R * d) - 1.0) < 0.3);
+      CHECK(F / hertz - 1.0 > 0.02);                         // measured >= 0.060: a third of it
+      CHECK(std::abs(F / hertz - 1.0) < 0.10);               // measured <= 0.075
+      CHECK(std::abs(area / (M_PI * R * d) - 1.0) < 0.3);    // measured <= 0.25
     }
-    // Unilateral: no contact element pulls.
+    // Unilateral: no contact element pulls (measured: every one pushes with at least 0.05 |F|; the
+    // slack 1e-12 |F| only admits rounding).
     std::vector<Index> list;
     solver.contact_element_list(sphere, list);
     for (Index e : list) CHECK(solver.contact().traction(e).dot(block.mesh.normal(e)) <= 1e-12 * std::abs(F));
@@ -165,7 +190,9 @@ TEST_CASE("pinch: the contact sticks and pulling reverses the force exactly", "[
   solver.set_translation(pinch, Vec3(-0.001, 0.0, -0.01));
   solver.update();
   const Eigen::Vector3d push = solver.force(pinch);
-  CHECK((push + pull).norm() < 1e-10 * pull.norm());  // linear: signs reverse, magnitudes equal
+  // Linear: signs reverse, magnitudes equal. Two solves with negated targets on the same rows:
+  // kCond x rows x eps (measured 2.8e-16 with 6 rows).
+  CHECK((push + pull).norm() < kCond * solver.contact().num_rows() * kEps * pull.norm());
 }
 
 TEST_CASE("point tool: its element takes the tool displacement as in the paper and is released when pulled back", "[contact][point]") {
@@ -182,7 +209,8 @@ TEST_CASE("point tool: its element takes the tool displacement as in the paper a
   Eigen::VectorXd u(b.mesh.num_dofs());
   solver.displacement_field(u);
   // The touched element takes the tool's displacement on top of the self-weight state.
-  CHECK((u.segment<3>(3 * e) - b.table.base_displacement().segment<3>(3 * e) - Vec3(0, 0, -0.01)).norm() < 1e-12);
+  // Measured 5.4e-20; bound a few roundings (16 eps) of the 1 cm push.
+  CHECK((u.segment<3>(3 * e) - b.table.base_displacement().segment<3>(3 * e) - Vec3(0, 0, -0.01)).norm() < 16.0 * kEps * 0.01);
   CHECK(solver.force(point).z() > 0.0);
   solver.set_depth(point, -0.01);  // pulled away: a point tool does not stick
   solver.update();
@@ -193,7 +221,10 @@ TEST_CASE("point tool: its element takes the tool displacement as in the paper a
   const Eigen::Vector2d p(0.5, 0.5);
   auto side = [&](const Vec3& a, const Vec3& q) { return (q.x() - a.x()) * (p.y() - a.y()) - (q.y() - a.y()) * (p.x() - a.x()); };
   const double s0 = side(c[0], c[1]), s1 = side(c[1], c[2]), s2 = side(c[2], c[0]);
-  CHECK(((s0 >= -1e-12 && s1 >= -1e-12 && s2 >= -1e-12) || (s0 <= 1e-12 && s1 <= 1e-12 && s2 <= 1e-12)));
+  // Measured s = 0.028, 0, 0: the line passes through a vertex of the grid; the slack (4 eps) admits
+  // the rounding of the products of coordinates <= 1.
+  const double slack = 4.0 * kEps;
+  CHECK(((s0 >= -slack && s1 >= -slack && s2 >= -slack) || (s0 <= slack && s1 <= slack && s2 <= slack)));
 }
 
 TEST_CASE("plate retractor: the elements it touches move with it", "[contact][plate]") {
@@ -212,8 +243,11 @@ TEST_CASE("plate retractor: the elements it touches move with it", "[contact][pl
   Eigen::VectorXd u(b.mesh.num_dofs());
   solver.displacement_field(u);
   for (Index e : list) {
-    CHECK(std::abs(b.mesh.centroid(e).x() - 1.0) < 1e-12);  // only the side face it lies on
-    CHECK((u.segment<3>(3 * e) - b.table.base_displacement().segment<3>(3 * e) - move).norm() < 1e-12);
+    // Only the side face it lies on: a centroid (1 + 1 + 1) / 3, two roundings (measured 0).
+    CHECK(std::abs(b.mesh.centroid(e).x() - 1.0) < 2.0 * kEps);
+    // Measured <= 3.5e-18; bound kCond x rows x eps x |move| (3 rows per element).
+    CHECK((u.segment<3>(3 * e) - b.table.base_displacement().segment<3>(3 * e) - move).norm() <
+          kCond * 3.0 * static_cast<double>(list.size()) * kEps * move.norm());
   }
   CHECK(solver.force(plate).dot(move) < 0.0);  // the tissue resists the retractor
 }
@@ -281,30 +315,33 @@ TEST_CASE("plate retractor turned by a small rotation: the rigid motion, and the
       const Vec3 rigid = turn.cross(x - pivot);
       d.push_back(rigid);
       INFO("element " << e);
-      CHECK(std::abs(b.mesh.centroid(e).x() - 1.0) < 1e-12);
+      CHECK(std::abs(b.mesh.centroid(e).x() - 1.0) < 2.0 * kEps);  // measured 0
+      // Measured <= 3.8e-16 (frictionless), 6.2e-16 (bonded); bound kCond x rows x eps (1.2e-13 at 6 elements).
+      const double tol = kCond * 3.0 * static_cast<double>(list.size()) * kEps;
       if (frictionless)
-        CHECK(std::abs(w.dot(u.segment<3>(3 * e)) - w.dot(rigid)) < 1e-12 * rigid.norm());
+        CHECK(std::abs(w.dot(u.segment<3>(3 * e)) - w.dot(rigid)) < tol * rigid.norm());
       else
-        CHECK((u.segment<3>(3 * e) - rigid).norm() < 1e-12 * rigid.norm());
+        CHECK((u.segment<3>(3 * e) - rigid).norm() < tol * rigid.norm());
     }
     // The force equals the one computed from the table directly for those displacements. Measured
-    // relative differences: 1.4e-15 (bonded), 9.2e-15 (frictionless); bound 1e-13 (rounding; a
-    // wrong lever arm, pivot or projection is O(1)).
+    // relative differences: 1.1e-15 (bonded), 3.1e-14 (frictionless); bound kCond x rows x eps
+    // (1.2e-13 at 6 elements; a wrong lever arm, pivot or projection is O(1)).
     const Vec3 F_table = plate_force_from_table(b, list, d, frictionless, w);
     INFO("rotated plate force " << F_turn.transpose() << ", from the table " << F_table.transpose() << ", relative difference "
                                 << (F_turn - F_table).norm() / F_table.norm());
-    CHECK((F_turn - F_table).norm() < 1e-13 * F_table.norm());
+    const double rows = 3.0 * static_cast<double>(list.size());
+    CHECK((F_turn - F_table).norm() < kCond * rows * kEps * F_table.norm());
     std::vector<Index> list_move;
     Eigen::VectorXd u_move;
     const Vec3 F_move = pose(move, Vec3::Zero(), list_move, u_move);
     // Translation and rotation together: the contact is linear, so the forces add (measured
-    // 1.2e-16 and 5.8e-17 relative; bound 1e-13).
+    // 6.7e-17 and 2.7e-16 relative; bound kCond x rows x eps on each of the three forces).
     std::vector<Index> list_both;
     Eigen::VectorXd u_both;
     const Vec3 F_both = pose(move, turn, list_both, u_both);
     CHECK(list_both == list);
     INFO("superposition: relative difference " << (F_both - F_move - F_turn).norm() / F_both.norm());
-    CHECK((F_both - F_move - F_turn).norm() < 1e-13 * F_both.norm());
+    CHECK((F_both - F_move - F_turn).norm() < kCond * rows * kEps * (F_both.norm() + F_move.norm() + F_turn.norm()));
   }
 }
 
@@ -323,13 +360,17 @@ TEST_CASE("two tools at once interact through the body", "[contact][two-hands]")
   const Eigen::Vector3d together = solver.force(left);
   CHECK(solver.contact_elements(left) > 0);
   CHECK(solver.contact_elements(right) > 0);
-  // Pressing next to it softens the left tool's surface: less force for the same depth.
-  CHECK(together.z() < alone.z());
-  CHECK(together.z() > 0.5 * alone.z());
-  CHECK((solver.contact().force() - solver.force(left) - solver.force(right)).norm() < 1e-12 * together.norm());
+  // Pressing next to it softens the left tool's surface: less force for the same depth. Measured
+  // together / alone = 0.915: the 8.5 % softening is bounded below at a third and above at 3x.
+  CHECK(together.z() < 0.97 * alone.z());
+  CHECK(together.z() > 0.75 * alone.z());
+  // The same element forces summed in two groupings: 2 rows eps (measured 1.9e-16).
+  const Index both_rows = solver.contact().num_rows();
+  CHECK((solver.contact().force() - solver.force(left) - solver.force(right)).norm() < 2.0 * both_rows * kEps * together.norm());
   solver.release(right);
   solver.update();
-  CHECK((solver.force(left) - alone).norm() < 1e-9 * alone.norm());
+  // Back by a bordering and a Schur reduction: 2 kCond rows eps (measured 1.8e-16).
+  CHECK((solver.force(left) - alone).norm() < 2.0 * kCond * both_rows * kEps * alone.norm());
 }
 
 TEST_CASE("a flat punch narrower than the elements presses the element its axis lands on, like a bonded point",
@@ -348,7 +389,9 @@ TEST_CASE("a flat punch narrower than the elements presses the element its axis 
   solver.set_depth(point, 0.01);
   solver.update();
   CHECK(narrow_force.z() > 0.0);
-  CHECK((solver.force(point) - narrow_force).norm() < 1e-9 * narrow_force.norm());
+  // The same element and push, the 1 cm depth reached from poses 3 m away: its rounding is
+  // 3 eps / 0.01 = 300 eps relative, times cond(G_jj) <= 2: 600 eps = 1.3e-13 (measured 5.7e-15).
+  CHECK((solver.force(point) - narrow_force).norm() < 600.0 * kEps * narrow_force.norm());
 }
 
 TEST_CASE("a sphere that covers no element centroid is not engaged (no NaN pose)", "[contact][sphere]") {
@@ -399,13 +442,15 @@ TEST_CASE("an update past the capacity throws and leaves the solver consistent",
   fresh.update();
   REQUIRE(fresh.contact_elements(f) > 0);
   CHECK(solver.contact_elements(s) == fresh.contact_elements(f));
-  CHECK((solver.force(s) - fresh.force(f)).norm() < 1e-9 * fresh.force(f).norm());
+  // The same set reached through a failed update: 2 kCond rows eps (measured 0; 8 rows).
+  const double tol = 2.0 * kCond * static_cast<double>(fresh.contact().num_rows()) * kEps;
+  CHECK((solver.force(s) - fresh.force(f)).norm() < tol * fresh.force(f).norm());
   // Also after a set had been in contact before the failed update.
   solver.set_depth(s, 0.08);
   CHECK_THROWS_WITH(solver.update(), Catch::Contains("capacity"));
   solver.set_depth(s, 0.01);
   solver.update();
-  CHECK((solver.force(s) - fresh.force(f)).norm() < 1e-9 * fresh.force(f).norm());
+  CHECK((solver.force(s) - fresh.force(f)).norm() < tol * fresh.force(f).norm());  // measured 0
 }
 
 TEST_CASE("a non-finite tool pose is refused, naming the argument", "[contact][pose]") {
@@ -442,7 +487,9 @@ TEST_CASE("approach directions with tiny or huge components are normalised stabl
     REQUIRE(solver.engaged(t));
     solver.set_depth(t, 0.01);
     solver.update();
-    CHECK((solver.force(t) - expected).norm() < 1e-12 * expected.norm());
+    // Measured 0; bound 16 eps: a direction normalised from a scaled vector is within 2 eps per
+    // component, times cond(G_jj) <= 2 over 3 rows, plus rounding.
+    CHECK((solver.force(t) - expected).norm() < 16.0 * kEps * expected.norm());
     solver.release(t);
   }
   const int s = solver.add_tool(ToolSpec::sphere(0.5));
