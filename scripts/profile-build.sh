@@ -8,7 +8,7 @@ cd "$(dirname "$0")/.."
 BUILD_DIR=${1:-build-profile}
 rm -rf "$BUILD_DIR"
 mkdir -p "$BUILD_DIR"
-log="$PWD/$BUILD_DIR/compile-times.tsv"
+log="$(cd "$BUILD_DIR" && pwd)/compile-times.tsv"
 : > "$log"
 export BEMSURG_COMPILE_LOG="$log"
 cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release -DBEMSURG_BUILD_TESTS=ON -DBEMSURG_BUILD_BENCHMARKS=ON \
