@@ -1,24 +1,49 @@
 #!/usr/bin/env bash
-# Builds the test suite with AddressSanitizer + UndefinedBehaviorSanitizer and assertions on (no
-# NDEBUG: bemsurg's and Eigen's own checks, as a user's Debug build has them) and runs it.
-# Optimised at -O1 with line tables only (-g1): stack traces keep file and line, sanitizers stay
-# accurate, and the build takes about half the time of -O2 -g. The viewer's window is left out
-# (BEMSURG_VIEWER_GUI=OFF): this tree runs the viewer's core tests, never the window.
-# Used by .ci/run; docs/development.md says what it costs.
+# Builds the tests under a sanitizer and runs them. Used by .ci/run; docs/development.md says what
+# each pass costs. Optimised at -O1 with line tables only (-g1): stack traces keep file and line,
+# sanitizers stay accurate, and the build takes about half the time of -O2 -g. The viewer's window
+# is left out (BEMSURG_VIEWER_GUI=OFF): these trees run the viewer's core tests, never the window.
+#
+#   scripts/run-sanitized-tests.sh [address]   AddressSanitizer + UndefinedBehaviorSanitizer over
+#       the whole suite, with assertions on (no NDEBUG: bemsurg's and Eigen's own checks, as a
+#       user's Debug build has them).
+#   scripts/run-sanitized-tests.sh thread      ThreadSanitizer over the tests that start threads:
+#       the haptic loop, the UDP bridge and the force limiter (all of test_haptics), the background
+#       refactorisation swapped in under a cut (test_cutting), the session command with its
+#       real-time haptic thread (test_cli's session cases, the CLI itself instrumented) and the
+#       viewer's model worker (all of test_viewer_core). Their single-threaded cases run in the
+#       address pass; under TSan they would cost minutes and find nothing it looks for. OpenMP and
+#       OpenBLAS run one thread each: libgomp and OpenBLAS are not instrumented, so their barriers
+#       would look like races (37 false reports in the assembly's OpenMP loop with two threads);
+#       with one thread their regions run on the calling thread, and every report left is about
+#       bemsurg's own threads. No suppressions are needed.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+mode=${1:-address}
+case "$mode" in
+  address) sanitizer=(-DBEMSURG_SANITIZE=ON); default_dir=build-sanitize ;;
+  thread) sanitizer=(-DBEMSURG_SANITIZE_THREAD=ON -DBEMSURG_WITH_REMESHER=OFF); default_dir=build-tsan ;;
+  *) echo "run-sanitized-tests: unknown mode '$mode' (expected address or thread)" >&2; exit 2 ;;
+esac
 bash scripts/setup-deps.sh
-BUILD_DIR=${BUILD_DIR:-build-sanitize}
-cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1" -DBEMSURG_SANITIZE=ON \
-  -DBEMSURG_BUILD_TESTS=ON -DBEMSURG_BUILD_BENCHMARKS=OFF -DBEMSURG_BUILD_EXAMPLES=OFF -DBEMSURG_VIEWER_GUI=OFF \
-  -DBEMSURG_WARNINGS_AS_ERRORS=${BEMSURG_WARNINGS_AS_ERRORS:-OFF}
-cmake --build "$BUILD_DIR" -j"${JOBS:-2}"
+BUILD_DIR=${BUILD_DIR:-$default_dir}
+cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1" "${sanitizer[@]}" \
+  -DBEMSURG_BUILD_TESTS=ON -DBEMSURG_BUILD_BENCHMARKS=OFF -DBEMSURG_BUILD_EXAMPLES=OFF -DBEMSURG_VIEWER_GUI=OFF
 root=$PWD
-cd "$BUILD_DIR"
-# OpenMP's runtime keeps thread pools alive at exit; those are not leaks of ours.
-export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1}
-# Leaks inside Debian's libgmsh are its own (tests/support/lsan-suppressions.txt says which).
-export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$root/tests/support/lsan-suppressions.txt}
-export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
-ctest --output-on-failure -j"${JOBS:-2}" --timeout 900
+if [ "$mode" = address ]; then
+  cmake --build "$BUILD_DIR" -j"${JOBS:-2}"
+  cd "$BUILD_DIR"
+  # OpenMP's runtime keeps thread pools alive at exit; those are not leaks of ours.
+  export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1}
+  # Leaks inside Debian's libgmsh are its own (tests/support/lsan-suppressions.txt says which).
+  export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$root/tests/support/lsan-suppressions.txt}
+  export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+  ctest --output-on-failure -j"${JOBS:-2}" --timeout 900
+else
+  cmake --build "$BUILD_DIR" -j"${JOBS:-2}" --target test_haptics test_cutting test_cli test_viewer_core bemsurg_cli
+  cd "$BUILD_DIR"
+  export OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1
+  export TSAN_OPTIONS=${TSAN_OPTIONS:-halt_on_error=1:second_deadlock_stack=1}
+  ctest --output-on-failure --no-tests=error -j"${JOBS:-2}" --timeout 900 \
+    -R '^(test_haptics:|test_viewer_core:|test_cutting:a background refactorisation|test_cli:bemsurg session)'
+fi
