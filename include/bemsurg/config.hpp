@@ -1,5 +1,5 @@
 // bemsurg/config.hpp: how bemsurg's function definitions are compiled (docs/development.md,
-// "Separate compilation").
+// "How the build is kept small"; docs/design.md §1).
 //
 // Header-only (bemsurg::core, the default for a translation unit that defines nothing): every
 // declaring header includes its definitions (the impl/ header beside it), marked `inline`, and a
