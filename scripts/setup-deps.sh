@@ -10,24 +10,40 @@ packages=(
   libglfw3-dev libimgui-dev libstb-dev libgl-dev libegl-dev xvfb xauth
   gnuplot-nox python3-matplotlib python3-pil python3-numpy
   libgmsh-dev   # the graded remesher (src/mesh/graded_remesher.cpp, optional: docs/graded.md)
+  locales       # de_DE.UTF-8 for the comma-decimal locale test (tests/test_locale.cpp)
+  doxygen       # the API reference (target bemsurg_api_docs, docs/api/)
+  clang-format  # the format check (scripts/check-structure.sh, .clang-format)
 )
+
+# A comma-decimal locale, so tests/test_locale.cpp runs rather than reporting itself skipped.
+# localedef writes it into /usr/lib/locale without touching /etc/locale.gen.
+ensure_locale() {
+  locale -a 2>/dev/null | grep -qi '^de_DE\.utf-\?8$' && return 0
+  command -v localedef >/dev/null || { echo "setup-deps: no localedef; test_locale will be skipped" >&2; return 0; }
+  echo "setup-deps: generating the de_DE.UTF-8 locale"
+  $SUDO localedef -i de_DE -f UTF-8 de_DE.UTF-8 || echo "setup-deps: could not generate de_DE.UTF-8; test_locale will be skipped" >&2
+}
 
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
 
+SUDO=""
+if [ "$(id -u)" -ne 0 ] && command -v sudo >/dev/null; then SUDO="sudo"; fi
+
 if [ ${#missing[@]} -eq 0 ]; then
   echo "setup-deps: all ${#packages[@]} packages already installed"
+  ensure_locale
   exit 0
 fi
 
-SUDO=""
-if [ "$(id -u)" -ne 0 ]; then
-  command -v sudo >/dev/null || { echo "setup-deps: not root and no sudo; install: ${missing[*]}" >&2; exit 1; }
-  SUDO="sudo"
+if [ "$(id -u)" -ne 0 ] && [ -z "$SUDO" ]; then
+  echo "setup-deps: not root and no sudo; install: ${missing[*]}" >&2
+  exit 1
 fi
 echo "setup-deps: installing ${missing[*]}"
 export DEBIAN_FRONTEND=noninteractive
 $SUDO apt-get update -qq
 $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+ensure_locale

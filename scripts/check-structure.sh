@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# The checks that keep the tree's shape (issue 23; docs/design.md, "Module order";
+# docs/development.md, "Structure checks"). Fast (seconds), no build needed; .ci/run runs it first.
+#   1. the module graph from the #include lines: no cycle, no edge against the module order, every
+#      public header reachable from its module header and the umbrella (scripts/module-graph.py);
+#   2. no source file in include/, src/ or examples/ over 600 lines;
+#   3. no function over 100 lines without a `// long:` comment saying why
+#      (scripts/support/long-functions.py);
+#   4. the C++ sources formatted by .clang-format (Debian's clang-format 14).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+status=0
+
+python3 scripts/module-graph.py || status=1
+
+too_long=$(git ls-files -co --exclude-standard include src examples | grep -E '\.(hpp|cpp|h)$' |
+  while read -r f; do [ -f "$f" ] && n=$(wc -l < "$f") && [ "$n" -gt 600 ] && echo "  $f: $n lines"; done || true)
+if [ -n "$too_long" ]; then
+  echo "check-structure: files over 600 lines (split them by job):" >&2
+  echo "$too_long" >&2
+  status=1
+else
+  echo "check-structure: no source file over 600 lines"
+fi
+
+if [ -f scripts/support/long-functions.py ]; then
+  python3 scripts/support/long-functions.py include src examples || status=1
+fi
+
+format=$(command -v clang-format-14 || command -v clang-format || true)
+if [ -z "$format" ]; then
+  echo "check-structure: clang-format not found (scripts/setup-deps.sh installs it)" >&2
+  status=1
+else
+  mapfile -t sources < <(git ls-files include src examples tests benchmarks | grep -E '\.(hpp|cpp|h)$')
+  if "$format" --style=file --dry-run --Werror "${sources[@]}" 2> /tmp/bemsurg-format.log; then
+    echo "check-structure: ${#sources[@]} files formatted as .clang-format says"
+  else
+    echo "check-structure: files not formatted (run: $format -i --style=file <file>):" >&2
+    grep -oE '^[^:]+\.(hpp|cpp|h)' /tmp/bemsurg-format.log | sort -u | sed 's/^/  /' >&2
+    status=1
+  fi
+fi
+exit $status

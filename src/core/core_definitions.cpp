@@ -1,8 +1,0 @@
-// The top-level definitions: solve_elastostatic and the memory budget.
-// Compiled once here under BEMSURG_SEPARATE_COMPILATION (include/bemsurg/config.hpp); header-only
-// programs (bemsurg::core) get the same definitions inline from the headers.
-#include "bemsurg/elastostatic_solver.hpp"
-#include "bemsurg/memory_budget.hpp"
-
-#include "bemsurg/impl/elastostatic_solver_impl.hpp"
-#include "bemsurg/impl/memory_budget_impl.hpp"
