@@ -27,8 +27,8 @@
 
 #include "bemsurg/assembly/influence_assembler.hpp"
 #include "bemsurg/assembly/linear_system.hpp"
-#include "bemsurg/cutting/cut_change.hpp"
-#include "bemsurg/cutting/mesh_delta.hpp"
+#include "bemsurg/assembly/cut_change.hpp"
+#include "bemsurg/mesh/mesh_delta.hpp"
 #include "bemsurg/error.hpp"
 #include "bemsurg/presolution/greens_table.hpp"
 #include "bemsurg/solvers/linear_solve.hpp"

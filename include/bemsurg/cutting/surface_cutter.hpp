@@ -18,7 +18,7 @@
 // publishes the new mesh. A step that would fail any check, or touch a locked (supported)
 // element, is refused with the reason and changes nothing: same snapshot pointer, same version.
 //
-// Element ids follow the contract of cutting/mesh_delta.hpp: unchanged elements keep their id
+// Element ids follow the contract of mesh/mesh_delta.hpp: unchanged elements keep their id
 // and their three vertex positions bit for bit; a changed element keeps its id (`modified`); new
 // ones are appended (`added`); nothing is ever removed.
 //
@@ -35,7 +35,7 @@
 
 #include <Eigen/Core>
 
-#include "bemsurg/cutting/mesh_delta.hpp"
+#include "bemsurg/mesh/mesh_delta.hpp"
 #include "bemsurg/mesh/triangle_mesh.hpp"
 
 namespace bemsurg {

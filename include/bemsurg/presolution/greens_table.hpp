@@ -28,7 +28,7 @@
 #include <vector>
 
 #include "bemsurg/assembly/boundary_conditions.hpp"
-#include "bemsurg/cutting/mesh_delta.hpp"
+#include "bemsurg/mesh/mesh_delta.hpp"
 #include "bemsurg/material.hpp"
 #include "bemsurg/mesh/triangle_mesh.hpp"
 #include "bemsurg/quadrature/element_quadrature.hpp"
@@ -74,7 +74,7 @@ struct GreensTableUpdateReport {
 };
 
 /// What a table was computed for; a saved table is used only when all of it matches.
-struct CutChange;  // cutting/cut_change.hpp
+struct CutChange;  // assembly/cut_change.hpp
 
 struct GreensTableKey {
   std::uint64_t mesh_hash = 0;        // vertices and faces, bit for bit
@@ -118,7 +118,7 @@ class GreensTable {
                              const GreensTableOptions& options = {});
 
   /// The exact table of the cut mesh `after` (a new snapshot, version() + 1): `delta` says what
-  /// changed (cutting/mesh_delta.hpp). Modified elements keep their boundary condition, added
+  /// changed (mesh/mesh_delta.hpp). Modified elements keep their boundary condition, added
   /// ones are traction-free; the region keeps its elements in their slots and appends the added
   /// elements near it (GreensTableUpdateOptions). Cost: the rows and columns of the changed
   /// elements are integrated anew, 2 n^2 (2|M| + |N|) x 3 flops of LU solves plus GEMMs of the

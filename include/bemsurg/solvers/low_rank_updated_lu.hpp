@@ -22,7 +22,7 @@
 #include <utility>
 #include <vector>
 
-#include "bemsurg/assembly/influence_assembler.hpp"  // large_dense_matrix
+#include "bemsurg/dense_storage.hpp"
 #include "bemsurg/error.hpp"
 #include "bemsurg/solvers/lu_factors.hpp"
 #include "bemsurg/types.hpp"
@@ -120,7 +120,7 @@ class LowRankUpdatedLu {
       out.apply_base_inverse(Ws);
     }
     auto grow = [&](const Eigen::MatrixXd& old, const Eigen::MatrixXd& add) {
-      Eigen::MatrixXd m = large_dense_matrix(new_size, r);  // huge pages: see influence_assembler.hpp
+      Eigen::MatrixXd m = large_dense_matrix(new_size, r);  // huge pages: see dense_storage.hpp
       if (r0 > 0) {  // at rank 0 `old` is 0 x 0, not n x 0: assigning it to the block asserts in Debug
         m.topLeftCorner(n_, r0) = old;
         m.bottomLeftCorner(new_size - n_, r0).setZero();

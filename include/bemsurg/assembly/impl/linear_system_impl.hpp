@@ -16,7 +16,7 @@ BEMSURG_INLINE void check_sizes(const InfluenceMatrices& hg, const BoundaryCondi
 BEMSURG_INLINE Eigen::MatrixXd build_system_matrix(const InfluenceMatrices& hg, const BoundaryConditions& bc) {
   detail::check_sizes(hg, bc);
   const Index n = bc.num_dofs();
-  Eigen::MatrixXd A = large_dense_matrix(n, n);  // huge-page advice: see influence_assembler.hpp
+  Eigen::MatrixXd A = large_dense_matrix(n, n);  // huge-page advice: see dense_storage.hpp
 #pragma omp parallel for schedule(static)
   for (Index k = 0; k < n; ++k) {
     if (bc.kind(k) == BcKind::Traction)

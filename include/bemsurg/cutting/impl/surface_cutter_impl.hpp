@@ -274,7 +274,7 @@ BEMSURG_INLINE bool SurfaceCutter::open(Work& w, const Vec3& from, const Vec3& d
       w.sharp_at(b, options_.max_normal_deviation_degrees, reason))
     return false;
   // Split that edge at its midpoint, so the cut has an inner vertex to open; each split triangle
-  // keeps one half under its id and appends the other (cutting/mesh_delta.hpp).
+  // keeps one half under its id and appends the other (mesh/mesh_delta.hpp).
   Index f1 = -1, f2 = -1, x1 = -1, x2 = -1;
   for (std::size_t f = 0; f < w.F.size(); ++f)
     for (int k = 0; k < 3; ++k) {
@@ -421,7 +421,7 @@ BEMSURG_INLINE bool SurfaceCutter::split_section(Work& w, std::size_t i, std::st
   s.level_depth = options_.depth_fraction * s.edge_length;
   // The groove lies right of the path: the left rim keeps v (index and position) and the right
   // rim, a new vertex, is one gap width away. Faces on the left therefore keep their corners bit
-  // for bit and are not reshaped (cutting/mesh_delta.hpp): only the right side's faces change, so
+  // for bit and are not reshaped (mesh/mesh_delta.hpp): only the right side's faces change, so
   // a step's update rank is lower than with a groove centred on the path, which would move both
   // sides by half a gap (docs/cutting.md "Topology").
   s.left = {v};
@@ -501,7 +501,7 @@ BEMSURG_INLINE bool SurfaceCutter::check(Work& w, std::string& reason) const {
   auto mesh = std::make_shared<const TriangleMesh>(std::move(V), std::move(F));
 
   // The delta, by the contract's definition: an old id is unchanged iff its three corner
-  // positions are bit-identical (cutting/mesh_delta.hpp).
+  // positions are bit-identical (mesh/mesh_delta.hpp).
   MeshDelta& d = w.delta;
   d = MeshDelta{};
   d.elements_before = old.num_elements();

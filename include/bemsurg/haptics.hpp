@@ -1,0 +1,30 @@
+// bemsurg/haptics.hpp: the haptics module in one include (docs/design.md, "Module order").
+#pragma once
+
+/// \defgroup haptics Haptics
+/// \brief The haptic loop at 1 kHz, devices (scripted, recording, UDP), the force limiter and scripted sessions. Compiled as the library bemsurg::haptics and so not in bemsurg/bemsurg.hpp.
+///
+/// Headers (each can be included on its own for faster builds):
+/// - force_limiter.hpp
+/// - half_space_table.hpp
+/// - haptic_device.hpp
+/// - haptic_loop.hpp
+/// - loop_statistics.hpp
+/// - recording_device.hpp
+/// - scripted_device.hpp
+/// - session.hpp
+/// - spsc_ring.hpp
+/// - triple_buffer.hpp
+/// - udp_device.hpp
+
+#include "bemsurg/haptics/force_limiter.hpp"
+#include "bemsurg/haptics/half_space_table.hpp"
+#include "bemsurg/haptics/haptic_device.hpp"
+#include "bemsurg/haptics/haptic_loop.hpp"
+#include "bemsurg/haptics/loop_statistics.hpp"
+#include "bemsurg/haptics/recording_device.hpp"
+#include "bemsurg/haptics/scripted_device.hpp"
+#include "bemsurg/haptics/session.hpp"
+#include "bemsurg/haptics/spsc_ring.hpp"
+#include "bemsurg/haptics/triple_buffer.hpp"
+#include "bemsurg/haptics/udp_device.hpp"
