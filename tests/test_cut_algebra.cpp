@@ -11,7 +11,7 @@
 
 #include "bemsurg/assembly/influence_assembler.hpp"
 #include "bemsurg/assembly/linear_system.hpp"
-#include "bemsurg/cutting/cut_change.hpp"
+#include "bemsurg/assembly/cut_change.hpp"
 #include "bemsurg/cutting/cut_system_update.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/presolution/greens_table.hpp"

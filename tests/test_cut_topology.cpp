@@ -2,7 +2,7 @@
 // docs/cutting.md "Topology"): the groove has the width and depth asked for (measured on the
 // mesh, and through the volume it removes, a closed form); seeded random cut sequences on
 // several meshes keep the surface closed, 2-manifold, outward-oriented, free of self-intersection
-// and of slivers after every step, with the delta contract of cutting/mesh_delta.hpp; refused
+// and of slivers after every step, with the delta contract of mesh/mesh_delta.hpp; refused
 // steps (supported elements, slivers, thin parts, another cut's wall) change nothing.
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -72,7 +72,7 @@ void require_clean_surface(const TriangleMesh& mesh) {
   REQUIRE(pairs.empty());
 }
 
-// The delta contract (cutting/mesh_delta.hpp) between two snapshots.
+// The delta contract (mesh/mesh_delta.hpp) between two snapshots.
 void require_delta_contract(const TriangleMesh& before, const TriangleMesh& after, const MeshDelta& d, double min_angle) {
   REQUIRE(d.elements_before == before.num_elements());
   REQUIRE(d.elements_after == after.num_elements());

@@ -20,7 +20,7 @@
 #include <thread>
 #include <vector>
 
-#include "bemsurg/cutting/mesh_delta.hpp"
+#include "bemsurg/mesh/mesh_delta.hpp"
 #include "bemsurg/material.hpp"
 #include "bemsurg/mesh/triangle_mesh.hpp"
 #include "bemsurg/presolution/greens_table.hpp"

@@ -15,10 +15,10 @@ double default_memory_limit_bytes();
 
 /// Asks the C library to keep freed large blocks for reuse instead of handing them back to the
 /// system (glibc: mmap off for large requests, no trimming of the heap). A cut step builds a new
-/// table snapshot (n x 3|region| doubles, 224 MB at n = 8,976) and frees the one before; fresh
-/// pages cost a page fault each, and on a VM those faults took more time than the step's
-/// arithmetic (bench_cut at n = 8,976: median step 1.94 s with fresh pages, 1.05 s reusing them;
-/// docs/cutting.md). The heap then stays at its peak size. This changes the whole process, so
+/// table snapshot (n x 3|region| doubles, hundreds of MB on a fine mesh) and frees the one before;
+/// fresh pages cost a page fault each, and on a virtual machine those faults can take more time
+/// than the step's arithmetic (benchmarks/bench_cut measures both; docs/cutting.md). The heap
+/// then stays at its peak size. This changes the whole process, so
 /// the library never calls it: programs that cut (bemsurg cut and session, bench_cut) call it once
 /// at start. Returns false where the C library has no such setting.
 bool reuse_freed_memory();

@@ -1,4 +1,4 @@
-// Synthetic mesh changes with exact MeshDeltas (cutting/mesh_delta.hpp), for testing the cut
+// Synthetic mesh changes with exact MeshDeltas (mesh/mesh_delta.hpp), for testing the cut
 // algebra without the cut topology: split an edge shared by two triangles at a point (2 modified
 // + 2 added, the surface stays closed and conforming), or move a vertex (its faces modified).
 #pragma once
@@ -8,7 +8,7 @@
 #include <random>
 #include <utility>
 
-#include "bemsurg/cutting/mesh_delta.hpp"
+#include "bemsurg/mesh/mesh_delta.hpp"
 #include "bemsurg/mesh/triangle_mesh.hpp"
 
 namespace bemsurg::testing {
