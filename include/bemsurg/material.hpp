@@ -7,6 +7,7 @@
 #include <string>
 
 #include "bemsurg/error.hpp"
+#include "bemsurg/number_text.hpp"
 
 namespace bemsurg {
 
@@ -21,13 +22,20 @@ struct Material {
   void validate() const {
     if (!std::isfinite(young_modulus) || young_modulus <= 0.0)
       throw InvalidMaterialError("material: young_modulus must be a finite positive number, got " +
-                                 std::to_string(young_modulus));
+                                 number_text(young_modulus));
     if (!std::isfinite(poisson_ratio) || poisson_ratio <= -1.0 || poisson_ratio >= 0.5)
       throw InvalidMaterialError("material: poisson_ratio must lie in the open interval (-1, 0.5), got " +
-                                 std::to_string(poisson_ratio));
+                                 number_text(poisson_ratio));
     if (!std::isfinite(density) || density < 0.0)
       throw InvalidMaterialError("material: density must be finite and non-negative, got " +
-                                 std::to_string(density));
+                                 number_text(density));
+  }
+
+  /// This material after validate(): for constructors that must check it before a member that
+  /// divides by its constants is built (InfluenceAssembler, the Kelvin kernels).
+  const Material& validated() const {
+    validate();
+    return *this;
   }
 
   double shear_modulus() const { return young_modulus / (2.0 * (1.0 + poisson_ratio)); }

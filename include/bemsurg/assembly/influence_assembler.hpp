@@ -50,7 +50,7 @@ class InfluenceAssembler {
   /// Validates the material and the quadrature options; precomputes the element geometry and the
   /// far-field quadrature points (about 300 bytes per element). The mesh must outlive the assembler.
   InfluenceAssembler(const TriangleMesh& mesh, const Material& material, const QuadratureOptions& options = {})
-      : mesh_(mesh), material_(material), kernel_((material.validate(), material)), constants_(material), quadrature_(options) {
+      : mesh_(mesh), material_(material), kernel_(material.validated()), constants_(material), quadrature_(options) {
     precompute_geometry();
   }
 
