@@ -30,16 +30,26 @@ Material load_material(const JsonReader& m, bool gravity_on) {
   return mat;
 }
 
+namespace {
+
+/// A name from a fixed list, turned into its enum by `parse` (which throws SolverError for a name
+/// it does not know).
+template <typename Parse>
+auto read_name(const JsonReader& v, Parse parse, const std::string& what, const std::string& known) {
+  const std::string name = v.string();
+  try {
+    return parse(name);
+  } catch (const SolverError&) { v.fail("unknown " + what + " '" + name + "' (expected " + known + ")"); }
+}
+
+}  // namespace
+
 LinearSolverSettings load_solver(const JsonReader& s) {
   s.object();
   s.warn_unknown_keys({"method", "tolerance", "max_iterations", "restart", "preconditioner", "near_field_radius"});
   LinearSolverSettings out;
-  if (const std::optional<JsonReader> v = s.optional("method")) {
-    const std::string name = v->string();
-    try {
-      out.method = parse_solver_method(name);
-    } catch (const SolverError&) { v->fail("unknown method '" + name + "' (expected lu, gmres, bicgstab or bicg)"); }
-  }
+  if (const std::optional<JsonReader> v = s.optional("method"))
+    out.method = read_name(*v, parse_solver_method, "method", "lu, gmres, bicgstab or bicg");
   if (const std::optional<JsonReader> v = s.optional("tolerance")) {
     out.tolerance = v->number();
     if (!(out.tolerance > 0.0 && out.tolerance < 1.0)) v->fail("must lie in (0, 1) (a relative residual), got " + v->dump());
@@ -48,12 +58,8 @@ LinearSolverSettings load_solver(const JsonReader& s) {
   // on A* converge in tens to hundreds), while a typo such as 1e8 is caught here.
   if (const std::optional<JsonReader> v = s.optional("max_iterations")) out.max_iterations = v->integer_in(1, 1000000);
   if (const std::optional<JsonReader> v = s.optional("restart")) out.restart = v->integer_in(0, 100000000);
-  if (const std::optional<JsonReader> v = s.optional("preconditioner")) {
-    const std::string name = v->string();
-    try {
-      out.preconditioner = parse_preconditioner(name);
-    } catch (const SolverError&) { v->fail("unknown preconditioner '" + name + "' (expected none, block_jacobi or near_field)"); }
-  }
+  if (const std::optional<JsonReader> v = s.optional("preconditioner"))
+    out.preconditioner = read_name(*v, parse_preconditioner, "preconditioner", "none, block_jacobi or near_field");
   if (const std::optional<JsonReader> v = s.optional("near_field_radius")) {
     // In element diameters: a few is typical; beyond 100 every pair of a practical mesh is near,
     // which makes the sparse factor a slower dense one (and can overflow UMFPACK's int indices).
