@@ -6,10 +6,13 @@
 #include <cmath>
 #include <fstream>
 #include <iomanip>
+#include <optional>
 #include <sstream>
+#include <string_view>
 
 #include "bemsurg/error.hpp"
 #include "bemsurg/haptics/recording_device.hpp"
+#include "bemsurg/number_text.hpp"
 
 namespace bemsurg::haptics {
 
@@ -25,16 +28,15 @@ ScriptedDevice::ScriptedDevice(std::vector<Keyframe> keyframes, std::string name
     if (!std::isfinite(keyframes_[i].time) || !keyframes_[i].position.allFinite() || !keyframes_[i].direction.allFinite())
       throw InvalidArgumentError("ScriptedDevice: keyframe " + std::to_string(i) + " is not finite");
     if (i > 0 && keyframes_[i].time < keyframes_[i - 1].time)
-      throw InvalidArgumentError("ScriptedDevice: keyframe " + std::to_string(i) + " (t = " +
-                                 std::to_string(keyframes_[i].time) + ") comes before the previous one");
+      throw InvalidArgumentError("ScriptedDevice: keyframe " + std::to_string(i) + " (t = " + number_text(keyframes_[i].time) +
+                                 ") comes before the previous one");
   }
 }
 
 DeviceState ScriptedDevice::state_at(double t) const {
   if (function_) return function_(t);
   // The last keyframe at or before t (upper_bound: of equal times, the later one wins: a jump).
-  const auto it = std::upper_bound(keyframes_.begin(), keyframes_.end(), t,
-                                   [](double x, const Keyframe& k) { return x < k.time; });
+  const auto it = std::upper_bound(keyframes_.begin(), keyframes_.end(), t, [](double x, const Keyframe& k) { return x < k.time; });
   DeviceState s;
   if (it == keyframes_.begin()) {
     const Keyframe& k = keyframes_.front();
@@ -98,14 +100,13 @@ std::vector<Keyframe> ScriptedDevice::read_csv(const std::string& path) {
     std::stringstream ss(line);
     std::string cell;
     while (std::getline(ss, cell, ',')) {
-      try {
-        std::size_t used = 0;
-        v.push_back(std::stod(cell, &used));
-        if (cell.find_first_not_of(" \t\r", used) != std::string::npos) throw std::invalid_argument(cell);
-      } catch (const std::exception&) {
-        throw IoError(path + " line " + std::to_string(line_no) + ": column " + std::to_string(v.size() + 1) +
-                      " is not a number: '" + cell + "'");
-      }
+      const auto first = cell.find_first_not_of(" \t\r"), last = cell.find_last_not_of(" \t\r");
+      const std::optional<double> x =
+          first == std::string::npos ? std::nullopt : parse_number<double>(std::string_view(cell).substr(first, last - first + 1));
+      if (!x)
+        throw IoError(path + " line " + std::to_string(line_no) + ": column " + std::to_string(v.size() + 1) + " is not a number: '" +
+                      cell + "'");
+      v.push_back(*x);
       if (!std::isfinite(v.back()))
         throw IoError(path + " line " + std::to_string(line_no) + ": column " + std::to_string(v.size()) + " is not finite");
     }
@@ -128,8 +129,7 @@ std::vector<Keyframe> ScriptedDevice::read_csv(const std::string& path) {
     }
     if (cc >= 0) k.connected = v[static_cast<std::size_t>(cc)] != 0.0;
     if (!out.empty() && k.time < out.back().time)
-      throw IoError(path + " line " + std::to_string(line_no) + ": time " + std::to_string(k.time) +
-                    " goes back (times must not decrease)");
+      throw IoError(path + " line " + std::to_string(line_no) + ": time " + number_text(k.time) + " goes back (times must not decrease)");
     out.push_back(k);
   }
   if (out.empty()) throw IoError(path + ": no samples after the header");
@@ -165,12 +165,13 @@ void RecordingDevice::write_force(const Eigen::Vector3d& force) {
 void RecordingDevice::write_csv(const std::string& path) const {
   std::ofstream out(path);
   if (!out) throw IoError("cannot write the recording " + path);
+  use_classic_locale(out);  // a file ScriptedDevice::read_csv reads back, whatever the application's locale
   out << "time,x,y,z,dx,dy,dz,buttons,connected,fx,fy,fz\n" << std::setprecision(17);
   for (const Sample& s : samples_) {
     const DeviceState& d = s.state;
     out << s.time << ',' << d.position.x() << ',' << d.position.y() << ',' << d.position.z() << ',' << d.direction.x() << ','
-        << d.direction.y() << ',' << d.direction.z() << ',' << d.buttons << ',' << (d.connected ? 1 : 0) << ',' << s.force.x()
-        << ',' << s.force.y() << ',' << s.force.z() << '\n';
+        << d.direction.y() << ',' << d.direction.z() << ',' << d.buttons << ',' << (d.connected ? 1 : 0) << ',' << s.force.x() << ','
+        << s.force.y() << ',' << s.force.z() << '\n';
   }
   if (!out) throw IoError("writing the recording " + path + " failed");
 }

@@ -8,12 +8,13 @@
 
 #include "bemsurg/error.hpp"
 #include "bemsurg/mesh/mesh_topology.hpp"
+#include "bemsurg/number_text.hpp"
 
 namespace bemsurg {
 namespace {
 
 std::string vec_to_string(const Eigen::Vector3d& v) {
-  return "[" + std::to_string(v.x()) + ", " + std::to_string(v.y()) + ", " + std::to_string(v.z()) + "]";
+  return "[" + number_text(v.x()) + ", " + number_text(v.y()) + ", " + number_text(v.z()) + "]";
 }
 
 bool all_finite(const Eigen::Vector3d& v) { return v.allFinite(); }
@@ -37,7 +38,7 @@ std::vector<Index> select_elements(const TriangleMesh& mesh, const ElementSelect
       if (!all_finite(s.point) || !all_finite(s.direction) || s.direction.norm() == 0.0)
         throw SceneError("plane: the normal must be a finite non-zero vector, got " + vec_to_string(s.direction));
       if (!std::isfinite(s.tolerance) || s.tolerance < 0.0)
-        throw SceneError("plane: tolerance must be a finite non-negative distance, got " + std::to_string(s.tolerance));
+        throw SceneError("plane: tolerance must be a finite non-negative distance, got " + number_text(s.tolerance));
       const Eigen::Vector3d unit = s.direction.normalized();
       for (Index e = 0; e < n; ++e)
         if (std::abs((mesh.centroid(e) - s.point).dot(unit)) <= s.tolerance + slack) picked.push_back(e);
@@ -46,12 +47,11 @@ std::vector<Index> select_elements(const TriangleMesh& mesh, const ElementSelect
 
     case ElementSelector::Kind::Box: {
       if (!all_finite(s.box_min) || !all_finite(s.box_max) || (s.box_min.array() > s.box_max.array()).any())
-        throw SceneError("box: min " + vec_to_string(s.box_min) + " must be finite and not exceed max " +
-                         vec_to_string(s.box_max) + " in any component");
+        throw SceneError("box: min " + vec_to_string(s.box_min) + " must be finite and not exceed max " + vec_to_string(s.box_max) +
+                         " in any component");
       for (Index e = 0; e < n; ++e) {
         const Eigen::Vector3d c = mesh.centroid(e);
-        if ((c.array() >= s.box_min.array() - slack).all() && (c.array() <= s.box_max.array() + slack).all())
-          picked.push_back(e);
+        if ((c.array() >= s.box_min.array() - slack).all() && (c.array() <= s.box_max.array() + slack).all()) picked.push_back(e);
       }
       break;
     }
@@ -60,7 +60,7 @@ std::vector<Index> select_elements(const TriangleMesh& mesh, const ElementSelect
       if (!all_finite(s.direction) || s.direction.norm() == 0.0)
         throw SceneError("normal: direction must be a finite non-zero vector, got " + vec_to_string(s.direction));
       if (!std::isfinite(s.min_cos) || s.min_cos < -1.0 || s.min_cos > 1.0)
-        throw SceneError("normal: min_cos must lie in [-1, 1], got " + std::to_string(s.min_cos));
+        throw SceneError("normal: min_cos must lie in [-1, 1], got " + number_text(s.min_cos));
       const Eigen::Vector3d unit = s.direction.normalized();
       // 1e-12 below the threshold so that min_cos = 1 still picks faces exactly aligned with it.
       for (Index e = 0; e < n; ++e)
@@ -71,8 +71,8 @@ std::vector<Index> select_elements(const TriangleMesh& mesh, const ElementSelect
     case ElementSelector::Kind::Shell: {
       const MeshTopology topology(mesh);
       if (s.shell < 0 || s.shell >= topology.num_shells())
-        throw SceneError("shell: index " + std::to_string(s.shell) + " out of range (mesh has " +
-                         std::to_string(topology.num_shells()) + " shells)");
+        throw SceneError("shell: index " + std::to_string(s.shell) + " out of range (mesh has " + std::to_string(topology.num_shells()) +
+                         " shells)");
       picked = topology.shell(s.shell);
       break;
     }
@@ -80,8 +80,7 @@ std::vector<Index> select_elements(const TriangleMesh& mesh, const ElementSelect
     case ElementSelector::Kind::Elements: {
       for (Index e : s.elements) {
         if (e < 0 || e >= n)
-          throw SceneError("elements: element " + std::to_string(e) + " out of range (mesh has " + std::to_string(n) +
-                           " elements)");
+          throw SceneError("elements: element " + std::to_string(e) + " out of range (mesh has " + std::to_string(n) + " elements)");
         picked.push_back(e);
       }
       std::sort(picked.begin(), picked.end());

@@ -6,7 +6,6 @@
 #include <sys/resource.h>
 
 #include <cerrno>
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -17,17 +16,11 @@
 
 #include "bemsurg/error.hpp"
 #include "bemsurg/mesh/mesh_io.hpp"
+#include "bemsurg/number_text.hpp"
 #include "bemsurg/version.hpp"
 
 namespace bemsurg {
 namespace {
-
-/// Shortest decimal text that reads back as exactly x (std::to_chars without a precision).
-void append_number(std::string& out, double x) {
-  char buffer[32];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, x);
-  out.append(buffer, result.ptr);
-}
 
 void append_row(std::string& out, const double* values, int count) {
   for (int i = 0; i < count; ++i) {
@@ -49,8 +42,8 @@ void write_text(const std::string& path, const std::string& text) {
 void write_elements_csv(const std::string& path, const TriangleMesh& mesh, const BoundarySolution& solution) {
   const Index n = mesh.num_elements();
   if (solution.displacement.rows() != n || solution.traction.rows() != n)
-    throw InvalidArgumentError("write_elements_csv: the solution has " + std::to_string(solution.displacement.rows()) +
-                " rows, the mesh " + std::to_string(n) + " elements");
+    throw InvalidArgumentError("write_elements_csv: the solution has " + std::to_string(solution.displacement.rows()) + " rows, the mesh " +
+                               std::to_string(n) + " elements");
   std::string text = kElementsCsvHeader;
   text += '\n';
   text.reserve(text.size() + static_cast<std::size_t>(n) * 300);
@@ -63,19 +56,18 @@ void write_elements_csv(const std::string& path, const TriangleMesh& mesh, const
       row[10 + c] = solution.traction(e, c);
     }
     row[6] = mesh.area(e);
-    text += std::to_string(e);
+    append_integer(text, e);
     append_row(text, row, 13);
     text += '\n';
   }
   write_text(path, text);
 }
 
-void write_interior_csv(const std::string& path, const RowMatrixX3d& points, const RowMatrixX3d& displacement,
-                        const StressRows& stress) {
+void write_interior_csv(const std::string& path, const RowMatrixX3d& points, const RowMatrixX3d& displacement, const StressRows& stress) {
   const Index n = points.rows();
   if (displacement.rows() != n || stress.rows() != n)
     throw InvalidArgumentError("write_interior_csv: " + std::to_string(n) + " points but " + std::to_string(displacement.rows()) +
-                " displacements and " + std::to_string(stress.rows()) + " stresses");
+                               " displacements and " + std::to_string(stress.rows()) + " stresses");
   std::string text = kInteriorCsvHeader;
   text += '\n';
   for (Index i = 0; i < n; ++i) {
@@ -114,9 +106,9 @@ void write_report_json(const std::string& path, const RunReport& report) {
   j["elements"] = report.elements;
   j["equations"] = report.equations;
   j["interior_points"] = report.interior_points;
-  j["timings"] = {{"load", number(report.timings.load)},       {"assembly", number(report.timings.assembly)},
-                  {"system", number(report.timings.system)},   {"solve", number(report.timings.solve)},
-                  {"post", number(report.timings.post)},       {"total", number(report.timings.total)}};
+  j["timings"] = {{"load", number(report.timings.load)},     {"assembly", number(report.timings.assembly)},
+                  {"system", number(report.timings.system)}, {"solve", number(report.timings.solve)},
+                  {"post", number(report.timings.post)},     {"total", number(report.timings.total)}};
   j["peak_memory_mb"] = number(report.peak_memory_mb);
   j["solver"] = {{"method", to_string(report.solver.method)},
                  {"preconditioner", to_string(report.solver.preconditioner)},

@@ -16,6 +16,7 @@
 #include "bemsurg/error.hpp"
 #include "bemsurg/mesh/mesh_topology.hpp"
 #include "bemsurg/mesh/mesh_validation.hpp"
+#include "bemsurg/number_text.hpp"
 
 #ifdef BEMSURG_HAVE_GMSH
 #include <gmsh.h>
@@ -28,15 +29,14 @@ namespace {
 void check_options(const GradedRemeshOptions& o) {
   const double hi = o.inside_edge_length, ho = o.outside_edge_length;
   if (!(std::isfinite(hi) && hi > 0.0))
-    throw InvalidArgumentError("graded remesh: inside_edge_length must be a positive length, got " + std::to_string(hi));
+    throw InvalidArgumentError("graded remesh: inside_edge_length must be a positive length, got " + number_text(hi));
   if (!(std::isfinite(ho) && ho > 0.0))
-    throw InvalidArgumentError("graded remesh: outside_edge_length must be a positive length, got " + std::to_string(ho));
+    throw InvalidArgumentError("graded remesh: outside_edge_length must be a positive length, got " + number_text(ho));
   if (hi > ho)
-    throw InvalidArgumentError("graded remesh: inside_edge_length (" + std::to_string(hi) +
-                               ") is larger than outside_edge_length (" + std::to_string(ho) +
-                               "): the operating region must be the finer part (inverted target lengths?)");
+    throw InvalidArgumentError("graded remesh: inside_edge_length (" + number_text(hi) + ") is larger than outside_edge_length (" +
+                               number_text(ho) + "): the operating region must be the finer part (inverted target lengths?)");
   if (!(o.growth > 1.0 && o.growth <= 2.0))
-    throw InvalidArgumentError("graded remesh: growth must lie in (1, 2], got " + std::to_string(o.growth));
+    throw InvalidArgumentError("graded remesh: growth must lie in (1, 2], got " + number_text(o.growth));
   if (!(o.feature_angle_degrees > 0.0 && o.feature_angle_degrees < 180.0))
     throw InvalidArgumentError("graded remesh: feature_angle_degrees must lie in (0, 180)");
 }
@@ -125,8 +125,7 @@ TriangleMesh remesh_with_gmsh(const TriangleMesh& input, const OperatingRegion& 
   std::vector<std::size_t> element_nodes(3 * element_tags.size());
   for (Index e = 0; e < input.num_elements(); ++e) {
     element_tags[static_cast<std::size_t>(e)] = static_cast<std::size_t>(e) + 1;
-    for (int k = 0; k < 3; ++k)
-      element_nodes[static_cast<std::size_t>(3 * e + k)] = static_cast<std::size_t>(input.faces()(e, k)) + 1;
+    for (int k = 0; k < 3; ++k) element_nodes[static_cast<std::size_t>(3 * e + k)] = static_cast<std::size_t>(input.faces()(e, k)) + 1;
   }
   gmsh::model::mesh::addElementsByType(surface, 2, element_tags, element_nodes);  // 2 = 3-node triangle
 
@@ -188,8 +187,7 @@ bool graded_remesher_available() {
 #endif
 }
 
-GradedRemeshResult graded_remesh(const TriangleMesh& input, const OperatingRegion& region,
-                                 const GradedRemeshOptions& options) {
+GradedRemeshResult graded_remesh(const TriangleMesh& input, const OperatingRegion& region, const GradedRemeshOptions& options) {
   check_options(options);
   try {
     require_valid_mesh(input);
@@ -202,14 +200,10 @@ GradedRemeshResult graded_remesh(const TriangleMesh& input, const OperatingRegio
   GradedRemeshResult result;
   try {
     result.mesh = remesh_with_gmsh(input, region, options);
-  } catch (const Error&) {
-    throw;
-  } catch (const std::string& what) {  // Gmsh 4.8 throws its messages as std::string
+  } catch (const Error&) { throw; } catch (const std::string& what) {  // Gmsh 4.8 throws its messages as std::string
     throw Error("graded remesh: Gmsh failed: " + what +
                 " (a crease the input mesh does not follow? try a finer input mesh or another feature angle)");
-  } catch (const std::exception& e) {
-    throw Error(std::string("graded remesh: Gmsh failed: ") + e.what());
-  }
+  } catch (const std::exception& e) { throw Error(std::string("graded remesh: Gmsh failed: ") + e.what()); }
   try {
     require_valid_mesh(result.mesh);
   } catch (const InvalidMeshError& e) {
@@ -220,8 +214,9 @@ GradedRemeshResult graded_remesh(const TriangleMesh& input, const OperatingRegio
   result.quality = measure_mesh_quality(result.mesh);
   return result;
 #else
-  throw Error("graded remesh: this build of bemsurg has no remesher (configured with BEMSURG_WITH_REMESHER=OFF or "
-              "without libgmsh-dev; see docs/graded.md)");
+  throw Error(
+      "graded remesh: this build of bemsurg has no remesher (configured with BEMSURG_WITH_REMESHER=OFF or "
+      "without libgmsh-dev; see docs/graded.md)");
 #endif
 }
 

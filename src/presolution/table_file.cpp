@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "bemsurg/error.hpp"
+#include "bemsurg/number_text.hpp"
 #include "bemsurg/version.hpp"
 
 namespace bemsurg {
@@ -112,8 +113,7 @@ static GreensTable load_checked(const std::string& path, const GreensTableKey& e
   r.raw(magic, 8);
   const auto format = r.pod<std::uint32_t>();
   if (format != kFormat)
-    throw IoError("table file " + path + " has format " + std::to_string(format) + ", this library reads " +
-                        std::to_string(kFormat));
+    throw IoError("table file " + path + " has format " + std::to_string(format) + ", this library reads " + std::to_string(kFormat));
   const std::string version = r.str();
   if (version != version_string())
     throw IoError("table file " + path + " is stale: written by bemsurg " + version + ", this is " + version_string());
@@ -128,15 +128,13 @@ static GreensTable load_checked(const std::string& path, const GreensTableKey& e
   r.raw(k.gravity.data(), 3 * sizeof(double));
   const std::string stale = "table file " + path + " is stale: it was computed for ";
   if (k.mesh_hash != expected.mesh_hash || k.num_elements != expected.num_elements)
-    throw IoError(stale + "a different mesh (" + std::to_string(k.num_elements) + " elements, hash " +
-                        std::to_string(k.mesh_hash) + "; expected " + std::to_string(expected.num_elements) + ", hash " +
-                        std::to_string(expected.mesh_hash) + ")");
+    throw IoError(stale + "a different mesh (" + std::to_string(k.num_elements) + " elements, hash " + std::to_string(k.mesh_hash) +
+                  "; expected " + std::to_string(expected.num_elements) + ", hash " + std::to_string(expected.mesh_hash) + ")");
   if (k.material.young_modulus != expected.material.young_modulus || k.material.poisson_ratio != expected.material.poisson_ratio ||
       k.material.density != expected.material.density)
-    throw IoError(stale + "a different material (E = " + std::to_string(k.material.young_modulus) +
-                        ", nu = " + std::to_string(k.material.poisson_ratio) + ", rho = " + std::to_string(k.material.density) + ")");
-  if (k.conditions_hash != expected.conditions_hash)
-    throw IoError(stale + "different supports / boundary conditions");
+    throw IoError(stale + "a different material (E = " + number_text(k.material.young_modulus) +
+                  ", nu = " + number_text(k.material.poisson_ratio) + ", rho = " + number_text(k.material.density) + ")");
+  if (k.conditions_hash != expected.conditions_hash) throw IoError(stale + "different supports / boundary conditions");
   if (k.gravity != expected.gravity) throw IoError(stale + "a different gravity");
   if (k.quadrature_hash != expected.quadrature_hash) throw IoError(stale + "different quadrature options");
   const auto R = r.pod<std::int64_t>();
@@ -170,9 +168,7 @@ static GreensTable load_checked(const std::string& path, const GreensTableKey& e
   return GreensTable(k, std::move(region), std::move(ug), std::move(tg), std::move(kinds), std::move(columns));
 }
 
-GreensTable load_greens_table(const std::string& path, const GreensTableKey& expected) {
-  return load_checked(path, expected, nullptr);
-}
+GreensTable load_greens_table(const std::string& path, const GreensTableKey& expected) { return load_checked(path, expected, nullptr); }
 
 GreensTable load_greens_table(const std::string& path, const GreensTableKey& expected, const std::vector<Index>& expected_region) {
   return load_checked(path, expected, &expected_region);

@@ -1,0 +1,206 @@
+// The "mesh" section of a scene (docs/scene-format.md#mesh): a mesh file or one of the generators,
+// refused before generating when the dense solve could not hold it, then validated (closed,
+// manifold, oriented, non-degenerate) and checked for parts thinner than their elements.
+#include <cmath>
+#include <optional>
+#include <sstream>
+#include <utility>
+#include <vector>
+
+#include "bemsurg/error.hpp"
+#include "bemsurg/memory_budget.hpp"
+#include "bemsurg/mesh/brain_model.hpp"
+#include "bemsurg/mesh/mesh_generators.hpp"
+#include "bemsurg/mesh/mesh_io.hpp"
+#include "bemsurg/mesh/mesh_thickness.hpp"
+#include "bemsurg/mesh/mesh_validation.hpp"
+#include "bemsurg/number_text.hpp"
+#include "scene_sections.hpp"
+
+namespace bemsurg::io {
+namespace {
+
+// Generators beyond these sizes give dense systems no machine holds; refusing them here turns an
+// out-of-memory crash into a message.
+constexpr int kMaxSubdivisions = 7;
+constexpr int kMaxDivisions = 1000;
+
+std::vector<double> increasing_numbers(const JsonReader& v) {
+  if (!v.is_array() || v.size() < 2) v.fail("expected an array of at least 2 increasing numbers");
+  std::vector<double> out;
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    out.push_back(v[i].number());
+    if (i > 0 && !(out[i] > out[i - 1])) v[i].fail("coordinates must be strictly increasing");
+  }
+  return out;
+}
+
+// A generated mesh is sized from its parameters before it is generated (docs/design.md §10): one
+// that the dense solve could not hold (H and G alone) is refused with the estimate, instead of
+// generating and validating millions of elements first.
+void require_generated_size(const std::string& key, const std::string& what, double elements) {
+  const double need = estimate_elastostatic_bytes(static_cast<Index>(elements)), limit = default_memory_limit_bytes();
+  if (need <= limit) return;
+  throw ResourceError(key + ": " + what + " has " + std::to_string(static_cast<long long>(elements)) +
+                      " elements; the dense solve needs about " + format_gib(need) + ", more than the limit of " + format_gib(limit) +
+                      " (80 % of physical memory); refused before generating it");
+}
+
+/// The mesh of generator `kind`, its parameters checked against the limits above; nothing for an
+/// unknown generator.
+std::optional<TriangleMesh> run_generator(const JsonReader& m, const std::string& kind, std::string& source) {
+  const auto center = [&] {
+    const std::optional<JsonReader> c = m.optional("center");
+    return c ? c->vec3() : Vec3(Vec3::Zero());
+  };
+  const auto subdivisions = [&](const char* name, int fallback) {
+    const std::optional<JsonReader> s = m.optional(name);
+    return s ? s->integer_in(0, kMaxSubdivisions) : fallback;
+  };
+  if (kind == "box") {
+    m.warn_unknown_keys({"generator", "min", "max", "divisions"});
+    const Vec3 lo = m.required("min").vec3();
+    const JsonReader max = m.required("max");
+    const Vec3 hi = max.vec3();
+    for (int c = 0; c < 3; ++c)
+      if (!(lo(c) < hi(c))) max.fail("must exceed mesh.min in every component");
+    const JsonReader d = m.required("divisions");
+    if (!d.is_array() || d.size() != 3) d.fail("expected an array of 3 integers [nx, ny, nz]");
+    int n[3];
+    for (std::size_t i = 0; i < 3; ++i) n[i] = d[i].integer_in(1, kMaxDivisions);
+    source = "box generator, " + std::to_string(n[0]) + "x" + std::to_string(n[1]) + "x" + std::to_string(n[2]);
+    require_generated_size(d.path(), "a " + source.substr(15) + " box",
+                           4.0 * (double(n[0]) * n[1] + double(n[1]) * n[2] + double(n[0]) * n[2]));
+    return box_mesh(lo, hi, n[0], n[1], n[2]);
+  }
+  if (kind == "box_grid") {
+    m.warn_unknown_keys({"generator", "x", "y", "z"});
+    const auto xs = increasing_numbers(m.required("x"));
+    const auto ys = increasing_numbers(m.required("y"));
+    const auto zs = increasing_numbers(m.required("z"));
+    source = "box_grid generator";
+    const double gx = double(xs.size() - 1), gy = double(ys.size() - 1), gz = double(zs.size() - 1);
+    require_generated_size(m.path(), "the box_grid", 4.0 * (gx * gy + gy * gz + gx * gz));
+    return box_mesh_from_grid(xs, ys, zs);
+  }
+  if (kind == "icosphere") {
+    m.warn_unknown_keys({"generator", "center", "radius", "subdivisions"});
+    const double r = m.required("radius").positive();
+    const int s = subdivisions("subdivisions", 2);
+    source = "icosphere generator, subdivisions " + std::to_string(s);
+    require_generated_size(m.path_of("subdivisions"), "the icosphere", 20.0 * std::pow(4.0, s));
+    return icosphere_mesh(center(), r, s);
+  }
+  if (kind == "ellipsoid") {
+    m.warn_unknown_keys({"generator", "center", "semi_axes", "subdivisions"});
+    const JsonReader semi_axes = m.required("semi_axes");
+    const Vec3 axes = semi_axes.vec3();
+    for (std::size_t c = 0; c < 3; ++c) semi_axes[c].positive();
+    const int s = subdivisions("subdivisions", 2);
+    source = "ellipsoid generator, subdivisions " + std::to_string(s);
+    require_generated_size(m.path_of("subdivisions"), "the ellipsoid", 20.0 * std::pow(4.0, s));
+    return ellipsoid_mesh(center(), axes, s);
+  }
+  if (kind == "hollow_sphere") {
+    m.warn_unknown_keys(
+        {"generator", "center", "inner_radius", "outer_radius", "subdivisions", "subdivisions_inner", "subdivisions_outer"});
+    const double a = m.required("inner_radius").positive();
+    const JsonReader outer = m.required("outer_radius");
+    const double b = outer.positive();
+    if (!(a < b)) outer.fail("must exceed mesh.inner_radius");
+    const int s = subdivisions("subdivisions", 2);
+    const int si = subdivisions("subdivisions_inner", s);
+    const int so = subdivisions("subdivisions_outer", s);
+    source = "hollow_sphere generator, subdivisions " + std::to_string(si) + "/" + std::to_string(so);
+    require_generated_size(m.path_of("subdivisions"), "the hollow sphere", 20.0 * (std::pow(4.0, si) + std::pow(4.0, so)));
+    return hollow_sphere_mesh(center(), a, b, si, so);
+  }
+  if (kind == "brain") {
+    m.warn_unknown_keys({"generator", "size", "subdivisions", "fissure_depth", "fissure_half_width", "fold_amplitude", "fold_wavelength"});
+    BrainModelOptions o;
+    if (const std::optional<JsonReader> size = m.optional("size")) {
+      o.size = size->vec3();
+      for (std::size_t c = 0; c < 3; ++c) (*size)[c].positive();
+    }
+    o.subdivisions = subdivisions("subdivisions", o.subdivisions);
+    const auto number = [&](const char* name, double& value) {
+      if (const std::optional<JsonReader> v = m.optional(name)) value = v->number();
+    };
+    number("fissure_depth", o.fissure_depth);
+    number("fissure_half_width", o.fissure_half_width);
+    number("fold_amplitude", o.fold_amplitude);
+    number("fold_wavelength", o.fold_wavelength);
+    source = "brain generator, subdivisions " + std::to_string(o.subdivisions);
+    return brain_mesh(o);
+  }
+  return std::nullopt;
+}
+
+TriangleMesh generate_mesh(const JsonReader& m, std::string& source) {
+  const JsonReader generator = m.required("generator");
+  const std::string kind = generator.string();
+  std::optional<TriangleMesh> mesh;
+  try {
+    mesh = run_generator(m, kind, source);
+  } catch (const SceneError&) { throw; } catch (const ResourceError&) {
+    throw;
+  } catch (const Error& e) { m.fail(std::string("generator '") + kind + "' failed: " + e.what()); }
+  if (!mesh) generator.fail("unknown generator '" + kind + "' (expected box, box_grid, icosphere, ellipsoid, hollow_sphere or brain)");
+  return std::move(*mesh);
+}
+
+}  // namespace
+
+TriangleMesh load_mesh(const JsonReader& m, const std::string& directory, std::string& source) {
+  m.object();
+  const bool has_file = m.has("file");
+  const bool has_generator = m.has("generator");
+  if (has_file == has_generator)
+    m.fail(has_file ? "give either \"file\" or \"generator\", not both" : "expected a \"file\" or a \"generator\" key");
+
+  TriangleMesh mesh;
+  if (has_file) {
+    m.warn_unknown_keys({"file", "scale", "translate"});
+    const JsonReader file = m.required("file");
+    const std::string path = resolve_existing(directory, file);
+    try {
+      mesh = read_mesh(path);
+    } catch (const Error& e) { file.fail("cannot load '" + path + "': " + e.what()); }
+    source = path;
+    // Optional affine map, for meshes drawn in millimetres or away from the origin: x' = s x + t.
+    const std::optional<JsonReader> scale_key = m.optional("scale"), translate_key = m.optional("translate");
+    const double scale = scale_key ? scale_key->positive() : 1.0;
+    const Vec3 shift = translate_key ? translate_key->vec3() : Vec3(Vec3::Zero());
+    if (scale != 1.0 || !shift.isZero(0.0)) {
+      RowMatrixX3d v = mesh.vertices() * scale;
+      v.rowwise() += shift.transpose();
+      mesh = TriangleMesh(v, mesh.faces());
+    }
+  } else {
+    mesh = generate_mesh(m, source);
+  }
+
+  const JsonReader at = has_file ? m.required("file") : m;  // where problems of the mesh itself are reported
+  try {
+    require_valid_mesh(mesh);
+  } catch (const Error& e) {
+    // The validator's message may already start with "invalid mesh: "; say it once.
+    std::string what = e.what();
+    if (what.rfind("invalid mesh: ", 0) == 0) what.erase(0, 14);
+    at.fail("invalid mesh (" + source + "): " + what);
+  }
+  // Legal but unreliable: a body thinner than its elements (docs/design.md §2).
+  const ThinElements thin = find_thin_elements(mesh);
+  if (thin.count > 0) {
+    std::ostringstream w;
+    use_classic_locale(w).precision(3);
+    w << thin.count << " elements are larger than the body is thick under them (element " << thin.element << ": size " << thin.size
+      << ", thickness " << thin.thickness
+      << " along its inward normal); constant elements cannot resolve a part thinner than themselves and the "
+         "results there may be far off: refine the mesh to elements no larger than the thickness";
+    at.warn(w.str());
+  }
+  return mesh;
+}
+
+}  // namespace bemsurg::io

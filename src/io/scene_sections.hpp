@@ -1,0 +1,57 @@
+// The sections of a scene file (docs/scene-format.md), each read by a file of its own in src/io/
+// and put together by scene.cpp in the order the physics needs: mesh, operating region (which may
+// remesh), boundary conditions on the mesh that is solved, quadrature, solver, interior points.
+// Every reader takes the section's JsonReader (json_reader.hpp: errors are SceneErrors naming the
+// key path, unknown keys become warnings of the scene). Private to the library.
+#pragma once
+
+#include <string>
+
+#include "bemsurg/io/scene.hpp"
+#include "bemsurg/mesh/graded_remesher.hpp"
+#include "json_reader.hpp"
+
+namespace bemsurg::io {
+
+/// The file named by `file` (a string), resolved against the scene's directory; refuses an empty
+/// name, a missing file and a directory (scene.cpp).
+std::string resolve_existing(const std::string& directory, const JsonReader& file);
+
+/// "mesh": a file (with an optional scale and translation) or a generator; validated, and a body
+/// thinner than its elements is warned about. `source` says where the mesh came from, for reports
+/// (scene_mesh.cpp).
+TriangleMesh load_mesh(const JsonReader& mesh, const std::string& directory, std::string& source);
+
+/// "material", "solver", "quadrature" (scene_settings.cpp).
+Material load_material(const JsonReader& material, bool gravity_on);
+LinearSolverSettings load_solver(const JsonReader& solver);
+QuadratureOptions load_quadrature(const JsonReader& quadrature);
+
+/// "boundary_conditions": rules in order, then the per-element CSV file (docs/design.md §5;
+/// scene_boundary_conditions.cpp).
+BoundaryConditions load_boundary_conditions(const JsonReader& conditions, const std::string& directory, const TriangleMesh& mesh);
+
+/// "interior_points": inline points, then the CSV file's; each strictly inside the body and far
+/// enough from the surface for the quadrature (scene_interior_points.cpp).
+RowMatrixX3d load_interior_points(const JsonReader& points, const std::string& directory, const TriangleMesh& mesh,
+                                  const QuadratureOptions& quadrature);
+
+/// "operating_region" as read and checked against the mesh as generated or read: the region and,
+/// when inside and outside edge lengths are given, the graded remesh it asks for (docs/graded.md).
+struct OperatingRegionRequest {
+  OperatingRegion region;
+  bool graded = false;
+  GradedRemeshOptions options;  // meaningful when graded
+};
+
+/// Reads "operating_region" (scene_operating_region.cpp). Changes nothing: the remeshing is
+/// remesh_for_operating_region's.
+OperatingRegionRequest parse_operating_region(const JsonReader& region, const TriangleMesh& mesh);
+
+/// Performs what the request asks of the scene's mesh (operating_region_remesh.cpp): refuses a
+/// graded mesh too large for the dense solve before Gmsh spends minutes on it, remeshes (or warns
+/// when this build has no remesher), and records input_elements, graded, remesh_seconds and the
+/// mesh source in `scene`. Throws SceneError at "operating_region" when remeshing fails.
+void remesh_for_operating_region(const OperatingRegionRequest& request, Scene& scene);
+
+}  // namespace bemsurg::io
