@@ -2,13 +2,13 @@
 #pragma once
 
 #include "bemsurg/config.hpp"
+#include "bemsurg/number_text.hpp"
 
 #include <unistd.h>
 #if defined(__GLIBC__)
 #include <malloc.h>
 #endif
 
-#include <sstream>
 
 namespace bemsurg {
 
@@ -37,10 +37,7 @@ BEMSURG_INLINE bool reuse_freed_memory() {
 }
 
 BEMSURG_INLINE std::string format_gib(double bytes) {
-  std::ostringstream s;
-  s.precision(3);
-  s << bytes / (1024.0 * 1024.0 * 1024.0) << " GiB";
-  return s.str();
+  return general_text(bytes / (1024.0 * 1024.0 * 1024.0), 3) + " GiB";
 }
 
 }  // namespace bemsurg
