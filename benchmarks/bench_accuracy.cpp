@@ -5,20 +5,20 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
-#include <iomanip>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
 
-#include "bench_support.hpp"
 #include "bemsurg/assembly/influence_assembler.hpp"
 #include "bemsurg/elastostatic_solver.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/mesh/mesh_topology.hpp"
 #include "bemsurg/post/interior_evaluator.hpp"
 #include "bemsurg/verification/reference_solutions.hpp"
+#include "bench_support.hpp"
 
 using namespace bemsurg;
 using namespace bemsurg::verification;
@@ -96,9 +96,7 @@ void add_orders(std::vector<Row>& rows) {
 
 std::string fmt(double v, int prec = 3, bool percent = false) {
   if (std::isnan(v)) return "–";
-  std::ostringstream os;
-  os << std::fixed << std::setprecision(prec) << (percent ? 100.0 * v : v);
-  return os.str();
+  return fixed_text(percent ? 100.0 * v : v, prec);
 }
 
 }  // namespace
@@ -106,17 +104,12 @@ std::string fmt(double v, int prec = 3, bool percent = false) {
 int main(int argc, char** argv) {
   bool quick = false;
   std::string json_path, csv_path, md_path;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--quick") quick = true;
-    else if (a == "--json" && i + 1 < argc) json_path = argv[++i];
-    else if (a == "--csv" && i + 1 < argc) csv_path = argv[++i];
-    else if (a == "--markdown" && i + 1 < argc) md_path = argv[++i];
-    else {
-      std::cerr << "usage: bench_accuracy [--quick] [--json PATH] [--csv PATH] [--markdown PATH]\n";
-      return 2;
-    }
-  }
+  cli::OptionParser parser = bench::command_line(
+      "bench_accuracy", "Errors of the BEM solution against closed forms (docs/accuracy.md is generated from it).\n", quick,
+      json_path);
+  parser.value("--csv", "PATH", csv_path, "write one row per solve to PATH as CSV");
+  parser.value("--markdown", "PATH", md_path, "write the tables to PATH as Markdown");
+  if (const std::optional<int> status = cli::parse_command_line(parser, argc, argv)) return *status;
   const Material m{1.0, 0.3, 1.0};
   std::vector<Row> rows;
   std::vector<std::pair<Index, double>> rigid;
@@ -192,6 +185,7 @@ int main(int argc, char** argv) {
 
   // ---- report --------------------------------------------------------------------------------
   std::ostringstream md;
+  use_classic_locale(md);  // element counts without grouping, whatever the global locale
   md << "| problem | case | elements | mean h | error u (%) | order u | error t (%) | order t | assembly (s) | solve (s) |\n";
   md << "|---|---|---|---|---|---|---|---|---|---|\n";
   for (const Row& r : rows)
@@ -200,9 +194,7 @@ int main(int argc, char** argv) {
        << fmt(r.order_t, 2) << " | " << fmt(r.assembly_s, 3) << " | " << fmt(r.solve_s, 3) << " |\n";
   md << "\nRigid-body identity, max over block rows of |sum_e H_ie| / |H_ii|:\n\n| elements | ratio |\n|---|---|\n";
   for (const auto& [E, ratio] : rigid) {
-    std::ostringstream v;
-    v << std::scientific << std::setprecision(2) << ratio;
-    md << "| " << E << " | " << v.str() << " |\n";
+    md << "| " << E << " | " << bench::scientific_text(ratio, 2) << " |\n";
   }
   md << "\nTraction error of the Kelvin Dirichlet solve, split into the first row of elements along the box's "
         "edges and the rest:\n\n| elements | first row at edges (%) | elsewhere (%) |\n|---|---|---|\n";
@@ -216,6 +208,7 @@ int main(int argc, char** argv) {
   if (!md_path.empty()) std::ofstream(md_path) << md.str();
   if (!csv_path.empty()) {
     std::ofstream csv(csv_path);
+    use_classic_locale(csv);
     csv << "problem,case,elements,mean_h,error_u,order_u,error_t,order_t,assembly_s,solve_s\n";
     for (const Row& r : rows)
       csv << r.problem << "," << r.variant << "," << r.elements << "," << r.h << "," << r.error_u << "," << r.order_u

@@ -74,26 +74,15 @@ int main(int argc, char** argv) {
   std::string json_path;
   std::vector<int> sizes;
   int repeats = 0, update_size = 0;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--quick") {
-      quick = true;
-    } else if (a == "--json" && i + 1 < argc) {
-      json_path = argv[++i];
-    } else if (a == "--repeats" && i + 1 < argc) {
-      repeats = std::stoi(argv[++i]);
-    } else if (a == "--update-size" && i + 1 < argc) {
-      update_size = std::stoi(argv[++i]);
-    } else if (a == "--sizes" && i + 1 < argc) {
-      sizes = bench::parse_int_list(argv[++i]);
-    } else if (a == "-h" || a == "--help") {
-      std::cout << "usage: bench_assembly [--quick] [--json PATH] [--sizes N1,N2,...] [--repeats R] [--update-size N]\n";
-      return 0;
-    } else {
-      std::cerr << "bench_assembly: unknown argument '" << a << "'\n";
-      return 2;
-    }
-  }
+  cli::OptionParser parser =
+      bench::command_line("bench_assembly",
+                          "The integration of H, G and gravity beside the bare LAPACK dgetrf, and a cut's rows and columns\n"
+                          "(docs/assembly.md).\n",
+                          quick, json_path);
+  parser.value("--sizes", "N1,N2,...", sizes, "boxes of N cells per face edge").at_least(1).default_text("9,14; --quick: 5");
+  parser.value("--repeats", "R", repeats, "timings per figure (median)").default_text("3; --quick: 2");
+  parser.value("--update-size", "N", update_size, "the box of the cut update").default_text("16; --quick: 6");
+  if (const std::optional<int> status = cli::parse_command_line(parser, argc, argv)) return *status;
   if (sizes.empty()) sizes = quick ? std::vector<int>{5} : std::vector<int>{9, 14};
   if (repeats <= 0) repeats = quick ? 2 : 3;
   if (update_size <= 0) update_size = quick ? 6 : 16;  // N = 16: 2,944 elements
@@ -210,19 +199,26 @@ int main(int argc, char** argv) {
       kind_ns[k] = median(per);
     }
 
-    std::printf("\nn = %ld equations (%ld elements, %.3g pairs)\n", long(n), long(E), pairs);
-    std::printf("  assembly %.3f s = H,G and gravity in one pass %.3f s + A*, rhs %.3f s (H,G alone %.3f s, %.1f ns per pair per thread; "
-                "gravity alone %.3f s)\n",
-                assembly_s, one_pass_s, build_s, hg_s, ns_pair_thread, grav_s);
-    std::printf("  H,G into storage written before (integration only, no first-touch page faults): %.3f s, %.1f ns per pair per thread\n",
-                reuse_s, reuse_s * threads / pairs * 1e9);
-    std::printf("  after assembly: dgetrf %.3f s + dgetrs %.3f s; bare: dgetrf %.3f s + dgetrs %.3f s\n", fac_s, sol_s, bare_f,
-                bare_s);
-    std::printf("  assembly / bare dgetrf = %.2f (target <= 0.5); precompute / bare = %.2f (target <= 1.5); "
-                "factorisation only / bare = %.2f\n",
-                assembly_s / bare_f, (assembly_s + fac_s + sol_s) / (bare_f + bare_s), (fac_s + sol_s) / (bare_f + bare_s));
+    std::printf("\nn = %ld equations (%ld elements, %s pairs)\n", long(n), long(E), general_text(pairs, 3).c_str());
+    std::printf(
+        "  assembly %s s = H,G and gravity in one pass %s s + A*, rhs %s s (H,G alone %s s, %s ns per pair per thread; "
+        "gravity alone %s s)\n",
+        fixed_text(assembly_s, 3).c_str(), fixed_text(one_pass_s, 3).c_str(), fixed_text(build_s, 3).c_str(),
+        fixed_text(hg_s, 3).c_str(), fixed_text(ns_pair_thread, 1).c_str(), fixed_text(grav_s, 3).c_str());
+    std::printf(
+        "  H,G into storage written before (integration only, no first-touch page faults): %s s, %s ns per pair per thread\n",
+        fixed_text(reuse_s, 3).c_str(), fixed_text(reuse_s * threads / pairs * 1e9, 1).c_str());
+    std::printf("  after assembly: dgetrf %s s + dgetrs %s s; bare: dgetrf %s s + dgetrs %s s\n", fixed_text(fac_s, 3).c_str(),
+                fixed_text(sol_s, 3).c_str(), fixed_text(bare_f, 3).c_str(), fixed_text(bare_s, 3).c_str());
+    std::printf(
+        "  assembly / bare dgetrf = %s (target <= 0.5); precompute / bare = %s (target <= 1.5); "
+        "factorisation only / bare = %s\n",
+        fixed_text(assembly_s / bare_f, 2).c_str(), fixed_text((assembly_s + fac_s + sol_s) / (bare_f + bare_s), 2).c_str(),
+        fixed_text((fac_s + sol_s) / (bare_f + bare_s), 2).c_str());
     std::printf("  pair mix and one-thread cost via element_pair:");
-    for (int k = 0; k < 4; ++k) std::printf(" %s %.2f%% (%.0f ns)", kind_name[k], 100.0 * double(count[k]) / pairs, kind_ns[k]);
+    for (int k = 0; k < 4; ++k)
+      std::printf(" %s %s%% (%s ns)", kind_name[k], fixed_text(100.0 * double(count[k]) / pairs, 2).c_str(),
+                  fixed_text(kind_ns[k], 0).c_str());
     std::printf("\n");
     nlohmann::json mix;
     for (int k = 0; k < 4; ++k) mix[kind_name[k]] = {{"pairs", count[k]}, {"element_pair_ns", kind_ns[k]}};
@@ -269,8 +265,9 @@ int main(int argc, char** argv) {
       checksum += rh(0, 0) + cg(0, 0);
     }
     const double rows_ms = median(t_rows) * 1e3, cols_ms = median(t_cols) * 1e3;
-    std::printf("\ncut update at %ld elements: rows of %zu new elements %.2f ms + columns %.2f ms = %.2f ms (target <= 10 ms)\n",
-                long(E), fresh.size(), rows_ms, cols_ms, rows_ms + cols_ms);
+    std::printf("\ncut update at %ld elements: rows of %zu new elements %s ms + columns %s ms = %s ms (target <= 10 ms)\n",
+                long(E), fresh.size(), fixed_text(rows_ms, 2).c_str(), fixed_text(cols_ms, 2).c_str(),
+                fixed_text(rows_ms + cols_ms, 2).c_str());
     out["cut_update"] = {{"elements", E},
                          {"new_elements", fresh.size()},
                          {"rows_ms", rows_ms},

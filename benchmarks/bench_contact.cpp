@@ -17,10 +17,11 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <memory>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -46,24 +47,11 @@ int main(int argc, char** argv) {
   bool quick = false;
   std::string json_path, csv_path;
   std::vector<int> sizes;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--quick") {
-      quick = true;
-    } else if (a == "--json" && i + 1 < argc) {
-      json_path = argv[++i];
-    } else if (a == "--csv" && i + 1 < argc) {
-      csv_path = argv[++i];
-    } else if (a == "--sizes" && i + 1 < argc) {
-      sizes = bench::parse_int_list(argv[++i]);
-    } else if (a == "-h" || a == "--help") {
-      std::cout << "usage: bench_contact [--quick] [--json PATH] [--csv PATH] [--sizes N1,N2,...]\n";
-      return 0;
-    } else {
-      std::cerr << "bench_contact: unknown argument '" << a << "'\n";
-      return 2;
-    }
-  }
+  cli::OptionParser parser = bench::command_line(
+      "bench_contact", "The pre-solution table's cost and the haptic force update (docs/contact.md).\n", quick, json_path);
+  parser.value("--csv", "PATH", csv_path, "write one row per size and contact set to PATH as CSV");
+  parser.value("--sizes", "N1,N2,...", sizes, "boxes of N cells per edge").at_least(1).default_text("5,9,14,21; --quick: 6,7");
+  if (const std::optional<int> status = cli::parse_command_line(parser, argc, argv)) return *status;
   // Box of N x N x N cells per face edge (N in z one less): 4 (N^2 + 2 N (N-1)) elements.
   if (sizes.empty()) sizes = quick ? std::vector<int>{6, 7} : std::vector<int>{5, 9, 14, 21};
   const int updates = quick ? 10000 : 100000;
@@ -82,6 +70,7 @@ int main(int argc, char** argv) {
   std::ofstream csv;
   if (!csv_path.empty()) {
     csv.open(csv_path);
+    use_classic_locale(csv);
     csv << "equations,region_elements,assembly_s,factorization_s,table_s,bare_factorization_s,bare_solve_s,ratio,"
            "contact_elements,force_median_us,force_p99_us,force_p999_us,force_only_median_us,force_only_p999_us,"
            "set_change_median_us,field_median_ms,bare_force_product_median_us,force_only_over_bare\n";
@@ -135,13 +124,16 @@ int main(int argc, char** argv) {
     const double ratio = (pt.assembly_seconds + pt.factorization_seconds + pt.table_seconds) / (bare_f + bare_s);
     const double factorization_ratio = (pt.factorization_seconds + pt.table_seconds) / (bare_f + bare_s);
     const double assembly_ratio = pt.assembly_seconds / bare_f;
-    std::printf("\nn = %ld equations (%ld elements), region %zu elements, table %.1f MiB\n", long(n), long(E), region.size(),
-                double(table.bytes()) / 1048576.0);
-    std::printf("  precompute: assembly %.3f s, factorisation %.3f s, table %.3f s (total %.3f s)\n", pt.assembly_seconds,
-                pt.factorization_seconds, pt.table_seconds, pre_total);
-    std::printf("  bare dgetrf + dgetrs(%zu rhs): %.3f s + %.3f s; precompute (assembly + factorisation + table) / bare = %.2f "
-                "(target <= 1.5); factorisation + table / bare = %.2f; assembly / bare dgetrf = %.2f (target <= 0.5)\n",
-                3 * region.size() + 1, bare_f, bare_s, ratio, factorization_ratio, assembly_ratio);
+    std::printf("\nn = %ld equations (%ld elements), region %zu elements, table %s MiB\n", long(n), long(E), region.size(),
+                fixed_text(double(table.bytes()) / 1048576.0, 1).c_str());
+    std::printf("  precompute: assembly %s s, factorisation %s s, table %s s (total %s s)\n",
+                fixed_text(pt.assembly_seconds, 3).c_str(), fixed_text(pt.factorization_seconds, 3).c_str(),
+                fixed_text(pt.table_seconds, 3).c_str(), fixed_text(pre_total, 3).c_str());
+    std::printf(
+        "  bare dgetrf + dgetrs(%zu rhs): %s s + %s s; precompute (assembly + factorisation + table) / bare = %s "
+        "(target <= 1.5); factorisation + table / bare = %s; assembly / bare dgetrf = %s (target <= 0.5)\n",
+        3 * region.size() + 1, fixed_text(bare_f, 3).c_str(), fixed_text(bare_s, 3).c_str(), fixed_text(ratio, 2).c_str(),
+        fixed_text(factorization_ratio, 2).c_str(), fixed_text(assembly_ratio, 2).c_str());
     nlohmann::json size_json = {{"equations", n},
                                 {"elements", E},
                                 {"region_elements", region.size()},
@@ -239,11 +231,14 @@ int main(int argc, char** argv) {
         field.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
       }
       const double field_med = median(field);
-      std::printf("  k = %2d contact elements, %d updates: force+tractions (solve) median %.2f us, p99 %.2f us, p99.9 %.2f us "
-                  "(max %.1f); force only median %.2f us, p99 %.2f us, p99.9 %.2f us (bare 3 x k product median %.2f us: ratio %.2f); "
-                  "set change %.1f us; full field %.3f ms%s\n",
-                  k, updates, p.median, p.p99, p.p999, p.max, q.median, q.p99, q.p999, bare.median, force_only_over_bare, change_med, field_med,
-                  sink.allFinite() ? "" : " (non-finite!)");
+      std::printf(
+          "  k = %2d contact elements, %d updates: force+tractions (solve) median %s us, p99 %s us, p99.9 %s us "
+          "(max %s); force only median %s us, p99 %s us, p99.9 %s us (bare 3 x k product median %s us: ratio %s); "
+          "set change %s us; full field %s ms%s\n",
+          k, updates, fixed_text(p.median, 2).c_str(), fixed_text(p.p99, 2).c_str(), fixed_text(p.p999, 2).c_str(),
+          fixed_text(p.max, 1).c_str(), fixed_text(q.median, 2).c_str(), fixed_text(q.p99, 2).c_str(),
+          fixed_text(q.p999, 2).c_str(), fixed_text(bare.median, 2).c_str(), fixed_text(force_only_over_bare, 2).c_str(),
+          fixed_text(change_med, 1).c_str(), fixed_text(field_med, 3).c_str(), sink.allFinite() ? "" : " (non-finite!)");
       size_json["contact"].push_back({{"contact_elements", k},
                                       {"force_update_us", {{"median", p.median}, {"p99", p.p99}, {"p999", p.p999}, {"max", p.max}}},
                                       {"force_only_update_us", {{"median", q.median}, {"p99", q.p99}, {"p999", q.p999}, {"max", q.max}}},

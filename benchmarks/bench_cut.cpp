@@ -23,6 +23,7 @@
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 #ifdef _OPENMP
@@ -195,10 +196,11 @@ void table1(const std::vector<std::array<int, 3>>& sizes, int repeats, json& out
       std::reverse(rows.begin(), rows.end());
       for (const json& row : rows) {
         const double ps = row.value("paper_seconds", 0.0);
-        std::printf("%6lld %-13s %-9s %11.5f %6d | %9s %5s | %12.1e\n", static_cast<long long>(n), names[sc],
-                    row["method"].get<std::string>().c_str(), row["seconds"].get<double>(), row["iterations"].get<int>(),
-                    ps > 0.0 ? std::to_string(ps).substr(0, 7).c_str() : "-",
-                    ps > 0.0 ? std::to_string(row["paper_iterations"].get<int>()).c_str() : "-", row["agreement_vs_refactor"].get<double>());
+        std::printf("%6lld %-13s %-9s %11s %6d | %9s %5s | %12s\n", static_cast<long long>(n), names[sc],
+                    row["method"].get<std::string>().c_str(), fixed_text(row["seconds"].get<double>(), 5).c_str(),
+                    row["iterations"].get<int>(), ps > 0.0 ? fixed_text(ps, 6).substr(0, 7).c_str() : "-",
+                    ps > 0.0 ? std::to_string(row["paper_iterations"].get<int>()).c_str() : "-",
+                    bench::scientific_text(row["agreement_vs_refactor"].get<double>(), 1).c_str());
         out.push_back(row);
       }
     }
@@ -254,8 +256,10 @@ void latency(const std::vector<int>& equations, json& out) {
     const double refactor_s = seconds_since(t0);
     const double agreement = table_difference(*t, *ref);
     const Index n = body.mesh->num_dofs();
-    std::printf("%7lld %7zu %8.1f %11.4f %11.4f %11.4f %9.4f %11.3f %9.1e %6lld\n", static_cast<long long>(n), t->region().size(), changed,
-                median(exact), median(integ), median(sys), median(tab), refactor_s, agreement, static_cast<long long>(rank));
+    std::printf("%7lld %7zu %8s %11s %11s %11s %9s %11s %9s %6lld\n", static_cast<long long>(n), t->region().size(),
+                fixed_text(changed, 1).c_str(), fixed_text(median(exact), 4).c_str(), fixed_text(median(integ), 4).c_str(),
+                fixed_text(median(sys), 4).c_str(), fixed_text(median(tab), 4).c_str(), fixed_text(refactor_s, 3).c_str(),
+                bench::scientific_text(agreement, 1).c_str(), static_cast<long long>(rank));
     out.push_back({{"equations", n}, {"block", {c[0], c[1], c[2]}}, {"region_elements", before_last->region().size()},
                    {"steps", steps.size()}, {"changed_elements_per_step", changed}, {"exact_seconds", median(exact)},
                    {"exact_seconds_all", exact}, {"integration_seconds", median(integ)}, {"system_seconds", median(sys)},
@@ -308,7 +312,8 @@ void gap_study(bool quick, json& out) {
       (u ? su : st) = std::max(u ? su : st, std::abs(x[1](k)));
     }
     (void)changed;
-    std::printf("%10.3f %10lld %14.2e %14.2e\n", ratio, static_cast<long long>(x[0].size()), du / su, dt / st);
+    std::printf("%10s %10lld %14s %14s\n", fixed_text(ratio, 3).c_str(), static_cast<long long>(x[0].size()),
+                bench::scientific_text(du / su, 2).c_str(), bench::scientific_text(dt / st, 2).c_str());
     out.push_back({{"gap_ratio", ratio}, {"equations", x[0].size()}, {"difference_vs_fine_quadrature", du / su},
                    {"traction_difference_vs_fine_quadrature", dt / st}});
   }
@@ -327,32 +332,22 @@ double load_average() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  bool quick = false, gap = true, do_table1 = true, do_latency = true, reuse_memory = true;
+  bool quick = false, no_gap = false, no_table1 = false, no_latency = false, fresh_pages = false;
   int repeats = 3;
   std::string json_path;
   std::vector<int> equations;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--quick") quick = true;
-    else if (a == "--no-gap") gap = false;
-    else if (a == "--no-table1") do_table1 = false;
-    else if (a == "--no-latency") do_latency = false;
-    else if (a == "--fresh-pages") reuse_memory = false;
-    else if (a == "--json" && i + 1 < argc) json_path = argv[++i];
-    else if (a == "--repeats" && i + 1 < argc) repeats = std::max(1, std::stoi(argv[++i]));
-    else if (a == "--equations" && i + 1 < argc) {
-      try {
-        equations = bench::parse_int_list(argv[++i]);
-      } catch (const std::exception&) {
-        std::cerr << "bench_cut: --equations expects N1,N2,... (positive integers)\n";
-        return 2;
-      }
-    } else {
-      std::cerr << "usage: bench_cut [--quick] [--json PATH] [--equations N1,N2,...] [--repeats R] [--no-gap] [--no-table1] [--no-latency] [--fresh-pages]\n"
-                << "unknown or incomplete argument: " << a << "\n";
-      return 2;
-    }
-  }
+  cli::OptionParser parser = bench::command_line(
+      "bench_cut", "The system and table updates of cutting against the paper's Table 1 (docs/cutting.md).\n", quick, json_path);
+  parser.value("--equations", "N1,N2,...", equations, "sizes of the latency study")
+      .at_least(1)
+      .default_text("1584,4752,9000,15000; --quick: 1000");
+  parser.value("--repeats", "R", repeats, "timings per figure (median; --quick: 1)").at_least(1);
+  parser.flag("--no-gap", no_gap, "leave out the narrow-gap study");
+  parser.flag("--no-table1", no_table1, "leave out Table 1");
+  parser.flag("--no-latency", no_latency, "leave out the latency study");
+  parser.flag("--fresh-pages", fresh_pages, "return freed memory to the system (bemsurg cut reuses it)");
+  if (const std::optional<int> status = cli::parse_command_line(parser, argc, argv)) return *status;
+  const bool gap = !no_gap, do_table1 = !no_table1, do_latency = !no_latency, reuse_memory = !fresh_pages;
   // As bemsurg cut and session do: freed table snapshots are reused rather than returned to the
   // system (bemsurg/memory_budget.hpp); --fresh-pages measures without it.
   const bool reused = reuse_memory && reuse_freed_memory();
@@ -369,8 +364,9 @@ int main(int argc, char** argv) {
 #else
   const char* backend = "Eigen";
 #endif
-  std::printf("bench_cut (%s): %d OpenMP threads, dense back end %s, %d repeats (median), freed memory %s, load average %.2f\n",
-              quick ? "quick" : "full", threads, backend, repeats, reused ? "reused" : "returned (fresh pages)", load_average());
+  std::printf("bench_cut (%s): %d OpenMP threads, dense back end %s, %d repeats (median), freed memory %s, load average %s\n",
+              quick ? "quick" : "full", threads, backend, repeats, reused ? "reused" : "returned (fresh pages)",
+              fixed_text(load_average(), 2).c_str());
   json report = {{"benchmark", "bench_cut"}, {"mode", quick ? "quick" : "full"}, {"threads", threads}, {"dense_backend", backend},
                  {"repeats", repeats}, {"freed_memory_reused", reused}, {"load_average_at_start", load_average()}, {"table1", json::array()}, {"latency", json::array()}, {"gap", json::array()}};
   try {
@@ -383,7 +379,7 @@ int main(int argc, char** argv) {
     return 1;
   }
   report["load_average_at_end"] = load_average();
-  std::printf("load average at the end: %.2f\n", load_average());
+  std::printf("load average at the end: %s\n", fixed_text(load_average(), 2).c_str());
   if (!bench::write_json_file(json_path, report, "bench_cut")) return 1;
   return 0;
 }

@@ -8,48 +8,34 @@
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <optional>
+#include <string>
+#include <vector>
 
-#include "bench_support.hpp"
 #include "bemsurg/cutting/surface_cutter.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/mesh/mesh_validation.hpp"
 #include "bemsurg/mesh/self_intersection.hpp"
+#include "bench_support.hpp"
 
 using namespace bemsurg;
 
 int main(int argc, char** argv) {
   bool quick = false;
   std::string json_path;
-  std::vector<int> sizes{8, 16, 32};
-  try {
-    for (int i = 1; i < argc; ++i) {
-      const std::string a = argv[i];
-      if (a == "--quick") {
-        quick = true;
-        sizes = {6, 10};
-      } else if (a == "--json" && i + 1 < argc) {
-        json_path = argv[++i];
-      } else if (a == "--sizes" && i + 1 < argc) {
-        sizes = bench::parse_int_list(argv[++i]);
-      } else {
-        std::cout << "usage: bench_cut_topology [--quick] [--json PATH] [--sizes N1,N2,...]\n";
-        return a == "--help" ? 0 : 2;
-      }
-    }
-  } catch (const std::exception& e) {
-    std::cerr << "bench_cut_topology: " << e.what() << "\n";
-    return 2;
-  }
+  std::vector<int> sizes;
+  cli::OptionParser parser = bench::command_line(
+      "bench_cut_topology", "The cutter's topology steps (open, extend, deepen) against a validation of the same mesh.\n", quick,
+      json_path);
+  parser.value("--sizes", "N1,N2,...", sizes, "cubes of N cells per edge").at_least(4).default_text("8,16,32; --quick: 6,10");
+  if (const std::optional<int> status = cli::parse_command_line(parser, argc, argv)) return *status;
+  if (sizes.empty()) sizes = quick ? std::vector<int>{6, 10} : std::vector<int>{8, 16, 32};
   const int repeats = quick ? 3 : 9;
   nlohmann::json result;
   result["benchmark"] = "bench_cut_topology";
   result["quick"] = quick;
   std::cout << "elements  validate_ms  open_ms  extend_ms  deepen_ms  extend/validate\n";
   for (int n : sizes) {
-    if (n < 4) {
-      std::cerr << "bench_cut_topology: a size must be at least 4 cells per edge (got " << n << ")\n";
-      return 2;
-    }
     const auto mesh = std::make_shared<const TriangleMesh>(box_mesh(Vec3(0, 0, 0), Vec3(1, 1, 1), n, n, n));
     std::vector<double> validate, open, extend, deepen;
     for (int r = 0; r < repeats; ++r) {
@@ -84,8 +70,9 @@ int main(int argc, char** argv) {
       deepen.push_back(seconds_since(clock));
     }
     const double v = bench::median(validate), o = bench::median(open), e = bench::median(extend), d = bench::median(deepen);
-    std::printf("%8lld  %11.2f  %7.2f  %9.2f  %9.2f  %15.2f\n", static_cast<long long>(mesh->num_elements()), 1e3 * v,
-                1e3 * o, 1e3 * e, 1e3 * d, e / v);
+    std::printf("%8lld  %11s  %7s  %9s  %9s  %15s\n", static_cast<long long>(mesh->num_elements()),
+                fixed_text(1e3 * v, 2).c_str(), fixed_text(1e3 * o, 2).c_str(), fixed_text(1e3 * e, 2).c_str(),
+                fixed_text(1e3 * d, 2).c_str(), fixed_text(e / v, 2).c_str());
     result["sizes"].push_back({{"elements", mesh->num_elements()},
                                {"validate_seconds", v},
                                {"open_seconds", o},

@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -70,26 +71,15 @@ int main(int argc, char** argv) {
   std::string json_path;
   double h_in = 0.007, h_out = 0.02;
   int repeat = 3;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--quick") {
-      quick = true;
-    } else if (a == "--json" && i + 1 < argc) {
-      json_path = argv[++i];
-    } else if (a == "--inside" && i + 1 < argc) {
-      h_in = std::atof(argv[++i]);
-    } else if (a == "--outside" && i + 1 < argc) {
-      h_out = std::atof(argv[++i]);
-    } else if (a == "--repeat" && i + 1 < argc) {
-      repeat = std::max(1, std::atoi(argv[++i]));
-    } else if (a == "-h" || a == "--help") {
-      std::cout << "usage: bench_graded [--quick] [--json PATH] [--inside H] [--outside H] [--repeat N]\n";
-      return 0;
-    } else {
-      std::cerr << "bench_graded: unknown argument '" << a << "'\n";
-      return 2;
-    }
-  }
+  cli::OptionParser parser =
+      bench::command_line("bench_graded",
+                          "The brain pressed by a sphere on a graded mesh against a uniformly fine one (docs/graded.md).\n"
+                          "--quick uses h_in 0.012, h_out 0.03 and one repeat, whatever else is given.\n",
+                          quick, json_path);
+  parser.value("--inside", "H", h_in, "edge length inside the region (m)").above(0.0);
+  parser.value("--outside", "H", h_out, "edge length outside it (m)").above(0.0);
+  parser.value("--repeat", "N", repeat, "precomputations per mesh (median)").at_least(1);
+  if (const std::optional<int> status = cli::parse_command_line(parser, argc, argv)) return *status;
   if (!graded_remesher_available()) {
     std::cerr << "bench_graded: this build has no remesher (BEMSURG_WITH_REMESHER=OFF); nothing to measure\n";
     return 0;
@@ -121,18 +111,24 @@ int main(int argc, char** argv) {
         {"precompute_time", grad.precompute_median / fine.precompute_median}}},
       {"differences",
        {{"force_relative", force_error}, {"region_displacement_relative_l2", disp_error}}}};
-  std::printf("bench_graded%s: brain, h_in %.4g m, h_out %.4g m, sphere tool R %.3g m pressed %.3g m\n",
-              quick ? " --quick" : "", h_in, h_out, c.tool_radius, c.depth);
+  std::printf("bench_graded%s: brain, h_in %s m, h_out %s m, sphere tool R %s m pressed %s m\n", quick ? " --quick" : "",
+              general_text(h_in, 4).c_str(), general_text(h_out, 4).c_str(), general_text(c.tool_radius, 3).c_str(),
+              general_text(c.depth, 3).c_str());
   for (const auto* r : {&fine, &grad})
-    std::printf("  %-6s %5ld elements (region %ld, contact %ld)  precompute %.3f s  peak %.1f MB  table %.2f MB  "
-                "Fz %.5f N  min angle %.1f  ratio max %.2f p99 %.2f\n",
-                r == &fine ? "fine" : "graded", long(r->press.elements), long(r->press.region_elements),
-                long(r->press.contact_elements), r->precompute_median, r->press.peak_bytes / 1e6,
-                r->press.table_bytes / 1e6, r->press.force.z(), r->mesh.quality.min_angle_degrees,
-                r->mesh.quality.max_neighbour_size_ratio, r->mesh.quality.p99_neighbour_size_ratio);
-  std::printf("  graded/fine: elements %.3f, peak memory %.3f, precompute time %.3f; force differs by %.2f %%, "
-              "region displacement by %.2f %% (L2)\n",
-              out["ratios_graded_over_fine"]["elements"].get<double>(), out["ratios_graded_over_fine"]["peak_memory"].get<double>(),
-              out["ratios_graded_over_fine"]["precompute_time"].get<double>(), 100 * force_error, 100 * disp_error);
+    std::printf(
+        "  %-6s %5ld elements (region %ld, contact %ld)  precompute %s s  peak %s MB  table %s MB  "
+        "Fz %s N  min angle %s  ratio max %s p99 %s\n",
+        r == &fine ? "fine" : "graded", long(r->press.elements), long(r->press.region_elements), long(r->press.contact_elements),
+        fixed_text(r->precompute_median, 3).c_str(), fixed_text(r->press.peak_bytes / 1e6, 1).c_str(),
+        fixed_text(r->press.table_bytes / 1e6, 2).c_str(), fixed_text(r->press.force.z(), 5).c_str(),
+        fixed_text(r->mesh.quality.min_angle_degrees, 1).c_str(), fixed_text(r->mesh.quality.max_neighbour_size_ratio, 2).c_str(),
+        fixed_text(r->mesh.quality.p99_neighbour_size_ratio, 2).c_str());
+  std::printf(
+      "  graded/fine: elements %s, peak memory %s, precompute time %s; force differs by %s %%, "
+      "region displacement by %s %% (L2)\n",
+      fixed_text(out["ratios_graded_over_fine"]["elements"].get<double>(), 3).c_str(),
+      fixed_text(out["ratios_graded_over_fine"]["peak_memory"].get<double>(), 3).c_str(),
+      fixed_text(out["ratios_graded_over_fine"]["precompute_time"].get<double>(), 3).c_str(),
+      fixed_text(100 * force_error, 2).c_str(), fixed_text(100 * disp_error, 2).c_str());
   return bench::write_json_file(json_path, out, "bench_graded") ? 0 : 1;
 }

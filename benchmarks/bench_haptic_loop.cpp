@@ -38,6 +38,7 @@
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -66,9 +67,9 @@ Model build_model(bool quick) {
 std::string script_text(double rate_hz, double scale, bool cuts) {
   // Times scaled by `scale` (the quick run is shorter). Sphere: R = 10 mm, pressed 1 mm over
   // 0.3 s, then slid 12 mm along x at constant depth; pinch: grabs, pulls up 1 mm, lets go; blade: cuts.
-  auto t = [&](double x) { return std::to_string(x * scale); };
+  auto t = [&](double x) { return number_text(x * scale); };
   const double slide = 1.2 * scale;  // seconds for 12 mm
-  std::string s = R"({"format": "bemsurg-actions", "version": 1, "rate_hz": )" + std::to_string(rate_hz) +
+  std::string s = R"({"format": "bemsurg-actions", "version": 1, "rate_hz": )" + number_text(rate_hz) +
                   R"(, "capacity_rows": 600,
   "tools": [{"name": "probe", "shape": "sphere", "radius": 0.010},
             {"name": "grasper", "shape": "pinch", "radius": 0.0015},
@@ -77,7 +78,7 @@ std::string script_text(double rate_hz, double scale, bool cuts) {
     {"time": 0.0, "tool": "probe", "type": "press", "at": [-0.006, -0.002, 0.02], "direction": [0, 0, -1], "depth": 0.001, "duration": )" +
                   t(0.3) + R"(},
     {"time": )" + t(0.3) + R"(, "tool": "probe", "type": "move", "to": [0.006, -0.002, )" +
-                  std::to_string(0.010 - 0.001) + R"(], "duration": )" + std::to_string(slide) + R"(},
+                  number_text(0.010 - 0.001) + R"(], "duration": )" + number_text(slide) + R"(},
     {"time": )" + t(0.3) + R"(, "tool": "grasper", "type": "pinch", "at": [0.0, 0.006, 0.02], "direction": [0, 0, -1]},
     {"time": )" + t(0.3) + R"(, "tool": "grasper", "type": "move", "to": [0.0, 0.006, 0.001], "duration": )" + t(0.5) + R"(},
     {"time": )" + t(1.0) + R"(, "tool": "grasper", "type": "release"})";
@@ -102,8 +103,8 @@ std::string slide_script() {
 /// slowly in the air 200 mm above the top face (z = 0) for `duration` seconds: no contact, nothing
 /// for the loop to compute beyond reading devices and writing zero forces.
 std::string air_script(double rate_hz, double duration) {
-  const std::string d = std::to_string(duration);
-  return R"({"format": "bemsurg-actions", "version": 1, "rate_hz": )" + std::to_string(rate_hz) + R"(, "duration": )" + d +
+  const std::string d = number_text(duration);
+  return R"({"format": "bemsurg-actions", "version": 1, "rate_hz": )" + number_text(rate_hz) + R"(, "duration": )" + d +
          R"(, "capacity_rows": 600,
   "tools": [{"name": "probe", "shape": "sphere", "radius": 0.010, "start": [-0.006, -0.002, 0.2]},
             {"name": "grasper", "shape": "pinch", "radius": 0.0015, "start": [0.0, 0.006, 0.2]},
@@ -216,10 +217,12 @@ nlohmann::json excess_json(const haptics::LoopStatistics& session, const haptics
 }
 
 void print_loop_row(const char* name, const haptics::LoopStatistics& s) {
-  std::printf("  %-28s %6lu %7.2f %5lu %7.2f  %7.1f %7.1f %8.1f %8.0f  %6.1f %6.1f %6.1f\n", name,
-              static_cast<unsigned long>(s.ticks), double(s.ticks) / std::max(1.0, s.achieved_rate_hz),
-              static_cast<unsigned long>(s.overruns), overruns_per_s(s), s.jitter_us.p50, s.jitter_us.p99,
-              s.jitter_us.p999, s.jitter_us.max, s.force_us.p50, s.force_us.p99, s.force_us.p999);
+  std::printf("  %-28s %6lu %7s %5lu %7s  %7s %7s %8s %8s  %6s %6s %6s\n", name, static_cast<unsigned long>(s.ticks),
+              fixed_text(double(s.ticks) / std::max(1.0, s.achieved_rate_hz), 2).c_str(), static_cast<unsigned long>(s.overruns),
+              fixed_text(overruns_per_s(s), 2).c_str(), fixed_text(s.jitter_us.p50, 1).c_str(),
+              fixed_text(s.jitter_us.p99, 1).c_str(), fixed_text(s.jitter_us.p999, 1).c_str(),
+              fixed_text(s.jitter_us.max, 0).c_str(), fixed_text(s.force_us.p50, 1).c_str(),
+              fixed_text(s.force_us.p99, 1).c_str(), fixed_text(s.force_us.p999, 1).c_str());
 }
 
 }  // namespace
@@ -228,33 +231,17 @@ int main(int argc, char** argv) {
   bool quick = false;
   std::string json_path;
   double spin_us = 150.0;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--quick") {
-      quick = true;
-    } else if (a == "--json" && i + 1 < argc) {
-      json_path = argv[++i];
-    } else if (a == "--spin-us" && i + 1 < argc) {
-      const std::string v = argv[++i];
-      std::size_t used = 0;
-      try {
-        spin_us = std::stod(v, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used != v.size() || !(spin_us >= 0.0)) {
-        std::cerr << "bench_haptic_loop: --spin-us needs a non-negative number of microseconds, not '" << v << "'\n";
-        return 2;
-      }
-    } else {
-      std::cout << "usage: bench_haptic_loop [--quick] [--json PATH] [--spin-us US]\n";
-      return a == "--help" || a == "-h" ? 0 : 2;
-    }
-  }
+  cli::OptionParser parser =
+      bench::command_line("bench_haptic_loop",
+                          "The haptic loop's rate, jitter and force time in a scripted session against the empty loop\n"
+                          "(docs/haptics.md).\n",
+                          quick, json_path);
+  parser.value("--spin-us", "US", spin_us, "microseconds the loop spins before each tick instead of sleeping").at_least(0.0);
+  if (const std::optional<int> status = cli::parse_command_line(parser, argc, argv)) return *status;
   const Model model = build_model(quick);
-  std::printf("bench_haptic_loop: %ld elements, %ld table columns (%.0f MB), fine edge %.1f mm\n",
+  std::printf("bench_haptic_loop: %ld elements, %ld table columns (%s MB), fine edge %s mm\n",
               static_cast<long>(model.mesh->num_elements()), static_cast<long>(model.table->columns().cols()),
-              double(model.table->bytes()) / 1e6, model.fine_edge * 1e3);
+              fixed_text(double(model.table->bytes()) / 1e6, 0).c_str(), fixed_text(model.fine_edge * 1e3, 1).c_str());
   const double scale = quick ? 0.5 : 1.0;
 
   haptics::SessionOptions options;
@@ -325,38 +312,43 @@ int main(int argc, char** argv) {
   const long rt_period_us = read_proc_number("/proc/sys/kernel/sched_rt_period_us");
   std::printf("kernel RT bandwidth: sched_rt_runtime_us %ld of sched_rt_period_us %ld (-1: unlimited / unreadable)\n",
               rt_runtime_us, rt_period_us);
-  std::printf("platform baseline, bare clock (%.2f s, %.1f M reads): gaps > 20 us %lu, > 100 us %lu, >= 1 ms %lu "
-              "(1 kHz ticks it would have missed; %lu slots lost), largest %.0f us\n",
-              bare.seconds, double(bare.reads) / 1e6, static_cast<unsigned long>(bare.gaps_over_20us),
-              static_cast<unsigned long>(bare.gaps_over_100us), static_cast<unsigned long>(bare.gaps_over_1ms),
-              static_cast<unsigned long>(bare.slots_lost_1khz), bare.max_gap_us);
+  std::printf(
+      "platform baseline, bare clock (%s s, %s M reads): gaps > 20 us %lu, > 100 us %lu, >= 1 ms %lu "
+      "(1 kHz ticks it would have missed; %lu slots lost), largest %s us\n",
+      fixed_text(bare.seconds, 2).c_str(), fixed_text(double(bare.reads) / 1e6, 1).c_str(),
+      static_cast<unsigned long>(bare.gaps_over_20us), static_cast<unsigned long>(bare.gaps_over_100us),
+      static_cast<unsigned long>(bare.gaps_over_1ms), static_cast<unsigned long>(bare.slots_lost_1khz),
+      fixed_text(bare.max_gap_us, 0).c_str());
   if (!bare.long_gaps.empty()) {
     std::printf("  gaps >= 1 ms (start s: length ms):");
-    for (const auto& g : bare.long_gaps) std::printf(" %.3f:%.2f", g.first, g.second);
+    for (const auto& g : bare.long_gaps) std::printf(" %s:%s", fixed_text(g.first, 3).c_str(), fixed_text(g.second, 2).c_str());
     std::printf("\n");
   }
-  std::printf("1 kHz, %.2f s of script      %6s %7s %5s %7s  %-34s  %s\n", script_seconds, "ticks", "loop s", "over",
-              "over/s", "jitter p50 / p99 / p99.9 / max us", "force p50 / p99 / p99.9 us");
+  std::printf("1 kHz, %s s of script      %6s %7s %5s %7s  %-34s  %s\n", fixed_text(script_seconds, 2).c_str(), "ticks", "loop s",
+              "over", "over/s", "jitter p50 / p99 / p99.9 / max us", "force p50 / p99 / p99.9 us");
   char label[64];
-  std::snprintf(label, sizeof label, "empty loop, spin %.0f us", spin_us);
+  std::snprintf(label, sizeof label, "empty loop, spin %s us", fixed_text(spin_us, 0).c_str());
   print_loop_row(label, empty_default.loop);
-  std::snprintf(label, sizeof label, "session, spin %.0f us", spin_us);
+  std::snprintf(label, sizeof label, "session, spin %s us", fixed_text(spin_us, 0).c_str());
   print_loop_row(label, main_default.loop);
-  std::snprintf(label, sizeof label, "empty loop, busy (%.0f us)", busy_us);
+  std::snprintf(label, sizeof label, "empty loop, busy (%s us)", fixed_text(busy_us, 0).c_str());
   print_loop_row(label, empty_busy.loop);
-  std::snprintf(label, sizeof label, "session, busy (%.0f us)", busy_us);
+  std::snprintf(label, sizeof label, "session, busy (%s us)", fixed_text(busy_us, 0).c_str());
   print_loop_row(label, main_busy.loop);
   auto print_excess = [](const char* name, const haptics::LoopStatistics& a, const haptics::LoopStatistics& e) {
-    std::printf("  session - empty loop, %-6s overruns/s %+.2f, jitter p99 %+.1f / p99.9 %+.1f us, force p99.9 %+.1f us\n",
-                name, overruns_per_s(a) - overruns_per_s(e), a.jitter_us.p99 - e.jitter_us.p99,
-                a.jitter_us.p999 - e.jitter_us.p999, a.force_us.p999 - e.force_us.p999);
+    std::printf("  session - empty loop, %-6s overruns/s %s, jitter p99 %s / p99.9 %s us, force p99.9 %s us\n", name,
+                bench::signed_fixed_text(overruns_per_s(a) - overruns_per_s(e), 2).c_str(),
+                bench::signed_fixed_text(a.jitter_us.p99 - e.jitter_us.p99, 1).c_str(),
+                bench::signed_fixed_text(a.jitter_us.p999 - e.jitter_us.p999, 1).c_str(),
+                bench::signed_fixed_text(a.force_us.p999 - e.force_us.p999, 1).c_str());
   };
   print_excess("spin:", main_default.loop, empty_default.loop);
   print_excess("busy:", main_busy.loop, empty_busy.loop);
-  std::printf("top-level figures: %s; session: %lu model swaps, %d cuts, %d field updates (median %.2f ms), "
-              "largest force jump %.2f %%\n",
-              report_busy ? "busy" : "sleep-then-spin", static_cast<unsigned long>(s.model_swaps), main.cuts,
-              main.field_updates, main.field_ms.p50, 100.0 * main.max_force_jump_fraction);
+  std::printf(
+      "top-level figures: %s; session: %lu model swaps, %d cuts, %d field updates (median %s ms), "
+      "largest force jump %s %%\n",
+      report_busy ? "busy" : "sleep-then-spin", static_cast<unsigned long>(s.model_swaps), main.cuts, main.field_updates,
+      fixed_text(main.field_ms.p50, 2).c_str(), fixed_text(100.0 * main.max_force_jump_fraction, 2).c_str());
 
   // 3. Continuity on the virtual clock (no timing noise, no other tool letting go): the sphere
   //    alone sliding at 10 mm/s at constant depth 1 mm.
@@ -364,9 +356,11 @@ int main(int argc, char** argv) {
   slide_options.virtual_clock = true;
   haptics::Session slide(model.mesh, model.table, load_action_script_from_string(slide_script(), ".", "slide"), slide_options);
   const haptics::SessionResult det = slide.run();
-  std::printf("sliding sphere (R 10 mm, depth 1 mm, 10 mm/s, virtual clock): largest force jump between consecutive 1 kHz "
-              "samples %.3f %% at t = %.3f s (peak force %.3f N, %d contact models)\n",
-              100.0 * det.max_force_jump_fraction, det.max_force_jump_time, det.peak_force[0], det.models_built);
+  std::printf(
+      "sliding sphere (R 10 mm, depth 1 mm, 10 mm/s, virtual clock): largest force jump between consecutive 1 kHz "
+      "samples %s %% at t = %s s (peak force %s N, %d contact models)\n",
+      fixed_text(100.0 * det.max_force_jump_fraction, 3).c_str(), fixed_text(det.max_force_jump_time, 3).c_str(),
+      fixed_text(det.peak_force[0], 3).c_str(), det.models_built);
   // 4. Higher rates, shorter, in the reported configuration: the highest that holds (zero
   //    overruns, p99.9 jitter <= 100 us). --quick runs them at half its script length, to stay a
   //    few seconds with the baselines and both spin settings.
@@ -376,9 +370,10 @@ int main(int argc, char** argv) {
   for (double rate : {2000.0, 5000.0, 10000.0}) {
     const haptics::SessionResult r = run(rate, false, report_busy ? busy_spin_us(rate) : spin_us, rates_scale);
     const bool holds = r.loop.overruns == 0 && r.loop.jitter_us.p999 <= 100.0;
-    std::printf("  %5.0f Hz: achieved %.1f Hz, %lu overruns, jitter p99.9 %.1f us, force p99.9 %.1f us%s\n", rate,
-                r.loop.achieved_rate_hz, static_cast<unsigned long>(r.loop.overruns), r.loop.jitter_us.p999,
-                r.loop.force_us.p999, holds ? " (holds)" : "");
+    std::printf("  %5s Hz: achieved %s Hz, %lu overruns, jitter p99.9 %s us, force p99.9 %s us%s\n", fixed_text(rate, 0).c_str(),
+                fixed_text(r.loop.achieved_rate_hz, 1).c_str(), static_cast<unsigned long>(r.loop.overruns),
+                fixed_text(r.loop.jitter_us.p999, 1).c_str(), fixed_text(r.loop.force_us.p999, 1).c_str(),
+                holds ? " (holds)" : "");
     if (holds && rate > highest) highest = rate;
     rates.push_back({{"requested_hz", rate},
                      {"rate_hz", r.loop.achieved_rate_hz},
@@ -387,7 +382,7 @@ int main(int argc, char** argv) {
                      {"force_us", {{"p50", r.loop.force_us.p50}, {"p99", r.loop.force_us.p99}, {"p999", r.loop.force_us.p999}}},
                      {"holds", holds}});
   }
-  std::printf("highest rate that holds: %.0f Hz\n", highest);
+  std::printf("highest rate that holds: %s Hz\n", fixed_text(highest, 0).c_str());
 
   nlohmann::json out;
   out["benchmark"] = "bench_haptic_loop";

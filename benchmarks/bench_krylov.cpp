@@ -11,15 +11,15 @@
 // --quick: one small system (a few seconds, the CI smoke test). Full: the paper's sizes
 // n = 1080, 1272, 1584 (plus the small one). JSON fields: docs/benchmarks.md "bench_krylov".
 #include <Eigen/Dense>
-#include <unsupported/Eigen/IterativeSolvers>
-
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
+#include <unsupported/Eigen/IterativeSolvers>
 #include <vector>
 #ifdef _OPENMP
 #include <omp.h>
@@ -217,15 +217,17 @@ std::vector<Result> run_scenario(const std::string& scenario, const System& s, c
 }
 
 void print(const System& s, const std::vector<Result>& results) {
-  std::printf("\n%s: n = %ld, cond1 ~ %.2e, assembly %.2f s, dense LU %.4f s (median)\n", s.name.c_str(),
-              static_cast<long>(s.A.rows()), s.condition, s.assembly_seconds, s.lu_seconds);
+  std::printf("\n%s: n = %ld, cond1 ~ %s, assembly %s s, dense LU %s s (median)\n", s.name.c_str(), static_cast<long>(s.A.rows()),
+              bench::scientific_text(s.condition, 2).c_str(), fixed_text(s.assembly_seconds, 2).c_str(),
+              fixed_text(s.lu_seconds, 4).c_str());
   std::printf("  %-5s %-8s %-9s %-13s %3s %-17s %6s %11s %10s %10s %10s %8s\n", "scen.", "library", "method", "precond.",
               "m", "status", "iters", "median [s]", "setup [s]", "true res.", "err vs LU", "ours/Eig");
   for (const Result& r : results) {
-    std::printf("  %-5s %-8s %-9s %-13s %3d %-17s %6d %11.5f %10.5f %10.2e %10.2e", r.scenario.c_str(), r.library.c_str(),
-                r.method.c_str(), r.preconditioner.c_str(), r.restart, r.status.c_str(), r.iterations, r.median_seconds,
-                r.setup_seconds, r.true_residual, r.error_vs_lu);
-    if (r.ratio_vs_eigen > 0) std::printf(" %8.2f", r.ratio_vs_eigen);
+    std::printf("  %-5s %-8s %-9s %-13s %3d %-17s %6d %11s %10s %10s %10s", r.scenario.c_str(), r.library.c_str(),
+                r.method.c_str(), r.preconditioner.c_str(), r.restart, r.status.c_str(), r.iterations,
+                fixed_text(r.median_seconds, 5).c_str(), fixed_text(r.setup_seconds, 5).c_str(),
+                bench::scientific_text(r.true_residual, 2).c_str(), bench::scientific_text(r.error_vs_lu, 2).c_str());
+    if (r.ratio_vs_eigen > 0) std::printf(" %8s", fixed_text(r.ratio_vs_eigen, 2).c_str());
     std::printf("\n");
   }
 }
@@ -236,19 +238,13 @@ int main(int argc, char** argv) {
   bool quick = false;
   std::string json_path, csv_path;
   Options o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--quick") quick = true;
-    else if (a == "--json" && i + 1 < argc) json_path = argv[++i];
-    else if (a == "--csv" && i + 1 < argc) csv_path = argv[++i];
-    else if (a == "--tolerance" && i + 1 < argc) o.tolerance = std::stod(argv[++i]);
-    else if (a == "--repeats" && i + 1 < argc) o.repeats = std::max(1, std::stoi(argv[++i]));
-    else {
-      std::cerr << "usage: bench_krylov [--quick] [--json PATH] [--csv PATH] [--tolerance T] [--repeats R]\n"
-                << "unknown or incomplete argument: " << a << "\n";
-      return 2;
-    }
-  }
+  cli::OptionParser parser = bench::command_line(
+      "bench_krylov", "bemsurg's Krylov solvers against Eigen's and the dense LU on BEM systems (docs/solvers.md).\n", quick,
+      json_path);
+  parser.value("--csv", "PATH", csv_path, "write one row per solve to PATH as CSV");
+  parser.value("--tolerance", "T", o.tolerance, "on ||b - A x|| / ||b||").above(0.0);
+  parser.value("--repeats", "R", o.repeats, "solves per figure (median; --quick: at most 3)").at_least(1);
+  if (const std::optional<int> status = cli::parse_command_line(parser, argc, argv)) return *status;
   if (quick) o.repeats = std::min(o.repeats, 3);
   // (nx, ny, nz) cells: 4 (nx ny + ny nz + nz nx) elements, 3 unknowns each.
   std::vector<std::array<int, 3>> sizes = {{3, 3, 3}};                      // n = 324
@@ -262,14 +258,15 @@ int main(int argc, char** argv) {
 #else
   const char* backend = "Eigen gemv (OpenMP row split)";
 #endif
-  std::printf("bench_krylov: tolerance %.1e on ||b - A x|| / ||b||, %d repeats (median), %d OpenMP threads, products: %s\n",
-              o.tolerance, o.repeats, threads, backend);
+  std::printf("bench_krylov: tolerance %s on ||b - A x|| / ||b||, %d repeats (median), %d OpenMP threads, products: %s\n",
+              bench::scientific_text(o.tolerance, 1).c_str(), o.repeats, threads, backend);
   json report = {{"benchmark", "bench_krylov"}, {"mode", quick ? "quick" : "full"}, {"tolerance", o.tolerance},
                  {"max_iterations", o.max_iterations}, {"repeats", o.repeats}, {"threads", threads},
                  {"matrix_vector_backend", backend}, {"systems", json::array()}};
   std::ofstream csv;
   if (!csv_path.empty()) {
     csv.open(csv_path);
+    use_classic_locale(csv);
     csv << "system,n,scenario,library,method,preconditioner,restart,status,iterations,median_seconds,setup_seconds,true_residual,"
            "error_vs_lu,ratio_vs_eigen\n";
   }
@@ -283,8 +280,10 @@ int main(int argc, char** argv) {
       results.insert(results.end(), warm.begin(), warm.end());
       print(before, results);
       const double change = (after.x_lu - before.x_lu).norm() / after.x_lu.norm();
-      std::printf("  warm: start from the solution before the push; ||x_after - x_before|| / ||x_after|| = %.2e; LU of the pushed system %.4f s\n",
-                  change, after.lu_seconds);
+      std::printf(
+          "  warm: start from the solution before the push; ||x_after - x_before|| / ||x_after|| = %s; LU of the pushed system "
+          "%s s\n",
+          bench::scientific_text(change, 2).c_str(), fixed_text(after.lu_seconds, 4).c_str());
       json sys = {{"name", before.name}, {"n", before.A.rows()}, {"elements", before.mesh.num_elements()},
                   {"assembly_seconds", before.assembly_seconds}, {"lu_seconds", before.lu_seconds},
                   {"lu_seconds_after_change", after.lu_seconds}, {"condition_estimate", before.condition},

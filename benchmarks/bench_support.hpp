@@ -1,18 +1,23 @@
 // bench_support.hpp: what every benchmark program shares: robust statistics of repeated timings,
-// the --sizes list, and writing the JSON result. Benchmarks quote medians (the machines are shared:
+// the command line (--quick, --json and the shared parser), numbers written the same in every
+// locale, and writing the JSON result. Benchmarks quote medians (the machines are shared:
 // single runs can be several times slow) and ratios against a baseline measured in the same run.
 #pragma once
 
 #include <algorithm>
+#include <charconv>
+#include <cmath>
 #include <cstddef>
 #include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <string>
+#include <system_error>
 #include <vector>
 
+#include "bemsurg/number_text.hpp"
 #include "bemsurg/timing.hpp"
+#include "cli/option_parser.hpp"
 
 namespace bemsurg::bench {
 
@@ -37,18 +42,31 @@ inline Percentiles percentiles(std::vector<double> v) {
   return {at(0.5), at(0.99), at(0.999), v.back()};
 }
 
-/// "5,9,14" -> {5, 9, 14}; throws std::invalid_argument on anything else.
-inline std::vector<int> parse_int_list(const std::string& text) {
-  std::vector<int> out;
-  std::stringstream ss(text);
-  std::string item;
-  while (std::getline(ss, item, ',')) {
-    std::size_t used = 0;
-    out.push_back(std::stoi(item, &used));
-    if (used != item.size()) throw std::invalid_argument("not an integer: '" + item + "'");
-  }
-  return out;
+/// A benchmark's command line (src/cli/option_parser.hpp): every benchmark takes --quick (the
+/// seconds-long smoke run ctest runs) and --json PATH; the caller declares the rest and parses
+/// with cli::parse_command_line. Called first in main, it also makes std::cout and std::cerr,
+/// where the figures are printed, write numbers the same in every locale (number_text.hpp).
+inline cli::OptionParser command_line(const std::string& program, const std::string& what, bool& quick, std::string& json_path) {
+  use_classic_locale(std::cout);
+  use_classic_locale(std::cerr);
+  cli::OptionParser parser(program, "usage: " + program + " [options]\n\n" + what);
+  parser.flag("--quick", quick, "a seconds-long smoke run (what ctest runs)");
+  parser.value("--json", "PATH", json_path, "write the results to PATH as JSON");
+  return parser;
 }
+
+/// x in scientific notation with `digits` digits after the point ("%.*e" without the locale),
+/// beside number_text.hpp's fixed_text and general_text for the printed tables.
+inline std::string scientific_text(double x, int digits) {
+  char buffer[64];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, x, std::chars_format::scientific, std::clamp(digits, 0, 17));
+  if (result.ec != std::errc()) return number_text(x);
+  return std::string(buffer, result.ptr);
+}
+
+/// x with `digits` digits after the point and always a sign ("%+.*f" without the locale): the
+/// differences the tables print.
+inline std::string signed_fixed_text(double x, int digits) { return (std::signbit(x) ? "" : "+") + fixed_text(x, digits); }
 
 /// Writes the result as indented JSON; false (with a message naming the program) when it cannot.
 inline bool write_json_file(const std::string& path, const nlohmann::json& result, const char* program) {

@@ -4,11 +4,13 @@
 //   bemsurg-viewer [--scene FILE] [--record FILE]
 //   bemsurg-viewer [--scene FILE] --script ACTIONS.json --frames N --screenshot OUT.png
 //                  [--shots F1,F2,...] [--fps F] [--size WxH]
-#include <cmath>
 #include <iostream>
-#include <sstream>
+#include <optional>
+#include <stdexcept>
 #include <string>
+#include <string_view>
 
+#include "cli/option_parser.hpp"
 #include "viewer_app.hpp"
 
 namespace {
@@ -21,98 +23,50 @@ constexpr const char* kUsage =
     "Without --script: opens a window on the scene (default: the built-in model) and lets you\n"
     "prod, pinch, retract and cut it with the mouse (docs/viewer.md).\n"
     "With --script (headless): plays the action script for N frames (frame f shows the script at\n"
-    "f/F seconds, F = 30 by default) and writes the last frame to OUT.png; --shots also writes\n"
-    "OUT-fNNNN.png at the frames listed (0-based). Needs a display: on a machine without one run\n"
+    "f/F seconds) and writes the last frame to OUT.png; --shots also writes OUT-fNNNN.png at the\n"
+    "frames listed (0-based). Needs a display: on a machine without one run\n"
     "  xvfb-run -a -s \"-screen 0 1280x800x24\" bemsurg-viewer --script ... \n"
     "Exit status: 0 success, 1 bad input (scene, script, screenshot path), 2 usage, 3 no display.\n";
 
-struct UsageError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
-
-int parse_int(const std::string& opt, const std::string& text, int lo, int hi) {
-  try {
-    std::size_t used = 0;
-    const long v = std::stol(text, &used);
-    if (used == text.size() && v >= lo && v <= hi) return static_cast<int>(v);
-  } catch (const std::exception&) {
-  }
-  throw UsageError(opt + " expects an integer from " + std::to_string(lo) + " to " + std::to_string(hi) + ", got '" +
-                   text + "'");
+/// "WxH" as a window size of at least 320 x 240 and at most 8192 x 8192.
+void read_size(const std::string& text, bemsurg::viewer::ViewerOptions& o) {
+  const std::size_t x = text.find('x');
+  const std::optional<int> w = bemsurg::parse_number<int>(std::string_view(text).substr(0, x));
+  const std::optional<int> h =
+      x == std::string::npos ? std::nullopt : bemsurg::parse_number<int>(std::string_view(text).substr(x + 1));
+  if (!w || !h || *w < 320 || *w > 8192 || *h < 240 || *h > 8192)
+    throw std::invalid_argument("WxH, W from 320 to 8192 and H from 240 to 8192");
+  o.width = *w;
+  o.height = *h;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
   bemsurg::viewer::ViewerOptions o;
-  try {
-    bool frames_given = false;
-    for (int i = 1; i < argc; ++i) {
-      const std::string arg = argv[i];
-      auto value = [&]() -> std::string {
-        if (i + 1 >= argc) throw UsageError(arg + " needs a value");
-        return argv[++i];
-      };
-      if (arg == "-h" || arg == "--help") {
-        std::cout << kUsage;
-        return 0;
-      } else if (arg == "--scene") {
-        o.scene = value();
-      } else if (arg == "--script") {
-        o.script = value();
-        o.headless = true;
-      } else if (arg == "--frames") {
-        o.frames = parse_int(arg, value(), 1, 1000000);
-        frames_given = true;
-        o.headless = true;
-      } else if (arg == "--screenshot") {
-        o.screenshot = value();
-        o.headless = true;
-      } else if (arg == "--shots") {
-        std::stringstream ss(value());
-        std::string item;
-        while (std::getline(ss, item, ',')) o.shots.push_back(parse_int(arg, item, 0, 1000000));
-      } else if (arg == "--fps") {
-        const std::string v = value();
-        std::size_t used = 0;
-        double f = 0.0;
-        try {
-          f = std::stod(v, &used);
-        } catch (const std::exception&) {
-        }
-        if (used != v.size() || !(f > 0.0) || !std::isfinite(f)) throw UsageError("--fps expects a positive number, got '" + v + "'");
-        o.fps = f;
-      } else if (arg == "--size") {
-        const std::string v = value();
-        const auto x = v.find('x');
-        if (x == std::string::npos) throw UsageError("--size expects WxH, got '" + v + "'");
-        o.width = parse_int("--size", v.substr(0, x), 320, 8192);
-        o.height = parse_int("--size", v.substr(x + 1), 240, 8192);
-      } else if (arg == "--quit-after") {
-        const std::string v = value();
-        std::size_t used = 0;
-        double q = 0.0;
-        try {
-          q = std::stod(v, &used);
-        } catch (const std::exception&) {
-        }
-        if (used != v.size() || !(q > 0.0) || !std::isfinite(q)) throw UsageError("--quit-after expects positive seconds, got '" + v + "'");
-        o.quit_after = q;
-      } else if (arg == "--record") {
-        o.record = value();
-      } else {
-        throw UsageError("unknown argument '" + arg + "'");
-      }
-    }
-    if (o.headless) {
-      if (o.script.empty()) throw UsageError("headless mode (--frames/--screenshot) needs --script ACTIONS.json");
-      if (!frames_given) throw UsageError("headless mode needs --frames N");
-      if (o.screenshot.empty()) throw UsageError("headless mode needs --screenshot OUT.png");
-    }
-  } catch (const UsageError& e) {
-    std::cerr << "bemsurg-viewer: " << e.what() << "\n" << kUsage;
-    return 2;
-  }
+  bemsurg::cli::OptionParser parser("bemsurg-viewer", kUsage);
+  parser.value("--scene", "FILE", o.scene, "the scene (docs/scene-format.md)").default_text("the built-in model");
+  parser.value("--record", "FILE", o.record, "write the mouse session to FILE as an action script");
+  parser.value("--quit-after", "SECONDS", o.quit_after, "close the window after SECONDS and print the rates")
+      .above(0.0)
+      .default_text("never");
+  parser.value("--script", "ACTIONS.json", o.script, "play the action script headless (docs/actions.md)");
+  parser.value("--frames", "N", o.frames, "frames to play (headless: required)").between(1, 1000000).default_text("");
+  parser.value("--screenshot", "OUT.png", o.screenshot, "where the last frame goes (headless)");
+  parser.value("--shots", "F1,F2,...", o.shots, "frames also written to OUT-fNNNN.png (headless)").between(0, 1000000);
+  parser.value("--fps", "F", o.fps, "frames per script second (headless)").above(0.0);
+  parser.custom_value("--size", "WxH", "the picture's size (headless)", [&o](const std::string& text) { read_size(text, o); })
+      .default_text(std::to_string(o.width) + "x" + std::to_string(o.height));
+  const auto check = [&] {
+    // Any of the headless options asks for headless mode, which needs all three.
+    o.headless = parser.given("--script") || parser.given("--frames") || parser.given("--screenshot");
+    if (!o.headless) return;
+    if (o.script.empty())
+      throw bemsurg::cli::UsageError("bemsurg-viewer: headless mode (--frames/--screenshot) needs --script ACTIONS.json");
+    if (!parser.given("--frames")) throw bemsurg::cli::UsageError("bemsurg-viewer: headless mode needs --frames N");
+    if (o.screenshot.empty()) throw bemsurg::cli::UsageError("bemsurg-viewer: headless mode needs --screenshot OUT.png");
+  };
+  if (const std::optional<int> status = bemsurg::cli::parse_command_line(parser, argc, argv, check)) return *status;
   try {
     return bemsurg::viewer::run_viewer(o);
   } catch (const std::exception& e) {

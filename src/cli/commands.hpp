@@ -7,38 +7,31 @@
 
 #include <Eigen/Core>
 #include <cmath>
-#include <sstream>
-#include <stdexcept>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
-#include "bemsurg/error.hpp"
+#include "option_parser.hpp"
 
 namespace bemsurg::cli {
 
-/// A command line that cannot be understood: unknown option, missing or extra argument.
-class UsageError : public Error {
- public:
-  using Error::Error;
-};
-
-/// "X,Y,Z" as a vector of three finite numbers; `command` and `option` name the fault.
+/// "X,Y,Z" as a vector of three finite numbers, read by parse_number (the same in every locale);
+/// `command` and `option` name the fault.
 inline Eigen::Vector3d parse_vector3(const std::string& command, const std::string& option, const std::string& text) {
-  std::stringstream ss(text);
-  std::string item;
-  std::vector<double> v;
-  while (std::getline(ss, item, ',')) {
-    try {
-      std::size_t used = 0;
-      v.push_back(std::stod(item, &used));
-      if (used != item.size()) throw std::invalid_argument(item);
-    } catch (const std::exception&) {
-      throw UsageError(command + ": " + option + " expects three comma-separated numbers, got '" + text + "'");
-    }
-  }
-  if (v.size() != 3 || !std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2]))
-    throw UsageError(command + ": " + option + " expects three comma-separated finite numbers, got '" + text + "'");
-  return {v[0], v[1], v[2]};
+  const std::optional<std::vector<double>> v = parse_number_list<double>(text);
+  if (!v || v->size() != 3 || !std::isfinite((*v)[0]) || !std::isfinite((*v)[1]) || !std::isfinite((*v)[2]))
+    throw UsageError(command + ": " + option + ": expected three comma-separated finite numbers, got '" + text + "'");
+  return {(*v)[0], (*v)[1], (*v)[2]};
+}
+
+/// Declares an "X,Y,Z" option of `parser` read into `target` by parse_vector3.
+inline OptionParser& vector3_value(OptionParser& parser, const std::string& name, std::string value_name, Eigen::Vector3d& target,
+                                   std::string help) {
+  return parser.custom_value(name, std::move(value_name), std::move(help),
+                             [&target, program = parser.program(), name](const std::string& text) {
+                               target = parse_vector3(program, name, text);
+                             });
 }
 
 }  // namespace bemsurg::cli

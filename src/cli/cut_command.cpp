@@ -9,8 +9,10 @@
 #include <iomanip>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -39,7 +41,7 @@ constexpr const char* kCutUsage =
     "  gmres, bicgstab, bicg   iterative re-solve warm-started from the previous solution\n"
     "  refactor  full re-assembly and a new factorisation (the reference)\n"
     "New cut walls are traction-free; elements with a prescribed displacement or a non-zero\n"
-    "traction are never cut. --gap W: gap width (default 0.1 x the local edge length).\n"
+    "traction are never cut.\n"
     "\n"
     "writes OUTDIR/mesh.obj (the cut surface), OUTDIR/elements.csv (as bemsurg solve, one row per\n"
     "face of mesh.obj) and OUTDIR/report.json (\"elements\", \"equations\", \"steps\"). A refused step\n"
@@ -49,75 +51,37 @@ constexpr const char* kCutUsage =
 struct CutCommandOptions {
   std::string scene, output;
   Eigen::Vector3d from = Eigen::Vector3d::Zero(), direction = Eigen::Vector3d::Zero();
-  bool have_from = false, have_direction = false;
-  int steps = -1;
+  int steps = 0;
   bemsurg::CutUpdateMethod update = bemsurg::CutUpdateMethod::Exact;
-  double gap = 0.0;
-  bool quiet = false, help = false;
+  double gap = 0.0;  // 0: the cutter's default, 0.1 x the local edge length
+  bool quiet = false;
 };
 
-CutCommandOptions parse_cut_options(int argc, char** argv) {
+/// The options, or nothing after --help (printed).
+std::optional<CutCommandOptions> parse_cut_options(int argc, char** argv) {
   CutCommandOptions o;
-  auto value = [&](int& i, const std::string& opt) -> std::string {
-    if (i + 1 >= argc) throw UsageError("cut: " + opt + " needs a value");
-    return argv[++i];
-  };
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "-h" || a == "--help") {
-      o.help = true;
-      return o;
-    } else if (a == "-q" || a == "--quiet") {
-      o.quiet = true;
-    } else if (a == "-o" || a == "--output") {
-      o.output = value(i, a);
-    } else if (a == "--from") {
-      o.from = bemsurg::cli::parse_vector3("cut", a, value(i, a));
-      o.have_from = true;
-    } else if (a == "--direction") {
-      o.direction = bemsurg::cli::parse_vector3("cut", a, value(i, a));
-      o.have_direction = true;
-      if (!(o.direction.norm() > 0.0)) throw UsageError("cut: --direction must not be zero");
-    } else if (a == "--steps") {
-      const std::string t = value(i, a);
-      try {
-        std::size_t used = 0;
-        o.steps = std::stoi(t, &used);
-        if (used != t.size()) throw std::invalid_argument(t);
-      } catch (const std::exception&) {
-        throw UsageError("cut: --steps expects a whole number, got '" + t + "'");
-      }
-      if (o.steps < 1) throw UsageError("cut: --steps must be at least 1, got " + t);
-    } else if (a == "--update") {
-      const std::string t = value(i, a);
-      try {
-        o.update = bemsurg::parse_cut_update_method(t);
-      } catch (const bemsurg::Error& e) {
-        throw UsageError(std::string("cut: --update: ") + e.what());
-      }
-    } else if (a == "--gap") {
-      const std::string t = value(i, a);
-      try {
-        std::size_t used = 0;
-        o.gap = std::stod(t, &used);
-        if (used != t.size()) throw std::invalid_argument(t);
-      } catch (const std::exception&) {
-        throw UsageError("cut: --gap expects a number, got '" + t + "'");
-      }
-      if (!(std::isfinite(o.gap) && o.gap > 0.0)) throw UsageError("cut: --gap must be a positive width, got '" + t + "'");
-    } else if (!a.empty() && a[0] == '-') {
-      throw UsageError("cut: unknown option '" + a + "'");
-    } else if (o.scene.empty()) {
-      o.scene = a;
-    } else {
-      throw UsageError("cut: unexpected argument '" + a + "' (one scene file per run)");
-    }
+  bemsurg::cli::OptionParser parser("cut", kCutUsage);
+  parser.positional("SCENE.json", o.scene, "one scene file per run").required();
+  bemsurg::cli::vector3_value(parser, "--from", "X,Y,Z", o.from, "where the cut starts (the nearest surface vertex)").required();
+  bemsurg::cli::vector3_value(parser, "--direction", "DX,DY,DZ", o.direction, "the direction it runs along").required();
+  parser.value("--steps", "K", o.steps, "cut steps, one mesh edge each").required().at_least(1);
+  parser.custom_value("--update", "METHOD", "exact, gmres, bicgstab, bicg or refactor (see above)",
+                      [&o](const std::string& text) {
+                        try {
+                          o.update = bemsurg::parse_cut_update_method(text);
+                        } catch (const bemsurg::Error&) {
+                          throw std::invalid_argument("exact, gmres, bicgstab, bicg or refactor");
+                        }
+                      })
+      .default_text("exact");
+  parser.value("--gap", "W", o.gap, "gap width").above(0.0).default_text("0.1 x the local edge length");
+  parser.value("-o, --output", "OUTDIR", o.output, "output directory").required();
+  parser.flag("-q, --quiet", o.quiet, "print nothing but warnings and errors");
+  if (!parser.parse(argc, argv)) {
+    std::cout << parser.help();
+    return std::nullopt;
   }
-  if (o.scene.empty()) throw UsageError("cut: missing the scene file");
-  if (!o.have_from) throw UsageError("cut: missing --from X,Y,Z");
-  if (!o.have_direction) throw UsageError("cut: missing --direction DX,DY,DZ");
-  if (o.steps < 0) throw UsageError("cut: missing --steps K");
-  if (o.output.empty()) throw UsageError("cut: missing the output directory (-o OUTDIR)");
+  if (!(o.direction.norm() > 0.0)) throw UsageError("cut: --direction must not be zero");
   return o;
 }
 
@@ -145,15 +109,40 @@ bemsurg::Index first_condition_mismatch(const std::string& scene_path, const std
   return -1;
 }
 
+/// The elements a cut may not reshape: supported or loaded ones (a reshaped element keeps its
+/// condition, and a pressure would no longer be normal to it).
+std::vector<char> locked_elements(const bemsurg::TriangleMesh& mesh, const bemsurg::BoundaryConditions& bc) {
+  const bemsurg::Index E = mesh.num_elements();
+  std::vector<char> locked(static_cast<std::size_t>(E), 0);
+  for (bemsurg::Index e = 0; e < E; ++e) {
+    const bool loaded = bc.value(3 * e) != 0.0 || bc.value(3 * e + 1) != 0.0 || bc.value(3 * e + 2) != 0.0;
+    locked[static_cast<std::size_t>(e)] = (!bc.is_free(e) || loaded) ? 1 : 0;
+  }
+  return locked;
+}
+
+/// The pre-solution table's region: the 1,000 free elements nearest the start of the cut, sorted.
+std::vector<bemsurg::Index> table_region(const bemsurg::TriangleMesh& mesh, const bemsurg::BoundaryConditions& bc,
+                                         const Eigen::Vector3d& from) {
+  std::vector<bemsurg::Index> region;
+  for (bemsurg::Index e = 0; e < mesh.num_elements(); ++e)
+    if (bc.is_free(e)) region.push_back(e);
+  if (region.empty()) throw bemsurg::BoundaryConditionError("cut: the scene has no free element to cut");
+  std::sort(region.begin(), region.end(), [&](bemsurg::Index a, bemsurg::Index b) {
+    return (mesh.centroid(a) - from).squaredNorm() < (mesh.centroid(b) - from).squaredNorm();
+  });
+  if (region.size() > 1000) region.resize(1000);
+  std::sort(region.begin(), region.end());
+  return region;
+}
+
 }  // namespace
 
 int run_cut(int argc, char** argv) {
   using namespace bemsurg;
-  const CutCommandOptions o = parse_cut_options(argc, argv);
-  if (o.help) {
-    std::cout << kCutUsage;
-    return 0;
-  }
+  const std::optional<CutCommandOptions> parsed = parse_cut_options(argc, argv);
+  if (!parsed) return 0;
+  const CutCommandOptions& o = *parsed;
   const auto t_start = SteadyClock::now();
   const Scene scene = load_scene(o.scene);
   for (const std::string& w : scene.warnings) std::cerr << "bemsurg: warning: " << o.scene << ": " << w << "\n";
@@ -169,21 +158,8 @@ int run_cut(int argc, char** argv) {
   const BoundaryConditions& bc = p.boundary_conditions;
   bc.require_supported(*mesh);
   const Index E = mesh->num_elements();
-  // Locked: supported or loaded elements (a reshaped element keeps its condition, and a pressure
-  // would no longer be normal to it). Region: the free elements nearest the start of the cut.
-  std::vector<char> locked(static_cast<std::size_t>(E), 0);
-  std::vector<Index> free_elements;
-  for (Index e = 0; e < E; ++e) {
-    const bool loaded = bc.value(3 * e) != 0.0 || bc.value(3 * e + 1) != 0.0 || bc.value(3 * e + 2) != 0.0;
-    locked[static_cast<std::size_t>(e)] = (!bc.is_free(e) || loaded) ? 1 : 0;
-    if (bc.is_free(e)) free_elements.push_back(e);
-  }
-  if (free_elements.empty()) throw BoundaryConditionError("cut: the scene has no free element to cut");
-  std::sort(free_elements.begin(), free_elements.end(), [&](Index a, Index b) {
-    return (mesh->centroid(a) - o.from).squaredNorm() < (mesh->centroid(b) - o.from).squaredNorm();
-  });
-  if (free_elements.size() > 1000) free_elements.resize(1000);
-  std::sort(free_elements.begin(), free_elements.end());
+  const std::vector<char> locked = locked_elements(*mesh, bc);
+  const std::vector<Index> free_elements = table_region(*mesh, bc, o.from);
   GreensTableOptions topt;
   topt.region = free_elements;
   topt.gravity = p.gravity;

@@ -8,6 +8,7 @@
 
 #include "bemsurg/error.hpp"
 #include "bemsurg/memory_budget.hpp"
+#include "bemsurg/number_text.hpp"
 #include "bemsurg/version.hpp"
 #include "commands.hpp"
 
@@ -34,6 +35,10 @@ int usage_error(const std::string& message) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // What the commands print (times, forces, residuals) has a decimal point whatever the global
+  // C++ locale: this program never sets one, but the streams say so themselves (number_text.hpp).
+  bemsurg::use_classic_locale(std::cout);
+  bemsurg::use_classic_locale(std::cerr);
   if (argc < 2) return usage_error("missing command");
   const std::string command = argv[1];
   if (command == "--version" || command == "-V") {

@@ -11,9 +11,10 @@
 #include <iomanip>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "bemsurg/io/results_io.hpp"
@@ -45,87 +46,49 @@ constexpr const char* kPressUsage =
     "extent along DIRECTION or 0.5 x RADIUS (flat, sphere); a warning above 5 % or 0.1 x RADIUS.\n"
     "\n"
     "writes OUTDIR/elements.csv (as bemsurg solve) and OUTDIR/force.json:\n"
-    "  {\"force\": [fx, fy, fz], \"contact_elements\": k, \"force_update_us\": time of one force evaluation, ...}\n"
-    "\n"
-    "options:\n"
-    "  --table FILE   load the pre-solution table from FILE when it matches the scene, else compute\n"
-    "                 it and save it there (a stale or corrupt file is reported and recomputed)\n"
-    "  -q, --quiet    print nothing but errors\n";
-
-double parse_number(const std::string& opt, const std::string& text) {
-  try {
-    std::size_t used = 0;
-    const double d = std::stod(text, &used);
-    if (used == text.size() && std::isfinite(d)) return d;
-  } catch (const std::exception&) {
-  }
-  throw UsageError("press: " + opt + " expects a finite number, got '" + text + "'");
-}
+    "  {\"force\": [fx, fy, fz], \"contact_elements\": k, \"force_update_us\": time of one force evaluation, ...}\n";
 
 struct PressOptions {
   std::string scene, output, table_file, tool_text;
   bemsurg::ToolSpec tool;
   Eigen::Vector3d at = Eigen::Vector3d::Zero(), direction = Eigen::Vector3d::Zero();
   double depth = 0.0, tool_radius = 0.0;  // tool_radius: 0 for the point tool
-  bool have_at = false, have_direction = false, have_depth = false, frictionless = false, quiet = false, help = false;
+  bool frictionless = false, quiet = false;
 };
 
-PressOptions parse(int argc, char** argv) {
+/// The options, or nothing after --help (printed).
+std::optional<PressOptions> parse(int argc, char** argv) {
   PressOptions o;
-  auto value = [&](int& i, const std::string& arg) -> std::string {
-    if (i + 1 >= argc) throw UsageError("press: " + arg + " needs a value");
-    return argv[++i];
-  };
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "-h" || arg == "--help") {
-      o.help = true;
-      return o;
-    } else if (arg == "--tool") {
-      o.tool_text = value(i, arg);
-    } else if (arg == "--at") {
-      o.at = bemsurg::cli::parse_vector3("press", arg, value(i, arg));
-      o.have_at = true;
-    } else if (arg == "--direction") {
-      o.direction = bemsurg::cli::parse_vector3("press", arg, value(i, arg));
-      o.have_direction = true;
-    } else if (arg == "--depth") {
-      o.depth = parse_number(arg, value(i, arg));
-      o.have_depth = true;
-    } else if (arg == "--frictionless") {
-      o.frictionless = true;
-    } else if (arg == "-o" || arg == "--output") {
-      o.output = value(i, arg);
-    } else if (arg == "--table") {
-      o.table_file = value(i, arg);
-    } else if (arg == "-q" || arg == "--quiet") {
-      o.quiet = true;
-    } else if (!arg.empty() && arg[0] == '-') {
-      throw UsageError("press: unknown option '" + arg + "'");
-    } else if (o.scene.empty()) {
-      o.scene = arg;
-    } else {
-      throw UsageError("press: unexpected argument '" + arg + "' (one scene file only)");
-    }
+  bemsurg::cli::OptionParser parser("press", kPressUsage);
+  parser.positional("SCENE.json", o.scene, "one scene file only").required();
+  parser.value("--tool", "point|flat:RADIUS|sphere:RADIUS", o.tool_text, "the tool's shape").required();
+  bemsurg::cli::vector3_value(parser, "--at", "X,Y,Z", o.at, "a point on the line the tool comes down along").required();
+  bemsurg::cli::vector3_value(parser, "--direction", "DX,DY,DZ", o.direction, "the direction it comes down along (any length)")
+      .required();
+  parser.value("--depth", "D", o.depth, "how far it pushes beyond first contact").required().at_least(0.0);
+  parser.flag("--frictionless", o.frictionless, "normal contact only (default: bonded)");
+  parser.value("-o, --output", "OUTDIR", o.output, "output directory").required();
+  parser.value("--table", "FILE", o.table_file,
+               "load the pre-solution table from FILE when it matches the scene, else compute\n"
+               "it and save it there (a stale or corrupt file is reported and recomputed)");
+  parser.flag("-q, --quiet", o.quiet, "print nothing but errors");
+  if (!parser.parse(argc, argv)) {
+    std::cout << parser.help();
+    return std::nullopt;
   }
-  if (o.scene.empty()) throw UsageError("press: missing SCENE.json");
-  if (o.output.empty()) throw UsageError("press: missing -o OUTDIR");
-  if (o.tool_text.empty()) throw UsageError("press: missing --tool point|flat:RADIUS|sphere:RADIUS");
-  if (!o.have_at) throw UsageError("press: missing --at X,Y,Z");
-  if (!o.have_direction) throw UsageError("press: missing --direction DX,DY,DZ");
-  if (!o.have_depth) throw UsageError("press: missing --depth D");
   // stableNorm: 1e-200,0,0 and 1e200,0,0 are directions too (norm() under- or overflows there).
   const double direction_norm = o.direction.stableNorm();
   if (!(direction_norm > 0.0) || !std::isfinite(direction_norm))
     throw UsageError("press: --direction must be a finite, nonzero vector");
   o.direction /= direction_norm;
-  if (o.depth < 0.0) throw UsageError("press: --depth must be non-negative (the tool pushes into the body)");
   const auto mode = o.frictionless ? bemsurg::ContactMode::Frictionless : bemsurg::ContactMode::Bonded;
   const std::string& t = o.tool_text;
   auto radius = [&](const std::string& prefix) {
-    const double r = parse_number("--tool " + prefix, t.substr(prefix.size()));
-    if (!(r > 0.0)) throw UsageError("press: the " + prefix.substr(0, prefix.size() - 1) + " radius must be positive");
-    return r;
+    const std::optional<double> r = bemsurg::parse_number<double>(std::string_view(t).substr(prefix.size()));
+    if (!r || !std::isfinite(*r))
+      throw UsageError("press: --tool " + prefix + "RADIUS: expected a finite number, got '" + t.substr(prefix.size()) + "'");
+    if (!(*r > 0.0)) throw UsageError("press: the " + prefix.substr(0, prefix.size() - 1) + " radius must be positive");
+    return *r;
   };
   if (t == "point")
     o.tool = bemsurg::ToolSpec::point(mode);
@@ -141,11 +104,9 @@ PressOptions parse(int argc, char** argv) {
 }  // namespace
 
 int run_press(int argc, char** argv) {
-  const PressOptions o = parse(argc, argv);
-  if (o.help) {
-    std::cout << kPressUsage;
-    return 0;
-  }
+  const std::optional<PressOptions> parsed = parse(argc, argv);
+  if (!parsed) return 0;
+  const PressOptions& o = *parsed;
   const auto t_start = SteadyClock::now();
   const bemsurg::Scene scene = bemsurg::load_scene(o.scene);
   if (!o.quiet)
@@ -169,9 +130,9 @@ int run_press(int argc, char** argv) {
   bemsurg::ToolContactSolver solver(mesh_ptr, table_ptr, std::max<bemsurg::Index>(300, 3 * p.mesh.num_elements() / 4));
   const int tool = solver.add_tool(o.tool);
   if (!solver.engage(tool, o.at, o.direction))
-    throw bemsurg::ContactError("press: a tool coming along (" + std::to_string(o.direction.x()) + ", " +
-                         std::to_string(o.direction.y()) + ", " + std::to_string(o.direction.z()) +
-                         ") through the given point does not meet the body (or only outside the table's region, or the "
+    throw bemsurg::ContactError("press: a tool coming along (" + bemsurg::fixed_text(o.direction.x(), 6) + ", " +
+                                bemsurg::fixed_text(o.direction.y(), 6) + ", " + bemsurg::fixed_text(o.direction.z(), 6) +
+                                ") through the given point does not meet the body (or only outside the table's region, or the "
                          "sphere is narrower than the elements where it lands and covers no element centroid)");
   solver.set_depth(tool, o.depth);
   const bemsurg::ContactUpdateReport report = solver.update();
@@ -179,10 +140,10 @@ int run_press(int argc, char** argv) {
   // Never a NaN or a sudden zero (docs/design.md §10): inside the depth range the contact set is
   // never empty once the tool pushes, so an empty one or a non-finite force is a failure to report.
   if (!force.allFinite())
-    throw bemsurg::ContactError("press: the contact force is not finite at depth " + std::to_string(o.depth) +
+    throw bemsurg::ContactError("press: the contact force is not finite at depth " + bemsurg::fixed_text(o.depth, 6) +
                                 " (the contact solve failed); try a smaller --depth");
   if (o.depth > 0.0 && solver.contact_elements(tool) == 0)
-    throw bemsurg::ContactError("press: the tool pushed " + std::to_string(o.depth) +
+    throw bemsurg::ContactError("press: the tool pushed " + bemsurg::fixed_text(o.depth, 6) +
                                 " beyond first contact but no element is in contact (the contact set emptied); "
                                 "try a smaller --depth or a wider tool");
 

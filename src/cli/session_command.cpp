@@ -17,13 +17,12 @@
 #include "bemsurg/io/action_script.hpp"
 #include "bemsurg/io/scene.hpp"
 #include "bemsurg/mesh/mesh_io.hpp"
+#include "bemsurg/number_text.hpp"
 #include "bemsurg/presolution/greens_table.hpp"
 #include "commands.hpp"
 #include "scene_table.hpp"
 
 namespace {
-
-using bemsurg::cli::UsageError;
 
 constexpr const char* kSessionUsage =
     "usage: bemsurg session SCENE.json --script ACTIONS.json -o OUTDIR [--table FILE] [--virtual-clock]\n"
@@ -36,16 +35,7 @@ constexpr const char* kSessionUsage =
     "                                 (one row per tool per haptic tick; force = what the device was sent, N)\n"
     "       OUTDIR/report.json       rate_hz, overruns, jitter_us {p50,p99,p999}, force_us {p50,p99,p999},\n"
     "                                 max_force_jump_fraction, ... (docs/haptics.md)\n"
-    "       OUTDIR/mesh_after_cut_N.obj   the surface after each cut\n"
-    "\n"
-    "options:\n"
-    "  --table FILE      load the pre-solution table from FILE when it matches the scene, else compute\n"
-    "                    it and save it there\n"
-    "  --virtual-clock   run the ticks back to back in session time (deterministic, as fast as the\n"
-    "                    machine goes) instead of in real time on the haptic thread\n"
-    "  --realtime-priority N   ask for SCHED_FIFO priority N (1-99) for the haptic thread; refused\n"
-    "                    quietly without the privilege (report.json says what it got)\n"
-    "  -q, --quiet       print nothing but errors\n";
+    "       OUTDIR/mesh_after_cut_N.obj   the surface after each cut\n";
 
 /// The cutting module's entry point for sessions (docs/design.md §7): one SurfaceCutter per cut
 /// action (its first step opens, later ones extend), elements that are not free in the table's
@@ -82,7 +72,8 @@ class TraceWriter : public bemsurg::haptics::SessionObserver {
     out_.open(path);
     if (!out_) throw bemsurg::IoError("cannot write " + path);
     out_ << "time,tool,fx,fy,fz,force,contact_elements,x,y,z,model_fx,model_fy,model_fz,status,watchdog_gain,model_version\n";
-    out_ << std::setprecision(9);
+    // The trace is read by other programs: numbers with a point whatever the global locale.
+    bemsurg::use_classic_locale(out_) << std::setprecision(9);
   }
   void on_sample(const bemsurg::haptics::TickSample& s) override {
     for (const auto& tool : script_.tools) {
@@ -121,47 +112,26 @@ int run_session(int argc, char** argv) {
   std::string scene_path, script_path, output, table_file;
   bool quiet = false, virtual_clock = false;
   int realtime_priority = 0;
-  auto value = [&](int& i, const std::string& arg) -> std::string {
-    if (i + 1 >= argc) throw UsageError("session: " + arg + " needs a value");
-    return argv[++i];
-  };
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "-h" || arg == "--help") {
-      std::cout << kSessionUsage;
-      return 0;
-    } else if (arg == "--script") {
-      script_path = value(i, arg);
-    } else if (arg == "-o" || arg == "--output") {
-      output = value(i, arg);
-    } else if (arg == "--table") {
-      table_file = value(i, arg);
-    } else if (arg == "--realtime-priority") {
-      const std::string v = value(i, arg);
-      try {
-        std::size_t used = 0;
-        realtime_priority = std::stoi(v, &used);
-        if (used != v.size()) throw std::invalid_argument(v);
-      } catch (const std::exception&) {
-        throw UsageError("session: --realtime-priority expects an integer 1-99, got '" + v + "'");
-      }
-      if (realtime_priority < 1 || realtime_priority > 99)
-        throw UsageError("session: --realtime-priority expects an integer 1-99, got '" + v + "'");
-    } else if (arg == "--virtual-clock") {
-      virtual_clock = true;
-    } else if (arg == "-q" || arg == "--quiet") {
-      quiet = true;
-    } else if (!arg.empty() && arg[0] == '-') {
-      throw UsageError("session: unknown option '" + arg + "'");
-    } else if (scene_path.empty()) {
-      scene_path = arg;
-    } else {
-      throw UsageError("session: unexpected argument '" + arg + "' (one scene file only)");
-    }
+  bemsurg::cli::OptionParser parser("session", kSessionUsage);
+  parser.positional("SCENE.json", scene_path, "one scene file only").required();
+  parser.value("--script", "ACTIONS.json", script_path, "the action script (docs/actions.md)").required();
+  parser.value("-o, --output", "OUTDIR", output, "output directory").required();
+  parser.value("--table", "FILE", table_file,
+               "load the pre-solution table from FILE when it matches the scene, else compute\n"
+               "it and save it there");
+  parser.flag("--virtual-clock", virtual_clock,
+              "run the ticks back to back in session time (deterministic, as fast as the\n"
+              "machine goes) instead of in real time on the haptic thread");
+  parser.value("--realtime-priority", "N", realtime_priority,
+               "ask for SCHED_FIFO priority N for the haptic thread; refused quietly\n"
+               "without the privilege (report.json says what it got)")
+      .between(1, 99)
+      .default_text("none, normal priority");
+  parser.flag("-q, --quiet", quiet, "print nothing but errors");
+  if (!parser.parse(argc, argv)) {
+    std::cout << parser.help();
+    return 0;
   }
-  if (scene_path.empty()) throw UsageError("session: missing SCENE.json");
-  if (script_path.empty()) throw UsageError("session: missing --script ACTIONS.json");
-  if (output.empty()) throw UsageError("session: missing -o OUTDIR");
 
   const bemsurg::ActionScript script = bemsurg::load_action_script(script_path);
   const bemsurg::Scene scene = bemsurg::load_scene(scene_path);

@@ -16,7 +16,6 @@
 
 namespace {
 
-
 constexpr const char* kSolveUsage =
     "usage: bemsurg solve SCENE.json -o OUTDIR [--quiet]\n"
     "\n"
@@ -26,55 +25,25 @@ constexpr const char* kSolveUsage =
     "  surface.vtk    the surface with displacement and traction fields\n"
     "  report.json    sizes, time per phase, peak memory, solver method, iterations and residual\n"
     "\n"
-    "options:\n"
-    "  -o, --output DIR   output directory (required)\n"
-    "  -q, --quiet        print nothing but warnings and errors\n"
-    "  -h, --help         show this help\n"
-    "\n"
     "The scene format is described in docs/scene-format.md.\n";
 
 struct SolveOptions {
   std::string scene;
   std::string output;
   bool quiet = false;
-  bool help = false;
 };
-
-SolveOptions parse_solve_options(int argc, char** argv) {
-  using bemsurg::cli::UsageError;
-  SolveOptions o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "-h" || arg == "--help") {
-      o.help = true;
-      return o;
-    } else if (arg == "-q" || arg == "--quiet") {
-      o.quiet = true;
-    } else if (arg == "-o" || arg == "--output") {
-      if (i + 1 >= argc) throw UsageError("solve: " + arg + " needs a directory");
-      o.output = argv[++i];
-    } else if (arg.rfind("--output=", 0) == 0) {
-      o.output = arg.substr(9);
-    } else if (!arg.empty() && arg[0] == '-' && arg != "-") {
-      throw UsageError("solve: unknown option '" + arg + "'");
-    } else if (o.scene.empty()) {
-      o.scene = arg;
-    } else {
-      throw UsageError("solve: unexpected argument '" + arg + "' (one scene file per run)");
-    }
-  }
-  if (o.scene.empty()) throw UsageError("solve: missing the scene file (bemsurg solve SCENE.json -o OUTDIR)");
-  if (o.output.empty()) throw UsageError("solve: missing the output directory (-o OUTDIR)");
-  return o;
-}
 
 }  // namespace
 
 int run_solve(int argc, char** argv) {
   using namespace bemsurg;
-  const SolveOptions options = parse_solve_options(argc, argv);
-  if (options.help) {
-    std::cout << kSolveUsage;
+  SolveOptions options;
+  cli::OptionParser parser("solve", kSolveUsage);
+  parser.positional("SCENE.json", options.scene, "one scene file per run").required();
+  parser.value("-o, --output", "OUTDIR", options.output, "output directory").required();
+  parser.flag("-q, --quiet", options.quiet, "print nothing but warnings and errors");
+  if (!parser.parse(argc, argv)) {
+    std::cout << parser.help();
     return 0;
   }
   const SteadyClock::time_point start = SteadyClock::now();
