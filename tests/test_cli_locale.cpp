@@ -23,8 +23,8 @@
 #include <string>
 #include <vector>
 
-#include "../src/cli/commands.hpp"
-#include "../src/cli/option_parser.hpp"
+#include "cli/commands.hpp"
+#include "cli/option_parser.hpp"
 #include "support/skip.hpp"
 #include "support/temp_dir.hpp"
 

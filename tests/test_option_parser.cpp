@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "../src/cli/option_parser.hpp"
+#include "cli/option_parser.hpp"
 
 using bemsurg::cli::OptionParser;
 using bemsurg::cli::UsageError;

@@ -94,14 +94,8 @@ void write_json(const std::string& path, const nlohmann::json& j) {
 
 /// The scene again with its mesh replaced by `obj`: what `bemsurg solve` of such a scene would
 /// prescribe. Returns the first element whose conditions differ from `bc` (-1: none).
-bemsurg::Index first_condition_mismatch(const std::string& scene_path, const std::string& scene_dir, const std::string& obj,
-                                        const bemsurg::BoundaryConditions& bc) {
-  std::ifstream in(scene_path);
-  std::stringstream text;
-  text << in.rdbuf();
-  nlohmann::json root = nlohmann::json::parse(text.str());
-  root["mesh"] = {{"file", std::filesystem::absolute(obj).string()}};
-  const bemsurg::Scene again = bemsurg::load_scene_from_string(root.dump(), scene_dir, scene_path);
+bemsurg::Index first_condition_mismatch(const std::string& scene_path, const std::string& obj, const bemsurg::BoundaryConditions& bc) {
+  const bemsurg::Scene again = bemsurg::load_scene_with_mesh(scene_path, obj);
   const bemsurg::BoundaryConditions& other = again.problem.boundary_conditions;
   if (other.num_dofs() != bc.num_dofs()) return 0;
   for (bemsurg::Index k = 0; k < bc.num_dofs(); ++k)
@@ -226,7 +220,7 @@ int run_cut(int argc, char** argv) {
                            {"steps", steps}, {"total_seconds", seconds_since(t_start)}};
   if (!refused.empty()) report["refused"] = refused;
   write_json((out / "report.json").string(), report);
-  const Index mismatch = first_condition_mismatch(o.scene, scene.directory, obj, final_table->base_conditions());
+  const Index mismatch = first_condition_mismatch(o.scene, obj, final_table->base_conditions());
   if (mismatch >= 0)
     std::cerr << "bemsurg: warning: the scene's rules applied to mesh.obj prescribe other conditions on element " << mismatch
               << " than the cut carried over; `bemsurg solve` of that scene will not reproduce elements.csv\n";

@@ -11,6 +11,8 @@
 #include <fstream>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include "bemsurg/error.hpp"
 #include "json_reader.hpp"
 #include "scene_sections.hpp"
@@ -96,16 +98,35 @@ Scene load_scene_from_string(const std::string& json_text, const std::string& di
   return build_scene(io::JsonDocument(json_text, name), directory, name);
 }
 
-Scene load_scene(const std::string& path) {
-  namespace fs = std::filesystem;
+namespace {
+
+std::string read_scene_text(const std::string& path) {
   std::error_code ec;
-  if (fs::is_directory(path, ec)) throw SceneError(path + ": cannot read the scene: it is a directory");
+  if (std::filesystem::is_directory(path, ec)) throw SceneError(path + ": cannot read the scene: it is a directory");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw SceneError(path + ": cannot read the scene: " + std::strerror(errno));
   std::ostringstream text;
   text << in.rdbuf();
-  const std::string directory = fs::path(path).parent_path().string();
-  return build_scene(io::JsonDocument(text.str(), path), directory.empty() ? "." : directory, path);
+  return text.str();
+}
+
+std::string scene_directory(const std::string& path) {
+  const std::string directory = std::filesystem::path(path).parent_path().string();
+  return directory.empty() ? "." : directory;
+}
+
+}  // namespace
+
+Scene load_scene(const std::string& path) {
+  return build_scene(io::JsonDocument(read_scene_text(path), path), scene_directory(path), path);
+}
+
+Scene load_scene_with_mesh(const std::string& path, const std::string& mesh_file) {
+  const io::JsonDocument original(read_scene_text(path), path);
+  nlohmann::json root = original.root();
+  if (!root.is_object()) throw SceneError(path + ": expected a JSON object at the top level");
+  root["mesh"] = {{"file", std::filesystem::absolute(mesh_file).string()}};
+  return build_scene(io::JsonDocument(root.dump(), path), scene_directory(path), path);
 }
 
 }  // namespace bemsurg

@@ -69,4 +69,9 @@ Scene load_scene(const std::string& path);
 Scene load_scene_from_string(const std::string& json_text, const std::string& directory,
                              const std::string& name = "<scene>");
 
+/// The scene at `path` with its "mesh" replaced by the mesh file `mesh_file` (any format
+/// mesh_io.hpp reads): what the scene's rules prescribe on another surface, such as the mesh a
+/// cut produced (`bemsurg cut` checks its conditions against it).
+Scene load_scene_with_mesh(const std::string& path, const std::string& mesh_file);
+
 }  // namespace bemsurg
