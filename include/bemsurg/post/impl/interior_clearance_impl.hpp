@@ -23,7 +23,7 @@ BEMSURG_INLINE ClearanceViolation find_point_too_close(const TriangleMesh& mesh,
     double worst = 1.0;  // distance / required of the closest call so far; < 1 is a violation
     for (Index e = 0; e < mesh.num_elements(); ++e) {
       const auto c = mesh.corners(e);
-      const double h = std::sqrt(std::max({(c[1] - c[0]).squaredNorm(), (c[2] - c[1]).squaredNorm(), (c[0] - c[2]).squaredNorm()}));
+      const double h = element_diameter(c[0], c[1], c[2]);
       const double required = fraction * h;
       // Every point of the triangle lies within h of its centroid: a cheap rejection first.
       if ((p - mesh.centroid(e)).norm() - h >= required) continue;
