@@ -8,6 +8,8 @@
 #include <sstream>
 #include <string>
 
+#include "bemsurg/number_text.hpp"
+
 namespace bemsurg {
 
 BEMSURG_INLINE double min_clearance_fraction(const QuadratureOptions& options) {
@@ -40,7 +42,7 @@ BEMSURG_INLINE ClearanceViolation find_point_too_close(const TriangleMesh& mesh,
 
 BEMSURG_INLINE std::string describe_clearance_violation(const ClearanceViolation& v, const QuadratureOptions& options) {
   std::ostringstream s;
-  s.precision(3);
+  use_classic_locale(s).precision(3);
   s << "is " << v.distance << " from element " << v.element << " (longest edge " << v.element_size << "), closer than "
     << min_clearance_fraction(options) << " x " << v.element_size << " = " << v.required
     << ", where the quadrature (mid_ratio " << options.mid_ratio << ", max_depth " << options.max_depth

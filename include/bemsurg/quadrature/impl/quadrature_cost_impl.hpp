@@ -51,7 +51,7 @@ BEMSURG_INLINE void require_assembly_quadrature_within(const TriangleMesh& mesh,
   const QuadratureCostEstimate est = estimate_assembly_quadrature(mesh, options, limit);
   if (!(est.points > limit)) return;
   std::ostringstream m;
-  m.precision(3);
+  use_classic_locale(m).precision(3);
   m << who << ": the quadrature options (far_ratio " << options.far_ratio << ", mid_ratio " << options.mid_ratio
     << ", mid_order " << options.mid_order << ", max_depth " << options.max_depth << ") would take "
     << (est.exceeded ? "more than " : "about ") << est.points << " kernel evaluations on " << mesh.num_elements()
