@@ -29,7 +29,7 @@ BEMSURG_INLINE ClearanceViolation find_point_too_close(const TriangleMesh& mesh,
       const double required = fraction * h;
       // Every point of the triangle lies within h of its centroid: a cheap rejection first.
       if ((p - mesh.centroid(e)).norm() - h >= required) continue;
-      const double d = (p - closest_point_on_triangle(p, c[0], c[1], c[2])).norm();
+      const double d = point_triangle_distance(p, c[0], c[1], c[2]);
       if (d < worst * required) {
         worst = d / required;
         v = {k, e, d, h, required};
