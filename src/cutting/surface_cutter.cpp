@@ -4,3 +4,5 @@
 #include "bemsurg/cutting/surface_cutter.hpp"
 
 #include "bemsurg/cutting/impl/surface_cutter_impl.hpp"
+#include "bemsurg/cutting/impl/cut_groove_impl.hpp"
+#include "bemsurg/cutting/impl/cut_checks_impl.hpp"

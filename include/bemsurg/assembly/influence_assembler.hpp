@@ -35,6 +35,7 @@
 #include "bemsurg/kernels/kelvin_constants.hpp"
 #include "bemsurg/kernels/kelvin_kernel.hpp"
 #include "bemsurg/material.hpp"
+#include "bemsurg/mesh/geometry.hpp"
 #include "bemsurg/mesh/triangle_mesh.hpp"
 #include "bemsurg/quadrature/element_quadrature.hpp"
 
@@ -221,7 +222,7 @@ class InfluenceAssembler {
       const Eigen::Vector3d &a = c[0], &b = c[1], &cc = c[2];
       // The same expressions as ElementQuadrature's top level, so that points, weights and the
       // far / not-far decision agree to the last bit.
-      const double h = std::sqrt(std::max({(b - a).squaredNorm(), (cc - b).squaredNorm(), (a - cc).squaredNorm()}));
+      const double h = element_diameter(a, b, cc);
       const Eigen::Vector3d centre = (a + b + cc) / 3.0;
       const double area = 0.5 * (b - a).cross(cc - a).norm();
       const Eigen::Vector3d n = mesh_.normal(e);

@@ -123,12 +123,23 @@ class SurfaceCutter {
   Work start_work() const;
   CutStep refuse(std::string reason) const;
   CutStep commit(Work& w);
+  // The path (cutting/impl/surface_cutter_impl.hpp).
   bool open(Work& w, const Vec3& from, const Vec3& direction, std::string& reason) const;
   bool extend(Work& w, const Vec3& direction, std::string& reason) const;
   bool touches_lock(const Work& w, Index v, std::string& reason) const;
   bool split_section(Work& w, std::size_t i, std::string& reason) const;
+  bool divide_sides(const Work& w, std::size_t i, std::vector<Index>& left, std::vector<Index>& right,
+                    std::string& reason) const;
+  // The groove's walls and bottom (cutting/impl/cut_groove_impl.hpp).
   void rebuild_groove(Work& w) const;
+  // The checks before a step is published (cutting/impl/cut_checks_impl.hpp), in this order.
   bool check(Work& w, std::string& reason) const;
+  bool check_locks(const Work& w, std::string& reason) const;
+  bool check_angles(const TriangleMesh& mesh, const std::vector<Index>& changed, std::string& reason) const;
+  static bool check_self_intersection(const TriangleMesh& mesh, const std::vector<Index>& changed, std::string& reason);
+  static bool check_clearance(const Work& w, const TriangleMesh& mesh, std::string& reason);
+  static bool check_manifold(const Work& w, const TriangleMesh& mesh, const std::vector<Index>& changed,
+                             std::string& reason);
 
   std::shared_ptr<const TriangleMesh> mesh_;
   std::uint64_t version_ = 0;
@@ -148,4 +159,6 @@ class SurfaceCutter {
 // Definitions (header-only: the numerical core needs no compiled library, docs/design.md).
 #ifndef BEMSURG_SEPARATE_COMPILATION  // else compiled once by the library (bemsurg/config.hpp)
 #include "bemsurg/cutting/impl/surface_cutter_impl.hpp"
+#include "bemsurg/cutting/impl/cut_groove_impl.hpp"
+#include "bemsurg/cutting/impl/cut_checks_impl.hpp"
 #endif

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "bemsurg/material.hpp"
+#include "bemsurg/mesh/geometry.hpp"
 
 namespace bemsurg {
 
@@ -23,9 +24,9 @@ struct KelvinConstants {
   explicit KelvinConstants(const Material& m)
       : mu(m.shear_modulus()),
         nu(m.poisson_ratio),
-        u_scale(1.0 / (16.0 * M_PI * mu * (1.0 - nu))),
-        t_scale(-1.0 / (8.0 * M_PI * (1.0 - nu))),
-        p_scale(1.0 / (8.0 * M_PI * mu)),
+        u_scale(1.0 / (16.0 * numbers::pi * mu * (1.0 - nu))),
+        t_scale(-1.0 / (8.0 * numbers::pi * (1.0 - nu))),
+        p_scale(1.0 / (8.0 * numbers::pi * mu)),
         p_half_inv(1.0 / (2.0 * (1.0 - nu))),
         three_minus_4nu(3.0 - 4.0 * nu),
         one_minus_2nu(1.0 - 2.0 * nu) {}

@@ -1,31 +1,5 @@
-// bemsurg/mesh/closest_point.hpp: the point of a triangle closest to a given point (Ericson,
-// Real-Time Collision Detection, 2005, §5.1.5), used by the interior-point clearance check
-// (post/interior_clearance.hpp) and by operating regions (mesh/operating_region.hpp).
+// bemsurg/mesh/closest_point.hpp: kept so that code including it still compiles;
+// closest_point_on_triangle and point_triangle_distance now live in bemsurg/mesh/geometry.hpp.
 #pragma once
-#include "bemsurg/types.hpp"
 
-namespace bemsurg {
-
-/// Closest point to p on the triangle (a, b, c): the Voronoi regions of the vertices, then the
-/// edges, else the face (barycentric coordinates).
-inline Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0.0 && d2 <= 0.0) return a;
-  const Vec3 bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0.0 && d4 <= d3) return b;
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return a + (d1 / (d1 - d3)) * ab;
-  const Vec3 cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0.0 && d5 <= d6) return c;
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return a + (d2 / (d2 - d6)) * ac;
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0) return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
-  const double denom = 1.0 / (va + vb + vc);
-  return a + ab * (vb * denom) + ac * (vc * denom);
-}
-
-}  // namespace bemsurg
+#include "bemsurg/mesh/geometry.hpp"

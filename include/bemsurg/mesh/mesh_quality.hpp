@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "bemsurg/mesh/geometry.hpp"
 #include "bemsurg/mesh/mesh_topology.hpp"
 #include "bemsurg/mesh/triangle_mesh.hpp"
 
@@ -31,28 +32,22 @@ struct MeshQuality {
   double max_size = 0.0;
 };
 
-/// Element size used by MeshQuality: the mean of the three edge lengths.
+/// Element size used by MeshQuality: the mean of the three edge lengths (mean_edge_length).
 inline double element_size(const TriangleMesh& mesh, Index e) {
   const auto c = mesh.corners(e);
-  return ((c[1] - c[0]).norm() + (c[2] - c[1]).norm() + (c[0] - c[2]).norm()) / 3.0;
+  return mean_edge_length(c[0], c[1], c[2]);
 }
 
 inline MeshQuality measure_mesh_quality(const TriangleMesh& mesh) {
   MeshQuality q;
   q.elements = mesh.num_elements();
   if (q.elements == 0) return q;
-  const double rad = 180.0 / M_PI;
   double min_angle = 180.0, sum_min = 0.0;
   Index below = 0;
   Eigen::VectorXd h(q.elements);
   for (Index e = 0; e < q.elements; ++e) {
     const auto c = mesh.corners(e);
-    double smallest = 180.0;
-    for (int k = 0; k < 3; ++k) {
-      const Vec3 u = c[static_cast<std::size_t>((k + 1) % 3)] - c[static_cast<std::size_t>(k)];
-      const Vec3 w = c[static_cast<std::size_t>((k + 2) % 3)] - c[static_cast<std::size_t>(k)];
-      smallest = std::min(smallest, std::atan2(u.cross(w).norm(), u.dot(w)) * rad);
-    }
+    const double smallest = smallest_angle_degrees(c[0], c[1], c[2]);
     min_angle = std::min(min_angle, smallest);
     sum_min += smallest;
     if (smallest < 20.0) ++below;

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "bemsurg/mesh/closest_point.hpp"
+#include "bemsurg/mesh/geometry.hpp"
 #include "bemsurg/mesh/triangle_mesh.hpp"
 
 namespace bemsurg {

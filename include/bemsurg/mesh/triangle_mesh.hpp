@@ -14,6 +14,7 @@
 #include <utility>
 
 #include "bemsurg/error.hpp"
+#include "bemsurg/mesh/geometry.hpp"
 #include "bemsurg/types.hpp"
 
 namespace bemsurg {
@@ -111,7 +112,7 @@ class TriangleMesh {
       // A degenerate face keeps a zero normal; validation reports it by index.
       const Vec3 normal = twice_area > 0.0 ? Vec3(cross / twice_area) : Vec3(Vec3::Zero());
       normals_.row(e) = normal.transpose();
-      diameters_(e) = std::max({(c[1] - c[0]).norm(), (c[2] - c[1]).norm(), (c[0] - c[2]).norm()});
+      diameters_(e) = element_diameter(c[0], c[1], c[2]);
     }
   }
 

@@ -16,7 +16,7 @@
 
 #include <Eigen/Core>
 
-#include "bemsurg/mesh/closest_point.hpp"
+#include "bemsurg/mesh/geometry.hpp"
 #include "bemsurg/mesh/triangle_mesh.hpp"
 #include "bemsurg/quadrature/element_quadrature.hpp"
 

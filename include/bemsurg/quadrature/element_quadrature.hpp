@@ -17,6 +17,7 @@
 #include <string>
 
 #include "bemsurg/error.hpp"
+#include "bemsurg/mesh/geometry.hpp"
 #include "bemsurg/quadrature/triangle_rules.hpp"
 
 namespace bemsurg {
@@ -42,7 +43,7 @@ struct QuadratureOptions {
     if (mid_order < 1 || mid_order > 20) fail("mid_order", "must lie in [1, 20], got " + std::to_string(mid_order));
     if (max_depth < 0 || max_depth > 20) fail("max_depth", "must lie in [0, 20], got " + std::to_string(max_depth));
     if (polar_order < 1 || polar_order > 40) fail("polar_order", "must lie in [1, 40], got " + std::to_string(polar_order));
-    if (!(polar_max_angle > 0.0 && polar_max_angle <= 3.14159265358979323846))
+    if (!(polar_max_angle > 0.0 && polar_max_angle <= numbers::pi))
       fail("polar_max_angle", "must lie in (0, pi] radians, got " + std::to_string(polar_max_angle));
   }
 };
@@ -116,7 +117,7 @@ class ElementQuadrature {
   template <class Visit>
   void integrate_adaptive(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                           const Eigen::Vector3d& c, int depth, Visit& visit) const {
-    const double h = std::sqrt(std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()}));
+    const double h = element_diameter(a, b, c);
     const double dist = (p - (a + b + c) / 3.0).norm();
     const double area = 0.5 * (b - a).cross(c - a).norm();
     if (dist >= options_.far_ratio * h) return apply_rule(radon7_rule(), a, b, c, area, visit);
@@ -132,7 +133,7 @@ class ElementQuadrature {
   void count_adaptive(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
                       int depth, double cap, double& count) const {
     if (count > cap) return;
-    const double h = std::sqrt(std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()}));
+    const double h = element_diameter(a, b, c);
     const double dist = (p - (a + b + c) / 3.0).norm();
     if (dist >= options_.far_ratio * h) {
       count += static_cast<double>(radon7_rule().weights.size());

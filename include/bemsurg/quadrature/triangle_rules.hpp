@@ -7,6 +7,8 @@
 #include <cmath>
 #include <vector>
 
+#include "bemsurg/mesh/geometry.hpp"
+
 namespace bemsurg {
 
 struct TriangleRule {
@@ -26,7 +28,7 @@ inline LineRule gauss_legendre(int n) {
   rule.points.resize(static_cast<std::size_t>(n));
   rule.weights.resize(static_cast<std::size_t>(n));
   for (int i = 0; i < n; ++i) {
-    double x = std::cos(M_PI * (i + 0.75) / (n + 0.5));
+    double x = std::cos(numbers::pi * (i + 0.75) / (n + 0.5));
     double dp = 1.0;
     for (int it = 0; it < 100; ++it) {
       double p0 = 1.0, p1 = x;

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "bemsurg/mesh/mesh_generators.hpp"
+#include "bemsurg/mesh/geometry.hpp"
 
 namespace bemsurg {
 
@@ -54,7 +55,7 @@ BEMSURG_INLINE double brain_radius(const BrainModelOptions& o, const BrainFrame&
   // Gyri: a fixed sum of crossed sinusoids (no random numbers: bit-for-bit reproducible), mirror
   // symmetric about the midline (|y| smoothed so the surface stays smooth there), faded out
   // towards the underside so the rim and the support stay clean.
-  const double k = 2.0 * M_PI / o.fold_wavelength;
+  const double k = 2.0 * numbers::pi / o.fold_wavelength;
   const double x = p0.x(), z = p0.z();
   const double y = std::sqrt(p0.y() * p0.y() + o.fissure_half_width * o.fissure_half_width);
   const double pattern = std::sin(k * x + 1.9 * std::sin(0.45 * k * z + 0.3)) * std::sin(k * z + 1.6 * std::sin(0.5 * k * y)) +

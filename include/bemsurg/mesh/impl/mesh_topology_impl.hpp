@@ -9,6 +9,8 @@
 #include <numeric>
 #include <tuple>
 
+#include "bemsurg/mesh/geometry.hpp"
+
 namespace bemsurg {
 
 namespace detail {
@@ -156,8 +158,7 @@ double winding_number_over(const TriangleMesh& mesh, const Vec3& p, bool* on_sur
     if (on_surface && std::abs(numerator) <= 1e-12 * la * lb * ld && denominator <= 1e-12 * la * lb * ld) *on_surface = true;
     total += 2.0 * std::atan2(numerator, denominator);
   });
-  constexpr double pi = 3.14159265358979323846;
-  return total / (4.0 * pi);
+  return total / (4.0 * numbers::pi);
 }
 }  // namespace detail
 

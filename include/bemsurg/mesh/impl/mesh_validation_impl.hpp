@@ -13,6 +13,7 @@
 #include "bemsurg/mesh/mesh_topology.hpp"
 #include "bemsurg/mesh/self_intersection.hpp"
 #include "bemsurg/mesh/vertex_welding.hpp"
+#include "bemsurg/number_text.hpp"
 
 namespace bemsurg {
 
@@ -36,7 +37,7 @@ BEMSURG_INLINE const char* kind_name(MeshIssueKind kind) {
 
 BEMSURG_INLINE std::string num(double x) {
   std::ostringstream s;
-  s.precision(6);
+  use_classic_locale(s).precision(6);
   s << x;
   return s.str();
 }
@@ -145,6 +146,7 @@ BEMSURG_INLINE std::size_t MeshValidationReport::num_warnings() const {
 
 BEMSURG_INLINE std::string MeshValidationReport::summary() const {
   std::ostringstream s;
+  use_classic_locale(s);
   for (auto severity : {MeshIssueSeverity::Error, MeshIssueSeverity::Warning})
     for (const MeshIssue& issue : issues)
       if (issue.severity == severity)

@@ -8,12 +8,14 @@
 #include <limits>
 #include <sstream>
 
+#include "bemsurg/number_text.hpp"
+
 namespace bemsurg {
 
 BEMSURG_INLINE OperatingRegion OperatingRegion::sphere(const Vec3& center, double radius) {
   if (!center.allFinite()) throw InvalidArgumentError("operating region: sphere centre is not finite");
   if (!(radius > 0.0 && std::isfinite(radius)))
-    throw InvalidArgumentError("operating region: sphere radius must be positive, got " + std::to_string(radius));
+    throw InvalidArgumentError("operating region: sphere radius must be positive, got " + number_text(radius));
   OperatingRegion r;
   r.kind_ = Kind::Sphere;
   r.center_ = center;
@@ -107,7 +109,7 @@ BEMSURG_INLINE void OperatingRegion::require_meets_surface(const TriangleMesh& m
 
 BEMSURG_INLINE std::string OperatingRegion::describe() const {
   std::ostringstream s;
-  s.precision(6);
+  use_classic_locale(s).precision(6);
   auto v = [&s](const Vec3& p) { s << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")"; };
   switch (kind_) {
     case Kind::Sphere:

@@ -8,6 +8,8 @@
 #include <sstream>
 #include <string>
 
+#include "bemsurg/number_text.hpp"
+
 namespace bemsurg {
 
 BEMSURG_INLINE double min_clearance_fraction(const QuadratureOptions& options) {
@@ -23,11 +25,11 @@ BEMSURG_INLINE ClearanceViolation find_point_too_close(const TriangleMesh& mesh,
     double worst = 1.0;  // distance / required of the closest call so far; < 1 is a violation
     for (Index e = 0; e < mesh.num_elements(); ++e) {
       const auto c = mesh.corners(e);
-      const double h = std::sqrt(std::max({(c[1] - c[0]).squaredNorm(), (c[2] - c[1]).squaredNorm(), (c[0] - c[2]).squaredNorm()}));
+      const double h = element_diameter(c[0], c[1], c[2]);
       const double required = fraction * h;
       // Every point of the triangle lies within h of its centroid: a cheap rejection first.
       if ((p - mesh.centroid(e)).norm() - h >= required) continue;
-      const double d = (p - closest_point_on_triangle(p, c[0], c[1], c[2])).norm();
+      const double d = point_triangle_distance(p, c[0], c[1], c[2]);
       if (d < worst * required) {
         worst = d / required;
         v = {k, e, d, h, required};
@@ -40,7 +42,7 @@ BEMSURG_INLINE ClearanceViolation find_point_too_close(const TriangleMesh& mesh,
 
 BEMSURG_INLINE std::string describe_clearance_violation(const ClearanceViolation& v, const QuadratureOptions& options) {
   std::ostringstream s;
-  s.precision(3);
+  use_classic_locale(s).precision(3);
   s << "is " << v.distance << " from element " << v.element << " (longest edge " << v.element_size << "), closer than "
     << min_clearance_fraction(options) << " x " << v.element_size << " = " << v.required
     << ", where the quadrature (mid_ratio " << options.mid_ratio << ", max_depth " << options.max_depth

@@ -7,6 +7,7 @@
 
 #include "bemsurg/kernels/kelvin_kernel.hpp"
 #include "bemsurg/kernels/kernel_gradients.hpp"
+#include "bemsurg/number_text.hpp"
 
 namespace bemsurg {
 
@@ -20,7 +21,7 @@ BEMSURG_INLINE void InteriorEvaluator::require_clearance(const RowMatrixX3d& poi
   const ClearanceViolation v = find_point_too_close(mesh_, points, quadrature_.options());
   if (v.point < 0) return;
   std::ostringstream s;
-  s.precision(10);
+  use_classic_locale(s).precision(10);
   s << "InteriorEvaluator: point " << v.point << " (" << points(v.point, 0) << ", " << points(v.point, 1) << ", "
     << points(v.point, 2) << ") " << describe_clearance_violation(v, quadrature_.options());
   throw InvalidArgumentError(s.str());

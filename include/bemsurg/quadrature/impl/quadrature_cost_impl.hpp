@@ -8,6 +8,8 @@
 #include <sstream>
 
 #include "bemsurg/error.hpp"
+#include "bemsurg/mesh/geometry.hpp"
+#include "bemsurg/number_text.hpp"
 
 namespace bemsurg {
 
@@ -20,7 +22,7 @@ BEMSURG_INLINE QuadratureCostEstimate estimate_assembly_quadrature(const Triangl
   const Index S = std::max<Index>(1, std::min(E, max_sampled_sources));
   const double scale = double(E) / double(S);
   // The self pair's polar rule: at most 2 pi / polar_max_angle + 3 pieces (one partial per edge).
-  const double self_points = (2.0 * 3.14159265358979323846 / options.polar_max_angle + 3.0) * options.polar_order;
+  const double self_points = (2.0 * numbers::pi / options.polar_max_angle + 3.0) * options.polar_order;
   const double cap = limit_points / scale;  // the sampled count at which the estimate passes the limit
   double counted = 0.0;
   for (Index k = 0; k < S && counted <= cap; ++k) {
@@ -49,7 +51,7 @@ BEMSURG_INLINE void require_assembly_quadrature_within(const TriangleMesh& mesh,
   const QuadratureCostEstimate est = estimate_assembly_quadrature(mesh, options, limit);
   if (!(est.points > limit)) return;
   std::ostringstream m;
-  m.precision(3);
+  use_classic_locale(m).precision(3);
   m << who << ": the quadrature options (far_ratio " << options.far_ratio << ", mid_ratio " << options.mid_ratio
     << ", mid_order " << options.mid_order << ", max_depth " << options.max_depth << ") would take "
     << (est.exceeded ? "more than " : "about ") << est.points << " kernel evaluations on " << mesh.num_elements()
