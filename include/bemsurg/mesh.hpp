@@ -8,6 +8,7 @@
 /// - brain_model.hpp
 /// - bvh.hpp
 /// - closest_point.hpp
+/// - geometry.hpp
 /// - graded_remesher.hpp
 /// - mesh_delta.hpp
 /// - mesh_generators.hpp
@@ -24,6 +25,7 @@
 #include "bemsurg/mesh/brain_model.hpp"
 #include "bemsurg/mesh/bvh.hpp"
 #include "bemsurg/mesh/closest_point.hpp"
+#include "bemsurg/mesh/geometry.hpp"
 #include "bemsurg/mesh/graded_remesher.hpp"
 #include "bemsurg/mesh/mesh_delta.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
