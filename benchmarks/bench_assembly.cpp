@@ -36,6 +36,7 @@
 #include <string>
 #include <vector>
 
+#include "bemsurg/mesh/geometry.hpp"
 #include "bemsurg/assembly/influence_assembler.hpp"
 #include "bemsurg/assembly/linear_system.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
@@ -60,7 +61,7 @@ enum class PairKind { Far, Mid, Near, Self };
 PairKind classify(const TriangleMesh& mesh, const QuadratureOptions& o, Index i, Index e) {
   if (i == e) return PairKind::Self;
   const auto c = mesh.corners(e);
-  const double h = std::sqrt(std::max({(c[1] - c[0]).squaredNorm(), (c[2] - c[1]).squaredNorm(), (c[0] - c[2]).squaredNorm()}));
+  const double h = element_diameter(c[0], c[1], c[2]);
   const double dist = (mesh.centroid(i) - (c[0] + c[1] + c[2]) / 3.0).norm();
   if (dist >= o.far_ratio * h) return PairKind::Far;
   if (dist >= o.mid_ratio * h) return PairKind::Mid;

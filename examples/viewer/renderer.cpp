@@ -2,6 +2,8 @@
 // straight from libOpenGL (GLVND exports the core functions), so no loader is needed.
 #include "renderer.hpp"
 
+#include "bemsurg/mesh/geometry.hpp"
+
 #define GL_GLEXT_PROTOTYPES 1
 #include <GL/glcorearb.h>
 
@@ -344,7 +346,7 @@ void frame(const Eigen::Vector3f& axis, Eigen::Vector3f& u, Eigen::Vector3f& v) 
 }  // namespace
 
 void append_sphere(SurfaceBuffers& b, const Eigen::Vector3f& c, float r, int rings, int segments) {
-  const float pi = 3.14159265f;
+  const float pi = static_cast<float>(bemsurg::numbers::pi);
   auto point = [&](int i, int j) {
     const float th = pi * float(i) / float(rings), ph = 2.0f * pi * float(j) / float(segments);
     return Eigen::Vector3f(c + r * Eigen::Vector3f(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th)));

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "bemsurg/error.hpp"
+#include "bemsurg/mesh/geometry.hpp"
 #include "scene_sections.hpp"
 
 namespace bemsurg::io {
@@ -82,7 +83,7 @@ QuadratureOptions load_quadrature(const JsonReader& q) {
   if (const std::optional<JsonReader> v = q.optional("polar_order")) o.polar_order = v->integer_in(1, 40);
   if (const std::optional<JsonReader> v = q.optional("polar_max_angle")) {
     o.polar_max_angle = v->positive();
-    if (o.polar_max_angle > M_PI) v->fail("must not exceed pi");
+    if (o.polar_max_angle > numbers::pi) v->fail("must not exceed pi");
   }
   return o;
 }

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "bemsurg/error.hpp"
+#include "bemsurg/mesh/geometry.hpp"
 #include "bemsurg/mesh/mesh_topology.hpp"
 #include "bemsurg/mesh/mesh_validation.hpp"
 #include "bemsurg/number_text.hpp"
@@ -130,7 +131,7 @@ TriangleMesh remesh_with_gmsh(const TriangleMesh& input, const OperatingRegion& 
   gmsh::model::mesh::addElementsByType(surface, 2, element_tags, element_nodes);  // 2 = 3-node triangle
 
   // Split the surface at creases and into patches Gmsh can parametrise, then make them geometry.
-  gmsh::model::mesh::classifySurfaces(o.feature_angle_degrees * M_PI / 180.0, true, true, M_PI);
+  gmsh::model::mesh::classifySurfaces(o.feature_angle_degrees * numbers::pi / 180.0, true, true, numbers::pi);
   gmsh::model::mesh::createGeometry();
 
   gmsh::option::setNumber("Mesh.MeshSizeFromPoints", 0);

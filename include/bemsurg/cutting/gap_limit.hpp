@@ -9,6 +9,8 @@
 #include <sstream>
 #include <string>
 
+#include "bemsurg/number_text.hpp"
+
 #include "bemsurg/error.hpp"
 
 namespace bemsurg {
@@ -24,6 +26,7 @@ inline std::string narrow_gap_reason(double gap_width, double edge_length) {
   // Slack of 1e-9: the cutter's default width is exactly 0.1 x the edge length, up to rounding.
   if (!(edge_length > 0.0) || gap_width >= kMinimumGapRatio * edge_length * (1.0 - 1e-9)) return {};
   std::ostringstream s;
+  use_classic_locale(s);
   s << "the gap is too narrow: width " << gap_width << " is " << gap_width / edge_length << " x the local edge length "
     << edge_length << "; below " << kMinimumGapRatio
     << " x the edge length the far wall's near-singular integration no longer agrees with a refined reference to 1e-6 "

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "bemsurg/mesh/mesh_generators.hpp"
+#include "bemsurg/mesh/geometry.hpp"
 #include "bemsurg/presolution/greens_table.hpp"
 
 namespace bemsurg::haptics {
@@ -52,14 +53,14 @@ inline HalfSpaceBlock half_space_block(double h, double h_max, double fine, doub
   for (std::size_t s = 0; s < top.size(); ++s) {
     const Index j = top[s];
     const Vec3 xj = mesh->centroid(j);
-    const double aj = mesh->area(j), cj = std::sqrt(aj / M_PI);
+    const double aj = mesh->area(j), cj = std::sqrt(aj / numbers::pi);
     for (Index i = 0; i < E; ++i) {
       if (held[static_cast<std::size_t>(i)]) continue;  // displacement prescribed: no change
       const Vec3 d = mesh->centroid(i) - xj;
       const double r = d.norm();
       const double inv = i == j ? 2.0 / cj : 1.0 / std::max(r, 0.5 * cj);
       const double dx = i == j ? 0.0 : d.x() / r, dy = i == j ? 0.0 : d.y() / r;
-      const double f = aj * (1.0 + nu) / (M_PI * Y) * inv;  // per unit traction on j (force a_j t_j)
+      const double f = aj * (1.0 + nu) / (numbers::pi * Y) * inv;  // per unit traction on j (force a_j t_j)
       Eigen::Matrix3d G;
       G << f * ((1.0 - nu) + nu * dx * dx), f * nu * dx * dy, 0.0,  //
           f * nu * dx * dy, f * ((1.0 - nu) + nu * dy * dy), 0.0,    //

@@ -17,6 +17,7 @@
 #include <string>
 
 #include "bemsurg/error.hpp"
+#include "bemsurg/number_text.hpp"
 #include "bemsurg/mesh/geometry.hpp"
 #include "bemsurg/quadrature/triangle_rules.hpp"
 
@@ -37,14 +38,14 @@ struct QuadratureOptions {
     auto fail = [](const char* field, const std::string& what) {
       throw InvalidArgumentError(std::string("quadrature options: ") + field + " " + what);
     };
-    if (!(std::isfinite(far_ratio) && far_ratio > 0.0)) fail("far_ratio", "must be finite and positive, got " + std::to_string(far_ratio));
-    if (!(std::isfinite(mid_ratio) && mid_ratio > 0.0)) fail("mid_ratio", "must be finite and positive, got " + std::to_string(mid_ratio));
-    if (mid_ratio > far_ratio) fail("mid_ratio", "must not exceed far_ratio (" + std::to_string(far_ratio) + "), got " + std::to_string(mid_ratio));
+    if (!(std::isfinite(far_ratio) && far_ratio > 0.0)) fail("far_ratio", "must be finite and positive, got " + number_text(far_ratio));
+    if (!(std::isfinite(mid_ratio) && mid_ratio > 0.0)) fail("mid_ratio", "must be finite and positive, got " + number_text(mid_ratio));
+    if (mid_ratio > far_ratio) fail("mid_ratio", "must not exceed far_ratio (" + number_text(far_ratio) + "), got " + number_text(mid_ratio));
     if (mid_order < 1 || mid_order > 20) fail("mid_order", "must lie in [1, 20], got " + std::to_string(mid_order));
     if (max_depth < 0 || max_depth > 20) fail("max_depth", "must lie in [0, 20], got " + std::to_string(max_depth));
     if (polar_order < 1 || polar_order > 40) fail("polar_order", "must lie in [1, 40], got " + std::to_string(polar_order));
     if (!(polar_max_angle > 0.0 && polar_max_angle <= numbers::pi))
-      fail("polar_max_angle", "must lie in (0, pi] radians, got " + std::to_string(polar_max_angle));
+      fail("polar_max_angle", "must lie in (0, pi] radians, got " + number_text(polar_max_angle));
   }
 };
 
