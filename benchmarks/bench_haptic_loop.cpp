@@ -44,7 +44,7 @@
 #include <thread>
 #include <vector>
 
-#include "bemsurg/haptics/half_space_table.hpp"
+#include "support/half_space_table.hpp"
 #include "bemsurg/haptics/session.hpp"
 #include "bemsurg/io/action_script.hpp"
 #include "bench_support.hpp"

@@ -11,7 +11,7 @@
 #include <thread>
 
 #include "bemsurg/error.hpp"
-#include "bemsurg/haptics/half_space_table.hpp"
+#include "support/half_space_table.hpp"
 #include "bemsurg/haptics/haptic_loop.hpp"
 #include "bemsurg/haptics/recording_device.hpp"
 #include "bemsurg/haptics/scripted_device.hpp"

@@ -6,7 +6,6 @@
 ///
 /// Headers (each can be included on its own for faster builds):
 /// - force_limiter.hpp
-/// - half_space_table.hpp
 /// - haptic_device.hpp
 /// - haptic_loop.hpp
 /// - loop_statistics.hpp
@@ -18,7 +17,6 @@
 /// - udp_device.hpp
 
 #include "bemsurg/haptics/force_limiter.hpp"
-#include "bemsurg/haptics/half_space_table.hpp"
 #include "bemsurg/haptics/haptic_device.hpp"
 #include "bemsurg/haptics/haptic_loop.hpp"
 #include "bemsurg/haptics/loop_statistics.hpp"

@@ -1,4 +1,4 @@
-// bemsurg/haptics/half_space_table.hpp: a stand-in compliance table for exercising the haptic path
+// tests/support/half_space_table.hpp: a stand-in compliance table for exercising the haptic path
 // at scale (benchmarks/bench_haptic_loop, the continuity test): the Boussinesq-Cerruti half-space
 // surface compliance between element centroids, written straight into GreensTable's column layout
 // (docs/contact.md §1), for a block whose top face is finely meshed under the tools. The loop's
