@@ -13,6 +13,8 @@
 
 namespace bemsurg {
 
+/// The whole boundary value problem solve_elastostatic takes: mesh, material, gravity (an acceleration; body force =
+/// density * gravity), boundary conditions and quadrature options.
 struct ElastostaticProblem {
   TriangleMesh mesh;
   Material material;
@@ -21,6 +23,8 @@ struct ElastostaticProblem {
   QuadratureOptions quadrature;
 };
 
+/// Size and timings of one solve_elastostatic call: elements, equations, seconds spent assembling and building the
+/// system, and the linear solver's summary.
 struct ElastostaticReport {
   Index elements = 0;
   Index equations = 0;
@@ -29,6 +33,7 @@ struct ElastostaticReport {
   LinearSolveSummary solver;
 };
 
+/// What solve_elastostatic returns: the displacement and traction of every element, and the report of the run.
 struct ElastostaticSolution {
   BoundarySolution boundary;
   ElastostaticReport report;

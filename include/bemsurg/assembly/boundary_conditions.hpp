@@ -18,6 +18,8 @@ namespace bemsurg {
 
 enum class BcKind : unsigned char { Displacement, Traction };
 
+/// What is prescribed on each element (docs/design.md §5): per element and global component x, y, z either the
+/// displacement or the traction, the other one being the unknown; degree of freedom k = 3 e + c.
 class BoundaryConditions {
  public:
   BoundaryConditions() = default;

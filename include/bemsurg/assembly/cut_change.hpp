@@ -62,6 +62,8 @@ inline BoundaryConditions conditions_after_cut(const BoundaryConditions& before,
   return after;
 }
 
+/// The rows and columns of H, G and gravity for the elements a cut step changed (D = M + N), on the cut mesh and, for M,
+/// on the mesh before the cut (integrate_cut_change): enough to know the change of A* and of the right-hand side exactly.
 struct CutChange {
   Index n_before = 0, n_after = 0;     // equations (3 per element)
   std::vector<Index> elements;         // D: modified (ascending), then added

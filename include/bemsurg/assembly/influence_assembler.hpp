@@ -41,11 +41,14 @@
 
 namespace bemsurg {
 
+/// The dense influence matrices of H u = G t + g (Wang et al. 2007 eq. 5), 3E x 3E each; H includes the free term 1/2 I.
 struct InfluenceMatrices {
   Eigen::MatrixXd H;  // 3E x 3E, includes the free term 1/2 I
   Eigen::MatrixXd G;  // 3E x 3E
 };
 
+/// Assembles the influence matrices H and G of constant-element collocation on one mesh, the gravity vector g, or
+/// only the rows and columns of listed elements (docs/assembly.md).
 class InfluenceAssembler {
  public:
   /// Validates the material and the quadrature options; precomputes the element geometry and the

@@ -11,6 +11,8 @@
 
 namespace bemsurg {
 
+/// The system after the column swap that puts every unknown on the left (Wang et al. 2007 eq. 6): the matrix A* and
+/// the right-hand side R_bc + R_G.
 struct LinearSystem {
   Eigen::MatrixXd matrix;  // A*
   Eigen::VectorXd rhs;     // R_bc + R_G

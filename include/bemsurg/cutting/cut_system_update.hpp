@@ -56,6 +56,8 @@ inline CutUpdateMethod parse_cut_update_method(const std::string& name) {
   throw InvalidArgumentError("unknown update method '" + name + "' (expected exact, gmres, bicgstab, bicg or refactor)");
 }
 
+/// Settings of CutSystemUpdate: the Krylov settings of the iterative modes, when and where the table is
+/// refactorised, whether the explicit A* is built at once, and the table's update options.
 struct CutSystemOptions {
   /// Krylov settings of the iterative modes (method set per step). Full GMRES, block-Jacobi.
   LinearSolverSettings krylov = [] {
@@ -73,6 +75,8 @@ struct CutSystemOptions {
   GreensTableUpdateOptions table;
 };
 
+/// What one CutSystemUpdate::apply step did: the method, Krylov iterations and residual, seconds per phase, the
+/// accumulated correction rank, and whether a refactorisation was started.
 struct CutStepReport {
   CutUpdateMethod method = CutUpdateMethod::Exact;
   int iterations = 0;                // Krylov iterations (0 for exact and refactor)
@@ -85,6 +89,8 @@ struct CutStepReport {
   bool refactor_started = false;     // a refactorisation was started (or done, if not in background)
 };
 
+/// The BEM system and the Green's table of a body being cut, updated step by step (exactly, iteratively or by
+/// refactorisation; docs/cutting.md); readers get an immutable table snapshot and never see a half-updated one.
 class CutSystemUpdate {
  public:
   /// `table` must have been computed (has_factorization()): its base state is the system solved.

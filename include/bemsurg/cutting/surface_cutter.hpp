@@ -40,6 +40,8 @@
 
 namespace bemsurg {
 
+/// Geometry and acceptance limits of a cut: the gap width, the depth of one level, the smallest angle allowed in the
+/// triangles a step changes or adds, and the largest normal deviation at a path vertex.
 struct CutOptions {
   /// Gap width as a fraction of the local edge length (used when gap_width == 0).
   double gap_fraction = 0.1;
@@ -63,6 +65,8 @@ struct CutOptions {
   double max_normal_deviation_degrees = 40.0;
 };
 
+/// The outcome of one SurfaceCutter step or deepen(): accepted or refused with the reason, the MeshDelta of the change,
+/// and the parent of each added element.
 struct CutStep {
   bool accepted = false;
   /// Why a step was refused (empty when accepted).
@@ -75,6 +79,8 @@ struct CutStep {
   std::vector<Index> added_parent;
 };
 
+/// The topology of one cut (docs/cutting.md, "Topology"): opens a narrow groove at the surface, extends it by one
+/// edge per step and deepens it, publishing each step only after its checks pass and refusing it whole otherwise.
 class SurfaceCutter {
  public:
   /// `mesh` must be a valid closed surface (require_valid_mesh); `locked_elements` has one entry

@@ -25,6 +25,8 @@ enum class ScriptToolShape { Point, Flat, Sphere, Pinch, Plate, Blade };
 /// "point", "flat", ... as written in scripts.
 const char* to_string(ScriptToolShape shape);
 
+/// One tool of an action script (docs/actions.md): its name, shape and size, contact model (frictionless or bonded),
+/// axis, the device channel that drives it, and its start position.
 struct ScriptTool {
   std::string name;
   ScriptToolShape shape = ScriptToolShape::Sphere;
@@ -80,6 +82,8 @@ struct Action {
   double end_time() const;
 };
 
+/// A parsed action script (docs/actions.md) as plain data: its tools, timed actions sorted by time, haptic rate and
+/// session length, driving the scripted device, `bemsurg session` and the viewer's headless mode alike.
 struct ActionScript {
   int version = 1;
   /// Scene file named by the script (resolved against the script's directory), or empty. The

@@ -14,6 +14,8 @@
 
 namespace bemsurg {
 
+/// Picks boundary elements by geometry (plane, box, normal direction, shell) or by list, tested on each element's
+/// centroid and normal, so a scene need not list face numbers (docs/scene-format.md, selectors; see select_elements).
 struct ElementSelector {
   enum class Kind {
     Plane,     // centroid within `tolerance` of the plane through `point` with normal `direction`

@@ -45,6 +45,8 @@ struct PhaseTimings {
   double total = 0.0;
 };
 
+/// What report.json records of a `bemsurg solve` run (write_report_json): scene and mesh source, sizes, phase timings,
+/// peak memory and the solver summary.
 struct RunReport {
   std::string scene;
   std::string mesh_source;

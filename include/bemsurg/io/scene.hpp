@@ -21,6 +21,8 @@
 
 namespace bemsurg {
 
+/// A scene file read into a ready-to-solve problem (docs/scene-format.md): the elastostatic problem, solver settings,
+/// optional interior points and operating region, and what loading did (grading, mesh source, warnings).
 struct Scene {
   /// Mesh (validated: closed, manifold, oriented, non-degenerate), material (validated), gravity
   /// (acceleration; body force = density * gravity), boundary conditions (every element set:

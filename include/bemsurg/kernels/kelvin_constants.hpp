@@ -11,6 +11,8 @@
 
 namespace bemsurg {
 
+/// The material constants of the Kelvin kernels U, T, the gravity kernel P and their derivatives (Wang et al. 2007
+/// eqs. 2-3), computed in one place from a Material so that every kernel and the assembler use the same convention.
 struct KelvinConstants {
   double mu;          // shear modulus
   double nu;          // Poisson's ratio

@@ -13,6 +13,8 @@
 
 namespace bemsurg {
 
+/// The 3D Kelvin fundamental solution (Wang et al. 2007 eqs. 2-3): U_ij and T_ij, the displacement and traction in
+/// direction j at the field point Q due to a unit point force in direction i at the source point p, from r = x_Q - x_p.
 class KelvinKernel {
  public:
   explicit KelvinKernel(const Material& m) : c_(m) {}

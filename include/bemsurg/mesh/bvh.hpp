@@ -17,6 +17,8 @@
 
 namespace bemsurg {
 
+/// Where a ray or segment meets the surface (TriangleBvh::intersect_ray, intersect_segment): the element, the ray
+/// parameter t, barycentric coordinates, the point, and whether the ray enters the material there.
 struct RayHit {
   Index element = -1;
   double t = std::numeric_limits<double>::infinity();  // origin + t * direction (segment: t in [0, 1])
@@ -25,6 +27,8 @@ struct RayHit {
   bool front_facing = false;                          // the ray enters the material here
 };
 
+/// Bounding-volume hierarchy over the triangles of the current (deformed) surface, for picking with a tool's ray or
+/// segment and for finding elements near a tool; built once per topology and refitted when the vertices move.
 class TriangleBvh {
  public:
   TriangleBvh() = default;

@@ -20,6 +20,8 @@
 
 namespace bemsurg {
 
+/// Target sizes of graded_remesh: the edge length inside the operating region and far from it, the size growth per
+/// element between them, and the dihedral angle above which an input edge is kept as a crease.
 struct GradedRemeshOptions {
   /// Target edge length inside the operating region and far from it (m); 0 < inside <= outside.
   double inside_edge_length = 0.0;
@@ -31,6 +33,7 @@ struct GradedRemeshOptions {
   double feature_angle_degrees = 40.0;
 };
 
+/// What graded_remesh returns: the remeshed and validated surface, its quality figures and the time taken (seconds).
 struct GradedRemeshResult {
   TriangleMesh mesh;
   MeshQuality quality;

@@ -16,6 +16,8 @@
 
 namespace bemsurg {
 
+/// Shape and grading figures of a triangle surface (measure_mesh_quality): smallest angles and neighbouring element
+/// size ratios, the two figures the graded remesher promises and its tests check.
 struct MeshQuality {
   Index elements = 0;
   /// Smallest interior angle of any element, degrees (60 for equilateral elements).

@@ -36,6 +36,8 @@ struct MeshEdge {
   bool is_non_manifold() const { return faces.size() > 2; }
 };
 
+/// Who touches whom in a triangle mesh: edges with the faces that use them, the face across each edge, the faces
+/// around each vertex, and the connected shells with their signed volumes. A plain value, rebuilt after a topology change.
 class MeshTopology {
  public:
   MeshTopology() = default;

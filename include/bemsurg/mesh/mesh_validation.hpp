@@ -30,6 +30,7 @@ inline constexpr std::size_t kNumMeshIssueKinds = 10;
 
 enum class MeshIssueSeverity { Warning, Error };
 
+/// One problem validate_mesh found: its kind and severity, the offending face, vertex, edge or shell, and a message.
 struct MeshIssue {
   MeshIssueKind kind;
   MeshIssueSeverity severity;
@@ -38,6 +39,8 @@ struct MeshIssue {
   std::string message;
 };
 
+/// Tolerances and switches of validate_mesh and require_valid_mesh: which checks run and how many issues of each
+/// kind are stored.
 struct MeshValidationOptions {
   /// A face is degenerate if its area is below this fraction of the mean face area.
   double degenerate_area_tolerance = 1e-10;
@@ -58,6 +61,8 @@ struct MeshValidationOptions {
   std::size_t max_issues_per_kind = 20;
 };
 
+/// The result of validate_mesh: the stored issues in check order and the number found of each kind, including
+/// those not stored.
 struct MeshValidationReport {
   std::vector<MeshIssue> issues;  // stored issues, errors and warnings, in check order
   /// Number of issues found per kind, including those beyond max_issues_per_kind.

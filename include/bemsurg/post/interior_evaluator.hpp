@@ -20,6 +20,8 @@ namespace bemsurg {
 /// Stress in Voigt-like order sxx, syy, szz, sxy, syz, sxz, one row per point.
 using StressRows = Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::RowMajor>;
 
+/// Displacement and stress at points inside the body from the boundary solution by Somigliana's identity (Wang et
+/// al. 2007 eqs. 7-9), with the adaptive quadrature of assembly; points too close to an element are refused.
 class InteriorEvaluator {
  public:
   InteriorEvaluator(const TriangleMesh& mesh, const Material& material,

@@ -23,6 +23,8 @@
 
 namespace bemsurg {
 
+/// Parameters of the quadrature policy: the distance / diameter ratios that select the far and mid rules, the
+/// collapsed Gauss order, the depth at which splitting stops, and the polar rule used on the self element.
 struct QuadratureOptions {
   double far_ratio = 4.0;
   double mid_ratio = 1.5;
@@ -49,6 +51,8 @@ struct QuadratureOptions {
   }
 };
 
+/// Integrates a kernel over one flat triangle from one source point with the rule the policy chooses (far, mid, near
+/// by subdivision, or polar about the centroid for the self element), passing points and weights to a visitor.
 class ElementQuadrature {
  public:
   explicit ElementQuadrature(const QuadratureOptions& options = {})
