@@ -185,6 +185,11 @@ class ToolContactSolver {
   void add_element_rows(const Tool& t, int tag, Index e, const Eigen::Vector3d& row_direction);
   void set_targets();
   void rollback_additions();  // after a failed addition: unclaim the elements in add_buffer_
+  // The steps of one active-set iteration of step(), in order.
+  void remove_unwanted_rows();
+  bool gather_additions();  // false: capacity exceeded (rows_needed_ set, additions rolled back)
+  bool release_tension();
+  bool readmit_penetrating();
 
   std::shared_ptr<const TriangleMesh> mesh_;
   std::shared_ptr<const GreensTable> table_;
