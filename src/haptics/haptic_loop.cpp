@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "bemsurg/error.hpp"
+#include "bemsurg/number_text.hpp"
 
 namespace bemsurg::haptics {
 
@@ -30,7 +31,7 @@ HapticLoop::HapticLoop(const HapticLoopSettings& settings, std::vector<HapticDev
       events_(settings.event_capacity),
       contact_out_(contact_prototype(settings.publish_capacity)) {
   if (!(settings.rate_hz >= 100.0 && settings.rate_hz <= 10000.0))
-    throw InvalidArgumentError("HapticLoop: rate_hz must lie in [100, 10000], got " + std::to_string(settings.rate_hz));
+    throw InvalidArgumentError("HapticLoop: rate_hz must lie in [100, 10000], got " + number_text(settings.rate_hz));
   if (!(settings.stale_after_s > 0.0) || !(settings.ramp_s > 0.0) || settings.overrun_limit < 1 || !(settings.spin_us >= 0.0))
     throw InvalidArgumentError("HapticLoop: stale_after_s and ramp_s must be positive, spin_us non-negative and overrun_limit at least 1");
   if (devices_.empty() || devices_.size() > static_cast<std::size_t>(kMaxChannels))

@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "bemsurg/error.hpp"
+#include "bemsurg/number_text.hpp"
 #include "bemsurg/presolution/contact_validity.hpp"
 
 namespace bemsurg::haptics {
@@ -16,7 +17,7 @@ namespace bemsurg::haptics {
 namespace {
 std::string describe(const ActionScript& s, const Action& a) {
   return s.path + ": the " + to_string(a.type) + " of tool '" + s.tools[static_cast<std::size_t>(a.tool)].name +
-         "' at t = " + std::to_string(a.time) + " s";
+         "' at t = " + number_text(a.time) + " s";
 }
 Eigen::Vector3d centroid(const std::vector<Eigen::Vector3d>& poly) {
   Eigen::Vector3d c = Eigen::Vector3d::Zero();
@@ -422,7 +423,7 @@ SessionResult Session::run(SessionObserver* observer) {
         simulation_step(loop, observer, result);
         std::this_thread::sleep_for(period);
         if (std::chrono::steady_clock::now() - wall0 > std::chrono::duration<double>(4.0 * script_.duration + 30.0))
-          throw Error("session: the haptic loop stopped advancing (session time " + std::to_string(loop.time()) + " s)");
+          throw Error("session: the haptic loop stopped advancing (session time " + number_text(loop.time()) + " s)");
       }
     } catch (...) {
       loop.stop();  // zero force before the error leaves
