@@ -119,111 +119,113 @@ bool ToolStepper::reengage(Slot& s) {
   return solver_->try_set_translation(s.tool, s.translation);
 }
 
+void ToolStepper::follow_model(const std::shared_ptr<const PhysicsState>& physics) {
+  // A new model, table or parameter set (a cut, E, nu, gravity): a new solver on the new
+  // snapshots; tools held through the change are engaged again where they were, at the same
+  // translation, so a cut under a held probe keeps the probe in the tissue.
+  physics_ = physics;
+  solver_.reset();
+  if (physics_ && physics_->table) {
+    const Index cap = std::max<Index>(300, 3 * physics_->mesh->num_elements() / 4);
+    solver_ = std::make_unique<ToolContactSolver>(physics_->mesh, physics_->table, std::min<Index>(cap, 1500));
+  }
+  for (auto& s : slots_) {
+    const bool was = s.engaged;
+    s.engaged = false;
+    s.tool = -1;
+    if (!was) continue;
+    bool ok = false;
+    if (solver_) {
+      try {
+        ok = reengage(s);
+      } catch (const std::exception& e) {
+        message_ = std::string("re-engaging after the model changed: ") + e.what();
+      }
+    }
+    s.engaged = ok;
+    s.missed = !ok && s.button;  // a tool that could not follow waits for its button's release
+  }
+}
+
+void ToolStepper::follow_device(int i, haptics::HapticDevice* dev, const SlotSettings& want, double time) {
+  // The button's edges engage and release the slot's tool; while engaged it follows the device.
+  Slot& s = slots_[static_cast<std::size_t>(i)];
+  const haptics::DeviceState d = dev ? dev->read(time) : haptics::DeviceState{};
+  const bool button = d.button(0) && d.connected;
+  if (!solver_) {
+    s.button = button;
+    return;
+  }
+  try {
+    if (button && !s.button && want.kind != ToolKind::Cut) {
+      std::string why;
+      s.missed = !engage(s, want, d, why);
+      if (s.missed) message_ = "tool " + std::to_string(i + 1) + ": " + why;
+    } else if (!button && s.button) {
+      if (s.engaged) solver_->release(s.tool);
+      s.engaged = false;
+      s.missed = false;
+    }
+    if (s.engaged) {
+      const Eigen::Vector3d tr = d.position - s.engage_position;
+      if (solver_->try_set_translation(s.tool, tr)) s.translation = tr;
+    }
+  } catch (const std::exception& e) {
+    message_ = "tool " + std::to_string(i + 1) + ": " + e.what();
+    if (s.engaged) solver_->release(s.tool);
+    s.engaged = false;
+    s.missed = true;
+  }
+  s.button = button;
+}
+
+void ToolStepper::step_contact() {
+  if (!solver_) return;
+  // The never-throwing step: a failed step leaves the contact set (and force) of the last good one.
+  ContactUpdateReport report;
+  const ContactStatus status = solver_->step(report);
+  if (status == ContactStatus::CapacityExceeded)
+    message_ = "the contact set needs " + std::to_string(solver_->rows_needed()) +
+               " constraint rows, more than reserved: the force is the last good one";
+  else if (status != ContactStatus::Ok)
+    message_ = std::string("contact: ") + to_string(status);
+}
+
+void ToolStepper::send_force(int i, haptics::HapticDevice* dev, const StepperSettings& settings, double dt, SlotSnapshot& o) {
+  // The slot's state for the graphics thread, and its force to the device.
+  Slot& s = slots_[static_cast<std::size_t>(i)];
+  o.engaged = s.engaged;
+  o.missed = s.missed;
+  o.kind = s.kind;
+  o.radius = s.radius;
+  o.plate_size = s.plate_size;
+  o.direction = s.direction;
+  o.tip = s.origin + s.translation;
+  o.force = (solver_ && s.engaged) ? solver_->force(s.tool) : Eigen::Vector3d::Zero();
+  o.contact_elements = (solver_ && s.engaged) ? solver_->contact_elements(s.tool) : 0;
+  if (!o.force.allFinite()) o.force = s.force;  // never hand a NaN on
+  s.force = o.force;
+  // The device gets the force limited in magnitude and in rate of change (haptics/force_limiter.hpp).
+  if (s.limit != settings.force_limit || s.rate != settings.force_rate) {
+    s.limit = settings.force_limit;
+    s.rate = settings.force_rate;
+    s.limiter = haptics::ForceLimiter(s.limit, s.rate);
+  }
+  const Eigen::Vector3d limited = s.limiter(o.force, dt);
+  o.sent_force = settings.haptic_force ? limited : Eigen::Vector3d::Zero();
+  if (dev) dev->write_force(o.sent_force);
+}
+
 void ToolStepper::tick(const std::shared_ptr<const PhysicsState>& physics, haptics::HapticDevice* const* devices,
                        const StepperSettings& settings, double time, double dt, ContactSnapshot& out) {
   const auto t0 = std::chrono::steady_clock::now();
-  if (physics != physics_) {
-    // A new model, table or parameter set: start again with no contact (tools re-engage when
-    // their button is pressed again).
-    // A new model, table or parameter set (a cut, E, nu, gravity): a new solver on the new
-    // snapshots; tools held through the change are engaged again where they were, at the same
-    // translation, so a cut under a held probe keeps the probe in the tissue.
-    physics_ = physics;
-    solver_.reset();
-    if (physics_ && physics_->table) {
-      const Index cap = std::max<Index>(300, 3 * physics_->mesh->num_elements() / 4);
-      solver_ = std::make_unique<ToolContactSolver>(physics_->mesh, physics_->table, std::min<Index>(cap, 1500));
-    }
-    for (auto& s : slots_) {
-      const bool was = s.engaged;
-      s.engaged = false;
-      s.tool = -1;
-      if (!was) continue;
-      bool ok = false;
-      if (solver_) {
-        try {
-          ok = reengage(s);
-        } catch (const std::exception& e) {
-          message_ = std::string("re-engaging after the model changed: ") + e.what();
-        }
-      }
-      s.engaged = ok;
-      s.missed = !ok && s.button;  // a tool that could not follow waits for its button's release
-    }
-  }
+  if (physics != physics_) follow_model(physics);
   out.physics_version = physics_ ? physics_->version : 0;
-  bool changed = false;
-  for (int i = 0; i < kMaxTools; ++i) {
-    Slot& s = slots_[static_cast<std::size_t>(i)];
-    haptics::HapticDevice* dev = devices[i];
-    const haptics::DeviceState d = dev ? dev->read(time) : haptics::DeviceState{};
-    const bool button = d.button(0) && d.connected;
-    const SlotSettings& want = settings.slots[static_cast<std::size_t>(i)];
-    if (!solver_) {
-      s.button = button;
-      continue;
-    }
-    try {
-      if (button && !s.button && want.kind != ToolKind::Cut) {
-        std::string why;
-        s.missed = !engage(s, want, d, why);
-        if (s.missed) message_ = "tool " + std::to_string(i + 1) + ": " + why;
-        changed = true;
-      } else if (!button && s.button) {
-        if (s.engaged) solver_->release(s.tool);
-        s.engaged = false;
-        s.missed = false;
-        changed = true;
-      }
-      if (s.engaged) {
-        const Eigen::Vector3d tr = d.position - s.engage_position;
-        if (solver_->try_set_translation(s.tool, tr)) s.translation = tr;
-      }
-    } catch (const std::exception& e) {
-      message_ = "tool " + std::to_string(i + 1) + ": " + e.what();
-      if (s.engaged) solver_->release(s.tool);
-      s.engaged = false;
-      s.missed = true;
-    }
-    s.button = button;
-  }
-  (void)changed;
-  if (solver_) {
-    // The never-throwing step: a failed step leaves the contact set (and force) of the last good one.
-    ContactUpdateReport report;
-    const ContactStatus status = solver_->step(report);
-    if (status == ContactStatus::CapacityExceeded)
-      message_ = "the contact set needs " + std::to_string(solver_->rows_needed()) +
-                 " constraint rows, more than reserved: the force is the last good one";
-    else if (status != ContactStatus::Ok)
-      message_ = std::string("contact: ") + to_string(status);
-  }
+  for (int i = 0; i < kMaxTools; ++i) follow_device(i, devices[i], settings.slots[static_cast<std::size_t>(i)], time);
+  step_contact();
   // Snapshot for the graphics thread.
   out.count = 0;
-  for (int i = 0; i < kMaxTools; ++i) {
-    Slot& s = slots_[static_cast<std::size_t>(i)];
-    SlotSnapshot& o = out.slots[static_cast<std::size_t>(i)];
-    o.engaged = s.engaged;
-    o.missed = s.missed;
-    o.kind = s.kind;
-    o.radius = s.radius;
-    o.plate_size = s.plate_size;
-    o.direction = s.direction;
-    o.tip = s.origin + s.translation;
-    o.force = (solver_ && s.engaged) ? solver_->force(s.tool) : Eigen::Vector3d::Zero();
-    o.contact_elements = (solver_ && s.engaged) ? solver_->contact_elements(s.tool) : 0;
-    if (!o.force.allFinite()) o.force = s.force;  // never hand a NaN on
-    s.force = o.force;
-    // The device gets the force limited in magnitude and in rate of change (haptics/force_limiter.hpp).
-    if (s.limit != settings.force_limit || s.rate != settings.force_rate) {
-      s.limit = settings.force_limit;
-      s.rate = settings.force_rate;
-      s.limiter = haptics::ForceLimiter(s.limit, s.rate);
-    }
-    const Eigen::Vector3d limited = s.limiter(o.force, dt);
-    o.sent_force = settings.haptic_force ? limited : Eigen::Vector3d::Zero();
-    if (devices[i]) devices[i]->write_force(o.sent_force);
-  }
+  for (int i = 0; i < kMaxTools; ++i) send_force(i, devices[i], settings, dt, out.slots[static_cast<std::size_t>(i)]);
   if (solver_) {
     const CapacitanceContact& c = solver_->contact();
     const std::size_t need = static_cast<std::size_t>(c.num_elements());

@@ -136,6 +136,11 @@ class ToolStepper {
   /// After a new model (a cut, new parameters): the same tool where it was engaged, at the same
   /// translation, on the new solver.
   bool reengage(Slot& s);
+  // The steps of tick(), in order.
+  void follow_model(const std::shared_ptr<const PhysicsState>& physics);
+  void follow_device(int slot, haptics::HapticDevice* device, const SlotSettings& want, double time);
+  void step_contact();
+  void send_force(int slot, haptics::HapticDevice* device, const StepperSettings& settings, double dt, SlotSnapshot& out);
 
   std::shared_ptr<const PhysicsState> physics_;
   std::unique_ptr<ToolContactSolver> solver_;

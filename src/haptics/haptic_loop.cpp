@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "bemsurg/error.hpp"
+#include "bemsurg/number_text.hpp"
 
 namespace bemsurg::haptics {
 
@@ -30,7 +31,7 @@ HapticLoop::HapticLoop(const HapticLoopSettings& settings, std::vector<HapticDev
       events_(settings.event_capacity),
       contact_out_(contact_prototype(settings.publish_capacity)) {
   if (!(settings.rate_hz >= 100.0 && settings.rate_hz <= 10000.0))
-    throw InvalidArgumentError("HapticLoop: rate_hz must lie in [100, 10000], got " + std::to_string(settings.rate_hz));
+    throw InvalidArgumentError("HapticLoop: rate_hz must lie in [100, 10000], got " + number_text(settings.rate_hz));
   if (!(settings.stale_after_s > 0.0) || !(settings.ramp_s > 0.0) || settings.overrun_limit < 1 || !(settings.spin_us >= 0.0))
     throw InvalidArgumentError("HapticLoop: stale_after_s and ramp_s must be positive, spin_us non-negative and overrun_limit at least 1");
   if (devices_.empty() || devices_.size() > static_cast<std::size_t>(kMaxChannels))
@@ -84,132 +85,134 @@ bool HapticLoop::latest(TickSample& out) noexcept {
   return true;
 }
 
-void HapticLoop::tick(double now, bool late) noexcept {
-  const auto t_start = std::chrono::steady_clock::now();
+// The steps of one tick, in order (see tick()). None allocates: the haptic thread never does.
+
+void HapticLoop::take_offered_model() {
+  // A new model, between ticks: the old one goes back to the simulation side to be freed there.
+  // Taken only when there is room to hand the old one back.
+  if (offered_.load(std::memory_order_acquire) == nullptr || retired_.full()) return;
+  ContactModel* next = offered_.exchange(nullptr, std::memory_order_acq_rel);
+  if (current_) retired_.push(current_);
+  current_ = next;
+  rendered_version_.store(current_->version, std::memory_order_release);
+  ++counters_.model_swaps;
+}
+
+void HapticLoop::update_watchdog(double now, double dt, bool late) {
+  // Stale simulation state, repeated overruns or a fault ramp the gain to zero (and back).
+  const int in_a_row = late ? overruns_in_a_row_ + 1 : overruns_in_a_row_;
+  const bool stale = now - heartbeat_time_.load(std::memory_order_acquire) > settings_.stale_after_s;
+  const bool unhealthy = stale || in_a_row >= settings_.overrun_limit || fault_;
+  const double ramp = std::max(0.0, dt) / settings_.ramp_s;
+  gain_ = unhealthy ? std::max(0.0, gain_ - ramp) : std::min(1.0, gain_ + ramp);
+  if (unhealthy) ++counters_.watchdog_ticks;
+}
+
+void HapticLoop::push_button_edges(int channel, double now, const DeviceState& s) {
+  const auto cu = static_cast<std::size_t>(channel);
+  const std::uint32_t changed = s.buttons ^ last_buttons_[cu];
+  for (int b = 0; changed >> b; ++b)
+    if ((changed >> b) & 1U) {
+      ButtonEvent e;
+      e.time = now;
+      e.channel = channel;
+      e.button = b;
+      e.down = (s.buttons >> b) & 1U;
+      e.position = s.position;
+      e.direction = s.direction;
+      e.orientation = s.orientation;
+      events_.push(e);  // a full event ring drops the edge; the simulation side sees the buttons in the trace
+    }
+  last_buttons_[cu] = s.buttons;
+}
+
+void HapticLoop::read_channel(int channel, double now, ToolContactSolver* solver, ChannelSample& cs) {
+  // Device -> pose (model frame) -> the tool it drives in the contact model.
+  const auto cu = static_cast<std::size_t>(channel);
+  const DeviceState s = workspaces_[cu].to_model(devices_[cu]->read(now));
+  cs.position = s.position;
+  cs.direction = s.direction;
+  cs.buttons = s.buttons;
+  cs.connected = s.connected;
+  cs.status = ContactStatus::Ok;
+  push_button_edges(channel, now, s);
+  const int tool = current_ ? current_->tool_of_channel[cu] : -1;
+  if (solver && tool >= 0 && s.connected && solver->engaged(tool)) {
+    bool ok = solver->try_set_translation(tool, s.position - solver->origin(tool));
+    if (solver->spec(tool).shape == ToolShape::Plate) {
+      const Eigen::AngleAxisd turn(s.orientation * current_->engaged_orientation[cu].conjugate());
+      ok = solver->try_set_rotation(tool, turn.angle() * turn.axis()) && ok;
+    }
+    if (!ok) cs.status = ContactStatus::NonFinitePose;
+  }
+}
+
+ContactStatus HapticLoop::step_contact(ToolContactSolver* solver) {
+  if (!solver) return ContactStatus::Ok;
+  ContactUpdateReport report;
+  const ContactStatus status = solver->step(report, settings_.max_active_set_iterations);
+  if (status == ContactStatus::CapacityExceeded || status == ContactStatus::Singular) ++counters_.failed_steps;
+  return status;
+}
+
+void HapticLoop::publish_contact(double now, const ToolContactSolver* solver) {
+  // For graphics: the field is computed there from the read-only table.
+  PublishedContact& pc = contact_out_.back();
+  pc.model_version = current_ ? current_->version : 0;
+  pc.time = now;
+  pc.count = 0;
+  pc.overflow = false;
+  if (solver) {
+    if (solver->contact().num_elements() <= static_cast<Index>(pc.elements.size()))
+      pc.count = solver->contact().contact_tractions(pc.elements.data(), pc.tractions.data());
+    else
+      pc.overflow = true;
+  }
+  contact_out_.publish();
+}
+
+void HapticLoop::write_channel_force(int channel, const ToolContactSolver* solver, ContactStatus step_status, double dt,
+                                     ChannelSample& cs) {
+  // The model's force through the safety stages (held force, NaN guard, watchdog gain, limiter),
+  // out to the device.
+  const auto cu = static_cast<std::size_t>(channel);
+  const int tool = current_ ? current_->tool_of_channel[cu] : -1;
+  Eigen::Vector3d requested = Eigen::Vector3d::Zero();
+  cs.contact_elements = 0;
+  if (!cs.connected) {
+    // Device lost: zero at once (no ramp: there may be no hand on it), and ramp up from zero later.
+    devices_[cu]->write_force(Eigen::Vector3d::Zero());
+    limiters_[cu].reset();
+    held_[cu].setZero();
+    cs.model_force.setZero();
+    cs.force.setZero();
+    return;
+  }
+  if (solver && tool >= 0 && solver->engaged(tool)) {
+    if (cs.status == ContactStatus::Ok) cs.status = step_status;
+    if (step_status == ContactStatus::Ok || step_status == ContactStatus::Unsettled) {
+      requested = solver->force(tool);
+      cs.contact_elements = static_cast<int>(solver->contact_elements(tool));
+    } else {
+      requested = held_[cu];  // the set change failed: keep the last good force
+    }
+  }
+  if (!requested.allFinite()) {
+    ++counters_.nan_guards;
+    requested = held_[cu];
+  }
+  held_[cu] = requested;
+  cs.model_force = requested;
+  const Eigen::Vector3d wanted = gain_ * requested;
+  const Eigen::Vector3d out = limiters_[cu](wanted, dt);
+  if ((out - wanted).norm() > 1e-12 * (1.0 + wanted.norm())) ++counters_.clamped_ticks;
+  cs.force = out;
+  devices_[cu]->write_force(workspaces_[cu].to_device_force(out));
+}
+
+void HapticLoop::record_tick(TickSample& sample, double now, double dt, bool late,
+                             std::chrono::steady_clock::time_point t_start) noexcept {
   const double nominal = 1.0 / settings_.rate_hz;
-  const double dt = first_tick_ ? nominal : now - last_time_;
-  if (first_tick_) {
-    first_time_ = now;
-    heartbeat_time_.store(now, std::memory_order_relaxed);
-  }
-  now_.store(now, std::memory_order_relaxed);
-  TickSample& sample = newest_.back();
-  try {
-    // 1. A new model, between ticks: the old one goes back to the simulation side to be freed
-    //    there. Taken only when there is room to hand the old one back.
-    if (offered_.load(std::memory_order_acquire) != nullptr && !retired_.full()) {
-      ContactModel* next = offered_.exchange(nullptr, std::memory_order_acq_rel);
-      if (current_) retired_.push(current_);
-      current_ = next;
-      rendered_version_.store(current_->version, std::memory_order_release);
-      ++counters_.model_swaps;
-    }
-    // 2. Watchdog: stale simulation state, repeated overruns or a fault ramp the gain to zero.
-    const int in_a_row = late ? overruns_in_a_row_ + 1 : overruns_in_a_row_;
-    const bool stale = now - heartbeat_time_.load(std::memory_order_acquire) > settings_.stale_after_s;
-    const bool unhealthy = stale || in_a_row >= settings_.overrun_limit || fault_;
-    const double ramp = std::max(0.0, dt) / settings_.ramp_s;
-    gain_ = unhealthy ? std::max(0.0, gain_ - ramp) : std::min(1.0, gain_ + ramp);
-    if (unhealthy) ++counters_.watchdog_ticks;
-    // 3. Devices -> poses (model frame) -> the contact model.
-    ToolContactSolver* solver = current_ ? current_->solver.get() : nullptr;
-    const int n = static_cast<int>(devices_.size());
-    for (int c = 0; c < n; ++c) {
-      ChannelSample& cs = sample.channel[static_cast<std::size_t>(c)];
-      const DeviceState s = workspaces_[static_cast<std::size_t>(c)].to_model(devices_[static_cast<std::size_t>(c)]->read(now));
-      cs.position = s.position;
-      cs.direction = s.direction;
-      cs.buttons = s.buttons;
-      cs.connected = s.connected;
-      cs.status = ContactStatus::Ok;
-      const std::uint32_t changed = s.buttons ^ last_buttons_[static_cast<std::size_t>(c)];
-      for (int b = 0; changed >> b; ++b)
-        if ((changed >> b) & 1U) {
-          ButtonEvent e;
-          e.time = now;
-          e.channel = c;
-          e.button = b;
-          e.down = (s.buttons >> b) & 1U;
-          e.position = s.position;
-          e.direction = s.direction;
-          e.orientation = s.orientation;
-          events_.push(e);  // a full event ring drops the edge; the simulation side sees the buttons in the trace
-        }
-      last_buttons_[static_cast<std::size_t>(c)] = s.buttons;
-      const int tool = current_ ? current_->tool_of_channel[static_cast<std::size_t>(c)] : -1;
-      if (solver && tool >= 0 && s.connected && solver->engaged(tool)) {
-        bool ok = solver->try_set_translation(tool, s.position - solver->origin(tool));
-        if (solver->spec(tool).shape == ToolShape::Plate) {
-          const Eigen::AngleAxisd turn(s.orientation * current_->engaged_orientation[static_cast<std::size_t>(c)].conjugate());
-          ok = solver->try_set_rotation(tool, turn.angle() * turn.axis()) && ok;
-        }
-        if (!ok) cs.status = ContactStatus::NonFinitePose;
-      }
-    }
-    ContactStatus step_status = ContactStatus::Ok;
-    if (solver) {
-      ContactUpdateReport report;
-      step_status = solver->step(report, settings_.max_active_set_iterations);
-      if (step_status == ContactStatus::CapacityExceeded || step_status == ContactStatus::Singular) ++counters_.failed_steps;
-    }
-    // Publish the contact for graphics (the field is computed there from the read-only table).
-    PublishedContact& pc = contact_out_.back();
-    pc.model_version = current_ ? current_->version : 0;
-    pc.time = now;
-    pc.count = 0;
-    pc.overflow = false;
-    if (solver) {
-      if (solver->contact().num_elements() <= static_cast<Index>(pc.elements.size()))
-        pc.count = solver->contact().contact_tractions(pc.elements.data(), pc.tractions.data());
-      else
-        pc.overflow = true;
-    }
-    contact_out_.publish();
-    // 4. Forces through the safety stages, out to the devices.
-    for (int c = 0; c < n; ++c) {
-      const auto cu = static_cast<std::size_t>(c);
-      ChannelSample& cs = sample.channel[cu];
-      const int tool = current_ ? current_->tool_of_channel[cu] : -1;
-      Eigen::Vector3d requested = Eigen::Vector3d::Zero();
-      cs.contact_elements = 0;
-      if (!cs.connected) {
-        // Device lost: zero at once (no ramp: there may be no hand on it), and ramp up from zero later.
-        devices_[cu]->write_force(Eigen::Vector3d::Zero());
-        limiters_[cu].reset();
-        held_[cu].setZero();
-        cs.model_force.setZero();
-        cs.force.setZero();
-        continue;
-      }
-      if (solver && tool >= 0 && solver->engaged(tool)) {
-        if (cs.status == ContactStatus::Ok) cs.status = step_status;
-        if (step_status == ContactStatus::Ok || step_status == ContactStatus::Unsettled) {
-          requested = solver->force(tool);
-          cs.contact_elements = static_cast<int>(solver->contact_elements(tool));
-        } else {
-          requested = held_[cu];  // the set change failed: keep the last good force
-        }
-      }
-      if (!requested.allFinite()) {
-        ++counters_.nan_guards;
-        requested = held_[cu];
-      }
-      held_[cu] = requested;
-      cs.model_force = requested;
-      const Eigen::Vector3d wanted = gain_ * requested;
-      const Eigen::Vector3d out = limiters_[cu](wanted, dt);
-      if ((out - wanted).norm() > 1e-12 * (1.0 + wanted.norm())) ++counters_.clamped_ticks;
-      cs.force = out;
-      devices_[cu]->write_force(workspaces_[cu].to_device_force(out));
-    }
-  } catch (...) {
-    // Nothing above should throw; if a device or the model does, the hand gets zero force and
-    // the watchdog keeps it there (the fault is sticky: a session that faulted must be restarted).
-    ++counters_.faults;
-    fault_ = true;
-    gain_ = 0.0;
-    zero_all();
-  }
   sample.tick = tick_count_;
   sample.time = now;
   sample.model_version = current_ ? current_->version : 0;
@@ -226,6 +229,37 @@ void HapticLoop::tick(double now, bool late) noexcept {
   first_tick_ = false;
   last_time_ = now;
   ++tick_count_;
+}
+
+void HapticLoop::tick(double now, bool late) noexcept {
+  const auto t_start = std::chrono::steady_clock::now();
+  const double dt = first_tick_ ? 1.0 / settings_.rate_hz : now - last_time_;
+  if (first_tick_) {
+    first_time_ = now;
+    heartbeat_time_.store(now, std::memory_order_relaxed);
+  }
+  now_.store(now, std::memory_order_relaxed);
+  TickSample& sample = newest_.back();
+  try {
+    take_offered_model();           // 1. a new model, between ticks
+    update_watchdog(now, dt, late);  // 2. the gain the forces are scaled by
+    // 3. Devices -> poses (model frame) -> the contact model, published for graphics.
+    ToolContactSolver* solver = current_ ? current_->solver.get() : nullptr;
+    const int n = static_cast<int>(devices_.size());
+    for (int c = 0; c < n; ++c) read_channel(c, now, solver, sample.channel[static_cast<std::size_t>(c)]);
+    const ContactStatus step_status = step_contact(solver);
+    publish_contact(now, solver);
+    // 4. Forces through the safety stages, out to the devices.
+    for (int c = 0; c < n; ++c) write_channel_force(c, solver, step_status, dt, sample.channel[static_cast<std::size_t>(c)]);
+  } catch (...) {
+    // Nothing above should throw; if a device or the model does, the hand gets zero force and
+    // the watchdog keeps it there (the fault is sticky: a session that faulted must be restarted).
+    ++counters_.faults;
+    fault_ = true;
+    gain_ = 0.0;
+    zero_all();
+  }
+  record_tick(sample, now, dt, late, t_start);  // 5. trace, newest sample, timing statistics
 }
 
 void HapticLoop::start() {

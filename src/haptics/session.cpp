@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "bemsurg/error.hpp"
+#include "bemsurg/number_text.hpp"
 #include "bemsurg/presolution/contact_validity.hpp"
 
 namespace bemsurg::haptics {
@@ -16,13 +17,161 @@ namespace bemsurg::haptics {
 namespace {
 std::string describe(const ActionScript& s, const Action& a) {
   return s.path + ": the " + to_string(a.type) + " of tool '" + s.tools[static_cast<std::size_t>(a.tool)].name +
-         "' at t = " + std::to_string(a.time) + " s";
+         "' at t = " + number_text(a.time) + " s";
 }
 Eigen::Vector3d centroid(const std::vector<Eigen::Vector3d>& poly) {
   Eigen::Vector3d c = Eigen::Vector3d::Zero();
   for (const auto& p : poly) c += p;
   return c / double(poly.size());
 }
+
+/// What turning one tool's actions into keyframes needs besides the actions: the script (for
+/// messages), the body, and a contact solver on the base model with this tool added, engaged once
+/// per press or pinch off any loop to find where it first touches.
+struct KeyframeContext {
+  const ActionScript& script;
+  const TriangleMesh& mesh;
+  ToolContactSolver& probe;
+  int probe_tool;
+  std::vector<std::string>& warnings;
+};
+
+/// Keyframe 0 of a tool: its start, or where its first action begins.
+Keyframe start_keyframe(const ScriptTool& tool, const std::vector<const Action*>& actions) {
+  Keyframe k;
+  k.time = 0.0;
+  k.direction = tool.direction;
+  if (tool.has_start) {
+    k.position = tool.start;
+  } else if (!actions.empty()) {
+    const Action& a = *actions.front();
+    switch (a.type) {
+      case ActionType::Move: k.position = a.to; break;
+      case ActionType::Press:
+      case ActionType::Pinch: k.position = a.at; break;
+      case ActionType::Retract: k.position = centroid(tool.polygon); break;
+      case ActionType::Cut: k.position = a.from; break;
+      case ActionType::Release: break;
+    }
+  }
+  return k;
+}
+
+/// The keyframes of one tool, appended action by action (docs/actions.md): each action holds the
+/// last pose until its start time, then adds the poses of its motion.
+class ToolTrack {
+ public:
+  ToolTrack(const KeyframeContext& context, const ScriptTool& tool, std::vector<Keyframe>& keyframes, const Keyframe& start)
+      : c_(context), tool_(tool), kf_(keyframes), last_contact_(start.position) {
+    kf_.push_back(start);
+  }
+
+  void add(const Action& a) {
+    hold(a.time);
+    Keyframe n = kf_.back();
+    switch (a.type) {
+      case ActionType::Move:
+        n.time = a.end_time();
+        n.position = a.to;
+        kf_.push_back(n);
+        break;
+      case ActionType::Press: press(a, n); break;
+      case ActionType::Pinch:
+        n.position = first_contact(a);
+        n.direction = a.direction;
+        n.buttons |= 1U;
+        kf_.push_back(n);
+        break;
+      case ActionType::Release:
+        n.buttons = 0;
+        // A pressing tool is lifted 1 mm back from where its last press first touched.
+        if (pressed_) n.position = last_contact_ - 1e-3 * n.direction;
+        pressed_ = false;
+        kf_.push_back(n);
+        break;
+      case ActionType::Retract: retract(a, n); break;
+      case ActionType::Cut: cut(a, n); break;
+    }
+  }
+
+ private:
+  void hold(double time) {
+    Keyframe h = kf_.back();
+    h.time = std::max(time, kf_.back().time);
+    kf_.push_back(h);
+  }
+
+  /// Where the tool coming along the action's direction through `at` first touches the body.
+  Eigen::Vector3d first_contact(const Action& a) {
+    bool met = false;
+    try {
+      met = c_.probe.engage(c_.probe_tool, a.at, a.direction);
+    } catch (const ContactError& e) {  // e.g. a tool wider than the table's region there
+      throw ContactError(describe(c_.script, a) + ": " + e.what());
+    }
+    if (!met)
+      throw ContactError(describe(c_.script, a) + ": a tool coming along the direction through `at` does not meet the body "
+                                                  "(or only outside the table's region, or the sphere covers no element centroid)");
+    const Eigen::Vector3d o = c_.probe.origin(c_.probe_tool);
+    c_.probe.release(c_.probe_tool);
+    return o;
+  }
+
+  void press(const Action& a, Keyframe n) {
+    // The depth must lie in the model's small-strain range, as for `bemsurg press`
+    // (presolution/contact_validity.hpp, docs/robustness.md): refused by action, warned between.
+    const bool has_radius = tool_.shape == ScriptToolShape::Flat || tool_.shape == ScriptToolShape::Sphere;
+    try {
+      const ContactDepthCheck range = check_contact_depth(c_.mesh, a.direction, a.depth, has_radius ? tool_.radius : 0.0);
+      if (!range.warning.empty()) c_.warnings.push_back(describe(c_.script, a) + ": " + range.warning);
+    } catch (const ContactError& e) {
+      throw ContactError(describe(c_.script, a) + ": " + e.what());
+    }
+    const Eigen::Vector3d p0 = first_contact(a);
+    n.position = p0;
+    n.direction = a.direction;
+    if (tool_.shape == ScriptToolShape::Point) n.buttons |= 1U;  // a point tool engages on the button
+    kf_.push_back(n);
+    n.time = a.end_time();
+    n.position = p0 + a.depth * a.direction;
+    kf_.push_back(n);
+    last_contact_ = p0;
+    pressed_ = true;
+  }
+
+  void retract(const Action& a, Keyframe n) {
+    // The plate engages at its polygon's centre, then moves by `by` and turns by `rotation`.
+    n.position = centroid(tool_.polygon);
+    n.direction = tool_.direction;
+    n.orientation = Eigen::Quaterniond::Identity();
+    n.buttons |= 1U;
+    kf_.push_back(n);
+    n.time = a.end_time();
+    n.position += a.by;
+    const double angle = a.rotation.norm();
+    n.orientation = angle > 0.0 ? Eigen::Quaterniond(Eigen::AngleAxisd(angle, a.rotation / angle))
+                                : Eigen::Quaterniond::Identity();
+    kf_.push_back(n);
+  }
+
+  void cut(const Action& a, Keyframe n) {
+    // The blade is held down at `from` for the cut's duration, then lifted.
+    n.position = a.from;
+    n.direction = a.direction;
+    n.buttons |= 1U;
+    kf_.push_back(n);
+    n.time = a.end_time();
+    kf_.push_back(n);
+    n.buttons = 0;
+    kf_.push_back(n);
+  }
+
+  const KeyframeContext& c_;
+  const ScriptTool& tool_;
+  std::vector<Keyframe>& kf_;
+  Eigen::Vector3d last_contact_;
+  bool pressed_ = false;
+};
 }  // namespace
 
 Session::Session(std::shared_ptr<const TriangleMesh> mesh, std::shared_ptr<const GreensTable> table, ActionScript script,
@@ -85,123 +234,15 @@ void Session::build_keyframes() {
   ToolContactSolver probe(mesh_, table_, 3);
   std::vector<int> ids;
   for (std::size_t t = 0; t < script_.tools.size(); ++t) ids.push_back(probe.add_tool(contact_spec(static_cast<int>(t))));
-  auto first_contact = [&](const Action& a) -> Eigen::Vector3d {
-    const int id = ids[static_cast<std::size_t>(a.tool)];
-    bool met = false;
-    try {
-      met = probe.engage(id, a.at, a.direction);
-    } catch (const ContactError& e) {  // e.g. a tool wider than the table's region there
-      throw ContactError(describe(script_, a) + ": " + e.what());
-    }
-    if (!met)
-      throw ContactError(describe(script_, a) + ": a tool coming along the direction through `at` does not meet the body "
-                                                "(or only outside the table's region, or the sphere covers no element centroid)");
-    const Eigen::Vector3d o = probe.origin(id);
-    probe.release(id);
-    return o;
-  };
   keyframes_.assign(script_.tools.size(), {});
   for (std::size_t ti = 0; ti < script_.tools.size(); ++ti) {
     const ScriptTool& tool = script_.tools[ti];
     std::vector<const Action*> mine;
     for (const Action& a : script_.actions)
       if (a.tool == static_cast<int>(ti)) mine.push_back(&a);
-    Keyframe k;
-    k.time = 0.0;
-    k.direction = tool.direction;
-    if (tool.has_start) {
-      k.position = tool.start;
-    } else if (!mine.empty()) {
-      const Action& a = *mine.front();
-      switch (a.type) {
-        case ActionType::Move: k.position = a.to; break;
-        case ActionType::Press:
-        case ActionType::Pinch: k.position = a.at; break;
-        case ActionType::Retract: k.position = centroid(tool.polygon); break;
-        case ActionType::Cut: k.position = a.from; break;
-        case ActionType::Release: break;
-      }
-    }
-    std::vector<Keyframe>& kf = keyframes_[ti];
-    kf.push_back(k);
-    Eigen::Vector3d last_contact = k.position;
-    bool pressed = false;
-    auto hold = [&](double time) {
-      Keyframe h = kf.back();
-      h.time = std::max(time, kf.back().time);
-      kf.push_back(h);
-    };
-    for (const Action* ap : mine) {
-      const Action& a = *ap;
-      hold(a.time);
-      Keyframe n = kf.back();
-      switch (a.type) {
-        case ActionType::Move:
-          n.time = a.end_time();
-          n.position = a.to;
-          kf.push_back(n);
-          break;
-        case ActionType::Press: {
-          // The depth must lie in the model's small-strain range, as for `bemsurg press`
-          // (presolution/contact_validity.hpp, docs/robustness.md): refused by action, warned between.
-          const bool has_radius = tool.shape == ScriptToolShape::Flat || tool.shape == ScriptToolShape::Sphere;
-          try {
-            const ContactDepthCheck range = check_contact_depth(*mesh_, a.direction, a.depth, has_radius ? tool.radius : 0.0);
-            if (!range.warning.empty()) warnings_.push_back(describe(script_, a) + ": " + range.warning);
-          } catch (const ContactError& e) {
-            throw ContactError(describe(script_, a) + ": " + e.what());
-          }
-          const Eigen::Vector3d p0 = first_contact(a);
-          n.position = p0;
-          n.direction = a.direction;
-          if (tool.shape == ScriptToolShape::Point) n.buttons |= 1U;  // a point tool engages on the button
-          kf.push_back(n);
-          n.time = a.end_time();
-          n.position = p0 + a.depth * a.direction;
-          kf.push_back(n);
-          last_contact = p0;
-          pressed = true;
-          break;
-        }
-        case ActionType::Pinch:
-          n.position = first_contact(a);
-          n.direction = a.direction;
-          n.buttons |= 1U;
-          kf.push_back(n);
-          break;
-        case ActionType::Release:
-          n.buttons = 0;
-          // A pressing tool is lifted 1 mm back from where its last press first touched.
-          if (pressed) n.position = last_contact - 1e-3 * n.direction;
-          pressed = false;
-          kf.push_back(n);
-          break;
-        case ActionType::Retract: {
-          n.position = centroid(tool.polygon);
-          n.direction = tool.direction;
-          n.orientation = Eigen::Quaterniond::Identity();
-          n.buttons |= 1U;
-          kf.push_back(n);
-          n.time = a.end_time();
-          n.position += a.by;
-          const double angle = a.rotation.norm();
-          n.orientation = angle > 0.0 ? Eigen::Quaterniond(Eigen::AngleAxisd(angle, a.rotation / angle))
-                                      : Eigen::Quaterniond::Identity();
-          kf.push_back(n);
-          break;
-        }
-        case ActionType::Cut:
-          n.position = a.from;
-          n.direction = a.direction;
-          n.buttons |= 1U;
-          kf.push_back(n);
-          n.time = a.end_time();
-          kf.push_back(n);
-          n.buttons = 0;
-          kf.push_back(n);
-          break;
-      }
-    }
+    const KeyframeContext context{script_, *mesh_, probe, ids[ti], warnings_};
+    ToolTrack track(context, tool, keyframes_[ti], start_keyframe(tool, mine));
+    for (const Action* a : mine) track.add(*a);
   }
 }
 
@@ -382,7 +423,7 @@ SessionResult Session::run(SessionObserver* observer) {
         simulation_step(loop, observer, result);
         std::this_thread::sleep_for(period);
         if (std::chrono::steady_clock::now() - wall0 > std::chrono::duration<double>(4.0 * script_.duration + 30.0))
-          throw Error("session: the haptic loop stopped advancing (session time " + std::to_string(loop.time()) + " s)");
+          throw Error("session: the haptic loop stopped advancing (session time " + number_text(loop.time()) + " s)");
       }
     } catch (...) {
       loop.stop();  // zero force before the error leaves

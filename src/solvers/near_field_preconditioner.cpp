@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "bemsurg/error.hpp"
+#include "bemsurg/number_text.hpp"
 #include "bemsurg/timing.hpp"
 
 namespace bemsurg {
@@ -67,7 +68,7 @@ NearFieldPreconditioner& NearFieldPreconditioner::compute(const Eigen::MatrixXd&
                       std::to_string(3 * E) + " x " + std::to_string(3 * E) + ")");
   if (!(std::isfinite(radius) && radius > 0.0))
     throw SolverError("near-field preconditioner: radius must be a positive number of element diameters, got " +
-                      std::to_string(radius));
+                      number_text(radius));
   if (3 * E > std::numeric_limits<int>::max() / 4)
     throw SolverError("near-field preconditioner: the system is too large for UMFPACK's int interface");
 
@@ -86,7 +87,7 @@ NearFieldPreconditioner& NearFieldPreconditioner::compute(const Eigen::MatrixXd&
     // UMFPACK's int interface indexes the 9 nonzeros of every pair; stop before they overflow int
     // (checked per column, so a radius that selects nearly every pair fails before filling memory).
     if (near.size() > static_cast<std::size_t>(std::numeric_limits<int>::max() / 9))
-      throw SolverError("near-field preconditioner: radius " + std::to_string(radius) + " selects more than " +
+      throw SolverError("near-field preconditioner: radius " + number_text(radius) + " selects more than " +
                         std::to_string(std::numeric_limits<int>::max() / 9) + " element pairs (over " +
                         std::to_string(std::numeric_limits<int>::max()) +
                         " nonzeros, the limit of UMFPACK's int interface); use a smaller radius or block_jacobi");
@@ -130,7 +131,7 @@ NearFieldPreconditioner& NearFieldPreconditioner::compute(const Eigen::MatrixXd&
                               f->control, info);
   umfpack_di_free_symbolic(&symbolic);
   if (status == UMFPACK_WARNING_singular_matrix)
-    throw SolverError("near-field preconditioner: the near-field matrix (radius " + std::to_string(radius) +
+    throw SolverError("near-field preconditioner: the near-field matrix (radius " + number_text(radius) +
                       " element diameters) is singular; try a larger radius or block_jacobi");
   if (status != UMFPACK_OK)
     throw SolverError("near-field preconditioner: UMFPACK factorisation failed with status " + std::to_string(status));

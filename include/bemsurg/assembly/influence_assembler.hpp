@@ -306,6 +306,7 @@ class InfluenceAssembler {
   }
 
   /// One tile: source rows r0 .. r0+m-1 (positions in the row list) against columns c0 .. c1-1.
+  // long: the assembly's innermost loop; its far, near and gravity passes share the tile's stack arrays
   template <bool HG, bool Gravity>
   void tile(const Index* rows, Index R, Index r0, Index m, const Index* cols, Index c0, Index c1, double* H, double* G,
             double* g, const Eigen::Vector3d& body_force) const {

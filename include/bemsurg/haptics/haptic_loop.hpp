@@ -19,6 +19,7 @@
 
 #include <array>
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <thread>
@@ -167,6 +168,19 @@ class HapticLoop {
  private:
   void run();
   void zero_all() noexcept;
+  // The steps of tick(), in order; they may throw only where a device or the model does. Inline
+  // (defined in haptic_loop.cpp, used only by tick()) so that the compiler folds them back into
+  // the tick: the hot path costs what it cost as one function.
+  inline void take_offered_model();
+  inline void update_watchdog(double now, double dt, bool late);
+  inline void read_channel(int channel, double now, ToolContactSolver* solver, ChannelSample& cs);
+  inline void push_button_edges(int channel, double now, const DeviceState& s);
+  inline ContactStatus step_contact(ToolContactSolver* solver);
+  inline void publish_contact(double now, const ToolContactSolver* solver);
+  inline void write_channel_force(int channel, const ToolContactSolver* solver, ContactStatus step_status, double dt,
+                                  ChannelSample& cs);
+  inline void record_tick(TickSample& sample, double now, double dt, bool late,
+                          std::chrono::steady_clock::time_point t_start) noexcept;
 
   HapticLoopSettings settings_;
   std::vector<HapticDevice*> devices_;

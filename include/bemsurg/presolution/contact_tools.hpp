@@ -185,6 +185,12 @@ class ToolContactSolver {
   void add_element_rows(const Tool& t, int tag, Index e, const Eigen::Vector3d& row_direction);
   void set_targets();
   void rollback_additions();  // after a failed addition: unclaim the elements in add_buffer_
+  // The steps of one active-set iteration of step(), in order. Inline (defined with step(), used
+  // only there) so that the haptic path costs what it cost as one function.
+  inline void remove_unwanted_rows();
+  inline bool gather_additions();  // false: capacity exceeded (rows_needed_ set, additions rolled back)
+  inline bool release_tension();
+  inline bool readmit_penetrating();
 
   std::shared_ptr<const TriangleMesh> mesh_;
   std::shared_ptr<const GreensTable> table_;

@@ -9,8 +9,8 @@
 // so its memory is n x 3|region| (n = 3E): "model no more than a scene needs".
 //
 // Storage is column-major with one column per region dof: a contact lookup reads whole columns,
-// which is contiguous (measured here: three columns ~1 us, three rows of a column-major
-// n = 4752 table ~100 us).
+// which is contiguous (three rows of a column-major table would touch a new cache line, often a
+// new page, per entry: about a hundred times slower when measured).
 // Rows of displacement-prescribed dofs hold the prescribed change, zero.
 //
 // After a cut (docs/design.md §7, §9) the table is not recomputed: updated() returns a NEW table
@@ -209,7 +209,31 @@ class GreensTable {
   void displacement_field(const Index* elements, const double* tractions, Index count, Eigen::VectorXd& u) const;
 
  private:
+  // The steps of updated() (docs/cutting.md), in the order it takes them.
+  /// A cut step's change of A* in low-rank form: A*_after = blockdiag(A*_before, I) + U_s V_s^T
+  /// with U_s = [E_D, Y], V_s = [X^T, E_D]; X (the change of the rows D) also corrects the table.
+  struct SystemChange {
+    Eigen::MatrixXd X, Us, Vs;
+  };
+  /// The new table's columns solved afresh (reshaped or joining region elements): column
+  /// table_cols[i] comes from column sources[i] of the step's change (an index into D).
+  struct FreshColumns {
+    std::vector<Index> table_cols, sources;
+  };
+  void check_update(const TriangleMesh* after, const MeshDelta& delta, const CutChange& change) const;
+  static SystemChange system_change(const CutChange& change, const BoundaryConditions& before,
+                                    const BoundaryConditions& after);
+  static FreshColumns fresh_columns(const CutChange& change, const std::vector<Index>& region_after);
+  Eigen::MatrixXd fresh_right_hand_sides(const CutChange& change, const FreshColumns& fresh,
+                                         const Eigen::VectorXd& rhs_after) const;
+  Eigen::MatrixXd correction_coefficients_transposed(const CutChange& change, const Eigen::MatrixXd& X) const;
+  Eigen::MatrixXd columns_after_cut(const CutChange& change, const Eigen::MatrixXd& Z, const Eigen::MatrixXd& CTt,
+                                    const Eigen::MatrixXd& F, const FreshColumns& fresh, Index region_after_size) const;
+
   void build_slots();
+  /// Base displacement and traction from the solution x of A* x = b (u on traction dofs, t on
+  /// displacement dofs) and the prescribed values of `bc`.
+  void set_base_state(const BoundaryConditions& bc, const Eigen::Ref<const Eigen::VectorXd>& x);
   void set_columns_from_solution(Eigen::MatrixXd&& X);
 
   GreensTableKey key_;

@@ -17,108 +17,77 @@
 
 namespace bemsurg {
 
+/// Solves A x = b through solve(b, x) (KrylovSolverBase). One iteration = one BiCGStab step =
+/// two products with A.
 template <class Operator = DenseOperator, class Preconditioner = IdentityPreconditioner>
 class BiCgStab : public KrylovSolverBase<BiCgStab<Operator, Preconditioner>, Operator, Preconditioner> {
   using Base = KrylovSolverBase<BiCgStab<Operator, Preconditioner>, Operator, Preconditioner>;
+  // The workspace: r (s after the half step), the shadow r0~, p, v = A M^-1 p, M^-1 p, M^-1 s and
+  // t = A M^-1 s (also the scratch for b - A x).
+  Eigen::VectorXd r_, r0_, p_, v_, p_hat_, s_hat_, t_;
 
  public:
   using Base::Base;
 
-  /// Solves A x = b. On entry x is the initial guess (empty: zero), on exit the last iterate,
-  /// whatever the status. One iteration = one BiCGStab step = two products with A.
-  const KrylovReport& solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
-    typename Base::Clock::time_point start;
-    if (!this->begin(b, x, start)) return this->report_;
-    const KrylovSettings& s = this->settings_;
-    const Operator& A = *this->A_;
-    const Preconditioner& M = *this->M_;
-    KrylovReport& report = this->report_;
-    const Eigen::Index n = A.rows();
+ private:
+  friend Base;  // solve() calls workspace(), iterate() and run_pass()
+
+  Eigen::VectorXd& workspace(Eigen::Index n) {
     if (r_.size() != n) r_.resize(n), r0_.resize(n), p_.resize(n), v_.resize(n), p_hat_.resize(n), s_hat_.resize(n), t_.resize(n);
+    return r_;
+  }
 
-    double residual = 0.0;
-    if (!this->begin_residual(b, x, r_, residual, start)) return report;
+  void iterate(const Operator& A, const Preconditioner& M, const Eigen::VectorXd& b, Eigen::VectorXd& x, double residual,
+               typename Base::Clock::time_point start) {
+    this->iterate_with_replacement(A, M, b, x, residual, start, r_, t_);
+  }
 
-    double replaced_at = residual;  // true residual when the recurrence last (re)started
-    for (;;) {                      // one pass per (re)start of the recurrence from the true residual
-      r0_ = r_;
-      const double r0_norm = r0_.norm();
-      double rho_old = 1.0, alpha = 1.0, omega = 1.0;
-      v_.setZero();
-      p_.setZero();
-      const int started_at = report.iterations;
-      const char* stop = nullptr;
-      KrylovStatus status = KrylovStatus::NotComputed;
-      while (report.iterations < s.max_iterations) {
-        const double r_norm = r_.norm();
-        const double rho = r0_.dot(r_);
-        if (!std::isfinite(rho)) { status = KrylovStatus::NonFinite; stop = "rho = (r0~, r)"; break; }
-        if (this->vanished(rho, r0_norm * r_norm)) { status = KrylovStatus::Breakdown; stop = "rho = (r0~, r)"; break; }
-        const double beta = (rho / rho_old) * (alpha / omega);
-        p_ = r_ + beta * (p_ - omega * v_);
-        M.apply(p_, p_hat_);
-        A.apply(p_hat_, v_);
-        const double sigma = r0_.dot(v_);
-        if (!std::isfinite(sigma)) { status = KrylovStatus::NonFinite; stop = "sigma = (r0~, A M^-1 p)"; break; }
-        if (this->vanished(sigma, r0_norm * v_.norm())) {
-          status = KrylovStatus::Breakdown;
-          stop = "sigma = (r0~, A M^-1 p)";
-          break;
-        }
-        alpha = rho / sigma;
-        r_ -= alpha * v_;  // r is now s = r - alpha v
-        x += alpha * p_hat_;
-        ++report.iterations;
-        const double s_norm = r_.norm();
-        if (s_norm / this->b_norm_ <= s.tolerance) {  // half step already good enough
-          record(s_norm);
-          break;
-        }
-        M.apply(r_, s_hat_);
-        A.apply(s_hat_, t_);
-        const double tt = t_.squaredNorm(), ts = t_.dot(r_);
-        if (!std::isfinite(tt) || !std::isfinite(ts)) { status = KrylovStatus::NonFinite; stop = "t = A M^-1 s"; break; }
-        if (this->vanished(ts, std::sqrt(tt) * s_norm)) {
-          status = KrylovStatus::Breakdown;
-          stop = "omega = (t, s) / (t, t)";
-          record(s_norm);
-          break;
-        }
-        omega = ts / tt;
-        x += omega * s_hat_;
-        r_ -= omega * t_;
-        rho_old = rho;
-        if (record(r_.norm()) <= s.tolerance) break;
+  /// One pass of the recurrence, from the residual in r_ with it as the shadow residual r0~.
+  void run_pass(const Operator& A, const Preconditioner& M, Eigen::VectorXd& x, typename Base::Pass& pass) {
+    const KrylovSettings& s = this->settings_;
+    r0_ = r_;
+    const double r0_norm = r0_.norm();
+    double rho_old = 1.0, alpha = 1.0, omega = 1.0;
+    v_.setZero();
+    p_.setZero();
+    while (this->report_.iterations < s.max_iterations) {
+      const double r_norm = r_.norm();
+      const double rho = r0_.dot(r_);
+      if (this->stops(pass, rho, r0_norm * r_norm, "rho = (r0~, r)")) break;
+      const double beta = (rho / rho_old) * (alpha / omega);
+      p_ = r_ + beta * (p_ - omega * v_);
+      M.apply(p_, p_hat_);
+      A.apply(p_hat_, v_);
+      const double sigma = r0_.dot(v_);
+      if (this->stops(pass, sigma, r0_norm * v_.norm(), "sigma = (r0~, A M^-1 p)")) break;
+      alpha = rho / sigma;
+      r_ -= alpha * v_;  // r is now s = r - alpha v
+      x += alpha * p_hat_;
+      ++this->report_.iterations;
+      const double s_norm = r_.norm();
+      if (s_norm / this->b_norm_ <= s.tolerance) {  // half step already good enough
+        this->record(s_norm);
+        break;
       }
-      const double previous = replaced_at;
-      Eigen::VectorXd& scratch = t_;
-      report.true_residual = this->true_residual(b, x, scratch);
-      if (!std::isfinite(report.true_residual)) return this->finish(KrylovStatus::NonFinite, stop ? stop : "solution update", start), report;
-      if (report.true_residual <= s.tolerance) return this->finish(KrylovStatus::Converged, "", start), report;
-      // A breakdown in the first step after a (re)start is final: restarting again would repeat it. Later ones
-      // restart from the true residual with a fresh shadow vector (as Eigen's BiCGSTAB does for rho).
-      if (status == KrylovStatus::NonFinite || (status == KrylovStatus::Breakdown && report.iterations <= started_at + 1))
-        return this->finish(status, stop, start), report;
-      if (report.iterations >= s.max_iterations) return this->finish(KrylovStatus::IterationLimit, "", start), report;
-      // The recurrence claimed convergence that the true residual does not confirm (residual gap):
-      // restart from the true residual, unless the last pass did not even lower it.
-      if (status == KrylovStatus::NotComputed && report.true_residual > (1.0 - s.stagnation_reduction) * previous)
-        return this->finish(KrylovStatus::Stagnation, "", start), report;
-      r_ = scratch;
-      replaced_at = report.true_residual;
-      ++report.restarts;
+      M.apply(r_, s_hat_);
+      A.apply(s_hat_, t_);
+      const double tt = t_.squaredNorm(), ts = t_.dot(r_);
+      if (!std::isfinite(tt) || !std::isfinite(ts)) {
+        pass.stopped(KrylovStatus::NonFinite, "t = A M^-1 s");
+        break;
+      }
+      if (this->vanished(ts, std::sqrt(tt) * s_norm)) {
+        pass.stopped(KrylovStatus::Breakdown, "omega = (t, s) / (t, t)");
+        this->record(s_norm);
+        break;
+      }
+      omega = ts / tt;
+      x += omega * s_hat_;
+      r_ -= omega * t_;
+      rho_old = rho;
+      if (this->record(r_.norm()) <= s.tolerance) break;
     }
   }
-
- private:
-  double record(double residual_norm) {
-    const double relative = residual_norm / this->b_norm_;
-    this->report_.estimated_residual = relative;
-    this->report_.residual_history.push_back(relative);
-    return relative;
-  }
-
-  Eigen::VectorXd r_, r0_, p_, v_, p_hat_, s_hat_, t_;
 };
 
 }  // namespace bemsurg

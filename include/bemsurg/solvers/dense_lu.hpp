@@ -10,6 +10,7 @@
 #include <string>
 
 #include "bemsurg/error.hpp"
+#include "bemsurg/number_text.hpp"
 
 namespace bemsurg {
 
@@ -36,7 +37,7 @@ class DenseLU {
     if (!A.allFinite()) {
       Eigen::Index row = 0, col = 0;
       first_non_finite(A, row, col);
-      throw SolverError("DenseLU: the matrix has a non-finite entry (" + std::to_string(A(row, col)) + " at row " +
+      throw SolverError("DenseLU: the matrix has a non-finite entry (" + number_text(A(row, col)) + " at row " +
                         std::to_string(row) + ", column " + std::to_string(col) + "); it cannot be factorised");
     }
     const Eigen::VectorXd column_max = column_maxima(A);

@@ -22,30 +22,36 @@
 
 namespace bemsurg {
 
+/// Solves A x = b through solve(b, x) (KrylovSolverBase). One iteration = one product with A.
 template <class Operator = DenseOperator, class Preconditioner = IdentityPreconditioner>
 class Gmres : public KrylovSolverBase<Gmres<Operator, Preconditioner>, Operator, Preconditioner> {
   using Base = KrylovSolverBase<Gmres<Operator, Preconditioner>, Operator, Preconditioner>;
+  // The workspace: the basis V (n x (m+1)), the Hessenberg matrix H kept triangular by the Givens
+  // rotations (cs, sn), the rotated right-hand side g, y for the least-squares solution, and r,
+  // t, w (n).
+  Eigen::MatrixXd V_, H_;
+  Eigen::VectorXd g_, y_, cs_, sn_, r_, t_, w_;
+  Eigen::Index basis_size_ = 0;  // m: the basis holds m + 1 vectors
 
  public:
   using Base::Base;
 
-  /// Solves A x = b. On entry x is the initial guess (empty: zero), on exit the last iterate,
-  /// whatever the status. Returns the report (also report()).
-  const KrylovReport& solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
-    typename Base::Clock::time_point start;
-    if (!this->begin(b, x, start)) return this->report_;
+ private:
+  friend Base;  // solve() calls workspace() and iterate()
+
+  Eigen::VectorXd& workspace(Eigen::Index n) {
     const KrylovSettings& s = this->settings_;
-    const Operator& A = *this->A_;
-    const Preconditioner& M = *this->M_;
-    KrylovReport& report = this->report_;
-    const Eigen::Index n = A.rows();
     // Basis size: the restart length, or (full GMRES) as many vectors as iterations allowed, never more than n.
-    const Eigen::Index m = std::min<Eigen::Index>(n, s.restart > 0 ? std::min(s.restart, s.max_iterations) : s.max_iterations);
-    reserve(n, m);
+    basis_size_ = std::min<Eigen::Index>(n, s.restart > 0 ? std::min(s.restart, s.max_iterations) : s.max_iterations);
+    reserve(n, basis_size_);
+    return r_;
+  }
 
-    double residual = 0.0;
-    if (!this->begin_residual(b, x, r_, residual, start)) return report;
-
+  void iterate(const Operator& A, const Preconditioner& M, const Eigen::VectorXd& b, Eigen::VectorXd& x, double residual,
+               typename Base::Clock::time_point start) {
+    const KrylovSettings& s = this->settings_;
+    KrylovReport& report = this->report_;
+    const Eigen::Index m = basis_size_;
     const double tiny = std::max(s.breakdown_tolerance, 16 * std::numeric_limits<double>::epsilon());
     for (;;) {  // one restart cycle per pass
       const double beta = residual * this->b_norm_;
@@ -75,7 +81,7 @@ class Gmres : public KrylovSolverBase<Gmres<Operator, Preconditioner>, Operator,
         if (!std::isfinite(w_norm) || !std::isfinite(h_next) || !h.allFinite()) {
           x_update(k, x);  // keep the last finite iterate's progress
           report.true_residual = this->true_residual(b, x, r_);
-          return this->finish(KrylovStatus::NonFinite, "Arnoldi vector A M^-1 v", start), report;
+          return this->finish(KrylovStatus::NonFinite, "Arnoldi vector A M^-1 v", start);
         }
         for (Eigen::Index i = 0; i < j; ++i) rotate(cs_(i), sn_(i), H_(i, j), H_(i + 1, j));
         const double diagonal = std::hypot(H_(j, j), h_next);
@@ -89,9 +95,7 @@ class Gmres : public KrylovSolverBase<Gmres<Operator, Preconditioner>, Operator,
         g_(j + 1) = -sn_(j) * g_(j);
         g_(j) *= cs_(j);
         k = j + 1;
-        report.estimated_residual = std::abs(g_(j + 1)) / this->b_norm_;
-        report.residual_history.push_back(report.estimated_residual);
-        if (report.estimated_residual <= s.tolerance) break;
+        if (this->record(std::abs(g_(j + 1))) <= s.tolerance) break;
         if (h_next <= tiny * w_norm) {  // lucky breakdown: the Krylov space is invariant, x is exact in it
           invariant = true;
           break;
@@ -102,23 +106,19 @@ class Gmres : public KrylovSolverBase<Gmres<Operator, Preconditioner>, Operator,
       const double previous = residual;
       residual = this->true_residual(b, x, r_);
       report.true_residual = residual;
-      if (!std::isfinite(residual)) return this->finish(KrylovStatus::NonFinite, "solution update", start), report;
-      if (residual <= s.tolerance) return this->finish(KrylovStatus::Converged, "", start), report;
+      if (!std::isfinite(residual)) return this->finish(KrylovStatus::NonFinite, "solution update", start);
+      if (residual <= s.tolerance) return this->finish(KrylovStatus::Converged, "", start);
       if (singular)
-        return this->finish(KrylovStatus::Breakdown,
-                            "h(j,j) = h(j+1,j) = 0: A M^-1 is singular on the Krylov space", start), report;
+        return this->finish(KrylovStatus::Breakdown, "h(j,j) = h(j+1,j) = 0: A M^-1 is singular on the Krylov space", start);
       if (invariant)
         return this->finish(KrylovStatus::Breakdown,
-                            "h(j+1,j) = 0: the Krylov space is invariant but the residual is above tolerance", start),
-               report;
-      if (report.iterations >= s.max_iterations) return this->finish(KrylovStatus::IterationLimit, "", start), report;
-      if (residual > (1.0 - s.stagnation_reduction) * previous)
-        return this->finish(KrylovStatus::Stagnation, "", start), report;
+                            "h(j+1,j) = 0: the Krylov space is invariant but the residual is above tolerance", start);
+      if (report.iterations >= s.max_iterations) return this->finish(KrylovStatus::IterationLimit, "", start);
+      if (residual > (1.0 - s.stagnation_reduction) * previous) return this->finish(KrylovStatus::Stagnation, "", start);
       ++report.restarts;
     }
   }
 
- private:
   void reserve(Eigen::Index n, Eigen::Index m) {
     if (V_.rows() != n || V_.cols() != m + 1) V_.resize(n, m + 1);
     if (H_.rows() != m + 1 || H_.cols() != m) H_.resize(m + 1, m);
@@ -147,8 +147,6 @@ class Gmres : public KrylovSolverBase<Gmres<Operator, Preconditioner>, Operator,
     a = t;
   }
 
-  Eigen::MatrixXd V_, H_;
-  Eigen::VectorXd g_, y_, cs_, sn_, r_, t_, w_;
 };
 
 }  // namespace bemsurg

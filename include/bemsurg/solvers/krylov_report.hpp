@@ -5,7 +5,7 @@
 #pragma once
 
 #include <Eigen/Core>
-#include <cstdio>
+#include <charconv>
 #include <string>
 #include <vector>
 
@@ -63,15 +63,16 @@ struct KrylovReport {
   std::string summary() const {
     std::string s = to_string(status);
     if (!breakdown.empty()) s += " (" + breakdown + ")";
-    s += " after " + std::to_string(iterations) + " iterations, true relative residual " + format(true_residual);
+    s += " after " + std::to_string(iterations) + " iterations, true relative residual " + scientific_text(true_residual);
     return s;
   }
 
- private:
-  static std::string format(double v) {
+  /// v as "%.3e" would write it in the C locale ("1.234e-05"), whatever the locale: to_chars with
+  /// a precision is defined as printf in the C locale.
+  static std::string scientific_text(double v) {
     char buffer[32];
-    std::snprintf(buffer, sizeof buffer, "%.3e", v);
-    return buffer;
+    const auto result = std::to_chars(buffer, buffer + sizeof buffer, v, std::chars_format::scientific, 3);
+    return std::string(buffer, result.ptr);
   }
 };
 

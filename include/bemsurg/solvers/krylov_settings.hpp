@@ -6,6 +6,7 @@
 #include <string>
 
 #include "bemsurg/error.hpp"
+#include "bemsurg/number_text.hpp"
 
 namespace bemsurg {
 
@@ -28,14 +29,14 @@ struct KrylovSettings {
   /// Throws SolverError naming the first field that makes no sense.
   void validate() const {
     if (!(std::isfinite(tolerance) && tolerance > 0.0))
-      throw SolverError("Krylov settings: tolerance must be a positive finite number, got " + std::to_string(tolerance));
+      throw SolverError("Krylov settings: tolerance must be a positive finite number, got " + number_text(tolerance));
     if (max_iterations < 1)
       throw SolverError("Krylov settings: max_iterations must be at least 1, got " + std::to_string(max_iterations));
     if (restart < 0) throw SolverError("Krylov settings: restart must be 0 (no restart) or positive, got " + std::to_string(restart));
     if (!(std::isfinite(breakdown_tolerance) && breakdown_tolerance >= 0.0 && breakdown_tolerance < 1.0))
-      throw SolverError("Krylov settings: breakdown_tolerance must lie in [0, 1), got " + std::to_string(breakdown_tolerance));
+      throw SolverError("Krylov settings: breakdown_tolerance must lie in [0, 1), got " + number_text(breakdown_tolerance));
     if (!(std::isfinite(stagnation_reduction) && stagnation_reduction >= 0.0 && stagnation_reduction < 1.0))
-      throw SolverError("Krylov settings: stagnation_reduction must lie in [0, 1), got " + std::to_string(stagnation_reduction));
+      throw SolverError("Krylov settings: stagnation_reduction must lie in [0, 1), got " + number_text(stagnation_reduction));
   }
 };
 

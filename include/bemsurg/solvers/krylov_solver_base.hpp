@@ -6,6 +6,17 @@
 // repeated solves of the same size allocate nothing (the report's residual history keeps its
 // capacity too). The operator and the preconditioner are held by pointer, as Eigen's iterative
 // solvers hold the matrix: they must outlive the solver. One solver object per thread.
+//
+// As in Eigen's IterativeLinearSolvers, solve() lives here and opens every solve the same way
+// (checks, b = 0, workspace, initial residual r = b - A x0); the method adds only its iteration:
+//
+//   DenseOperator A(matrix);                      // or any operator with rows() and apply()
+//   BlockJacobiPreconditioner M(matrix);
+//   Gmres<DenseOperator, BlockJacobiPreconditioner> gmres;   // or BiCgStab<...>, BiCg<...>
+//   gmres.settings().tolerance = 1e-8;
+//   Eigen::VectorXd x;                            // empty: start from zero
+//   const KrylovReport& report = gmres.compute(A, M).solve(b, x);
+//   if (!report.converged()) throw SolverError(report.summary());
 #pragma once
 
 #include <Eigen/Core>
@@ -24,12 +35,27 @@
 namespace bemsurg {
 
 /// CRTP base: Derived is the method (Gmres, BiCgStab, BiCg), so compute() returns it and calls
-/// chain as with Eigen's solvers: `Gmres<> solver; solver.compute(A, M).solve(b, x)`.
+/// chain as with Eigen's solvers: `Gmres<> solver; solver.compute(A, M).solve(b, x)`. Derived
+/// provides `Eigen::VectorXd& workspace(n)` (sizes its vectors when n changed, returns the one
+/// that holds the residual) and `void iterate(A, M, b, x, residual, start)` (from x0, whose
+/// relative residual `residual` is in that vector, until it calls finish()).
 template <class Derived, class Operator, class Preconditioner>
 class KrylovSolverBase {
  public:
   KrylovSolverBase() = default;
   explicit KrylovSolverBase(const KrylovSettings& settings) : settings_(settings) {}
+
+  /// Solves A x = b. On entry x is the initial guess (empty: zero), on exit the last iterate,
+  /// whatever the status. Returns the report (also report()).
+  const KrylovReport& solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+    Clock::time_point start;
+    if (!begin(b, x, start)) return report_;
+    Eigen::VectorXd& r = derived().workspace(A_->rows());
+    double residual = 0.0;
+    if (!begin_residual(b, x, r, residual, start)) return report_;
+    derived().iterate(*A_, *M_, b, x, residual, start);
+    return report_;
+  }
 
   /// Solves with operator A and preconditioner M (M approximates A; the solvers apply M^-1).
   Derived& compute(const Operator& A, const Preconditioner& M) { return set_operator(A, M), derived(); }
@@ -125,9 +151,78 @@ class KrylovSolverBase {
     report_.seconds = seconds_since(start);
   }
 
+  /// Records the recurrence's residual estimate ||r|| (absolute); returns it relative to ||b||.
+  double record(double residual_norm) {
+    const double relative = residual_norm / b_norm_;
+    report_.estimated_residual = relative;
+    report_.residual_history.push_back(relative);
+    return relative;
+  }
+
   /// A scalar that is to be divided by has vanished: |value| <= tol * scale (or scale is zero).
   bool vanished(double value, double scale) const {
     return !(std::abs(value) > settings_.breakdown_tolerance * scale) || scale == 0.0;
+  }
+
+  /// One pass of a recurrence that replaces its residual by the true one (BiCG, BiCGStab): from
+  /// a (re)start to the iteration that stopped it.
+  struct Pass {
+    int started_at = 0;                               // report().iterations at the (re)start
+    KrylovStatus status = KrylovStatus::NotComputed;  // NonFinite or Breakdown: a scalar stopped it
+    const char* stop = nullptr;                       // ... and which one
+    bool stopped(KrylovStatus why, const char* quantity) {
+      status = why;
+      stop = quantity;
+      return true;
+    }
+  };
+
+  /// True (the pass stopped, the quantity named) when a scalar the recurrence divides by is not
+  /// finite or has vanished against `scale` (see vanished()).
+  bool stops(Pass& pass, double value, double scale, const char* quantity) const {
+    if (!std::isfinite(value)) return pass.stopped(KrylovStatus::NonFinite, quantity);
+    if (vanished(value, scale)) return pass.stopped(KrylovStatus::Breakdown, quantity);
+    return false;
+  }
+
+  /// The outer loop of BiCG and BiCGStab: passes of the recurrence (Derived::run_pass(A, M, x,
+  /// pass)) on the residual in `r`, each ended by restart_from_true_residual() with `scratch`.
+  void iterate_with_replacement(const Operator& A, const Preconditioner& M, const Eigen::VectorXd& b, Eigen::VectorXd& x,
+                                double residual, Clock::time_point start, Eigen::VectorXd& r, Eigen::VectorXd& scratch) {
+    double replaced_at = residual;  // true residual when the recurrence last (re)started
+    for (;;) {                      // one pass per (re)start of the recurrence from the true residual
+      Pass pass;
+      pass.started_at = report_.iterations;
+      derived().run_pass(A, M, x, pass);
+      if (!restart_from_true_residual(b, x, pass, scratch, r, replaced_at, start)) return;
+    }
+  }
+
+  /// The end of a pass (BiCG, BiCGStab): the true residual, recomputed into `scratch`, decides.
+  /// False: the solve is over (report final). True: the recurrence restarts from the true
+  /// residual, now in `r` (report().restarts counts it; `replaced_at` is its value).
+  bool restart_from_true_residual(const Eigen::VectorXd& b, const Eigen::VectorXd& x, const Pass& pass, Eigen::VectorXd& scratch,
+                                  Eigen::VectorXd& r, double& replaced_at, Clock::time_point start) {
+    const KrylovSettings& s = settings_;
+    const double previous = replaced_at;
+    report_.true_residual = true_residual(b, x, scratch);
+    if (!std::isfinite(report_.true_residual))
+      return finish(KrylovStatus::NonFinite, pass.stop ? pass.stop : "solution update", start), false;
+    if (report_.true_residual <= s.tolerance) return finish(KrylovStatus::Converged, "", start), false;
+    // A breakdown in the first step after a (re)start is final: restarting again would repeat it. Later ones
+    // restart from the true residual with a fresh shadow vector (as Eigen's BiCGSTAB does for rho).
+    if (pass.status == KrylovStatus::NonFinite ||
+        (pass.status == KrylovStatus::Breakdown && report_.iterations <= pass.started_at + 1))
+      return finish(pass.status, pass.stop, start), false;
+    if (report_.iterations >= s.max_iterations) return finish(KrylovStatus::IterationLimit, "", start), false;
+    // The recurrence claimed convergence that the true residual does not confirm (residual gap):
+    // restart from the true residual, unless the last pass did not even lower it.
+    if (pass.status == KrylovStatus::NotComputed && report_.true_residual > (1.0 - s.stagnation_reduction) * previous)
+      return finish(KrylovStatus::Stagnation, "", start), false;
+    r = scratch;
+    replaced_at = report_.true_residual;
+    ++report_.restarts;
+    return true;
   }
 
   /// Most iterations whose residual history is reserved before a solve (32 KiB).

@@ -24,6 +24,7 @@
 
 #include "bemsurg/dense_storage.hpp"
 #include "bemsurg/error.hpp"
+#include "bemsurg/number_text.hpp"
 #include "bemsurg/solvers/lu_factors.hpp"
 #include "bemsurg/types.hpp"
 
@@ -140,7 +141,7 @@ class LowRankUpdatedLu {
     out.C_lu_.compute(out.C_);
     const double rc = r > 0 ? out.C_lu_.rcond() : 1.0;
     if (!(rc > 1e-15))
-      throw SolverError("the updated system is singular to working precision (capacitance reciprocal condition " + std::to_string(rc) + ")");
+      throw SolverError("the updated system is singular to working precision (capacitance reciprocal condition " + number_text(rc) + ")");
     if (kinv_us) *kinv_us = std::move(Ws);
     return out;
   }

@@ -335,112 +335,139 @@ BEMSURG_INLINE ContactUpdateReport ToolContactSolver::update(int max_iterations)
   return report;
 }
 
+BEMSURG_INLINE void ToolContactSolver::remove_unwanted_rows() {
+  // Marks which candidates each engaged tool wants now and removes the rows of those it no longer
+  // wants (first, so that the capacity they free is there for the additions).
+  for (std::size_t ti = 0; ti < tools_.size(); ++ti) {
+    Tool& t = tools_[ti];
+    if (!t.engaged) continue;
+    const int tag = static_cast<int>(ti);
+    for (std::size_t i = 0; i < t.candidates.size(); ++i) {
+      const Index e = t.candidates[i];
+      Eigen::Vector3d push, w;
+      const bool geo = geometric_contact(t, e, push, w);
+      if (!geo) t.released[i] = 0;  // out of reach: forget an old release
+      const bool want = geo && !t.released[i];
+      t.wanted[i] = want ? 1 : 0;
+      int& owner = owner_[static_cast<std::size_t>(e)];
+      if (owner == tag && !want) {
+        contact_.remove_element(e);
+        owner = -1;
+      }
+    }
+  }
+}
+
+BEMSURG_INLINE bool ToolContactSolver::gather_additions() {
+  // The rows of wanted elements that no tool holds yet, into add_buffer_ (committed by the caller
+  // in one add_rows); each element is claimed at once so that no other tool adds it too.
+  const Index free_rows = contact_.capacity() - contact_.num_rows();
+  for (std::size_t ti = 0; ti < tools_.size(); ++ti) {
+    Tool& t = tools_[ti];
+    if (!t.engaged) continue;
+    const int tag = static_cast<int>(ti);
+    for (std::size_t i = 0; i < t.candidates.size(); ++i) {
+      if (!t.wanted[i]) continue;
+      const Index e = t.candidates[i];
+      int& owner = owner_[static_cast<std::size_t>(e)];
+      if (owner != -1) continue;  // already in contact (with this tool or another)
+      const Index need = t.spec.mode == ContactMode::Bonded ? 3 : 1;
+      if (static_cast<Index>(add_buffer_.size()) + need > free_rows) {
+        rows_needed_ = contact_.num_rows() + static_cast<Index>(add_buffer_.size()) + need;
+        rollback_additions();
+        return false;
+      }
+      Eigen::Vector3d push, w;
+      geometric_contact(t, e, push, w);
+      add_element_rows(t, tag, e, w);
+      owner = tag;  // claimed; rolled back if add_rows fails
+    }
+  }
+  return true;
+}
+
+BEMSURG_INLINE bool ToolContactSolver::release_tension() {
+  // Unilateral tools only push: an element whose contact traction pulls (beyond round-off of the
+  // largest multiplier) is released. True when any was.
+  double scale = 0.0;
+  for (Index a = 0; a < contact_.num_rows(); ++a) scale = std::max(scale, std::abs(contact_.multiplier(a)));
+  const double tol = 1e-10 * scale;
+  bool released_any = false;
+  for (std::size_t ti = 0; ti < tools_.size(); ++ti) {
+    Tool& t = tools_[ti];
+    if (!t.engaged || !unilateral(t)) continue;
+    for (std::size_t i = 0; i < t.candidates.size(); ++i) {
+      const Index e = t.candidates[i];
+      if (owner_[static_cast<std::size_t>(e)] != static_cast<int>(ti)) continue;
+      const Eigen::Vector3d tr = contact_.traction(e) - table_->base_traction().segment<3>(3 * e);
+      if (tr.dot(mesh_->normal(e)) > tol) {
+        t.released[i] = 1;
+        released_any = true;
+      }
+    }
+  }
+  return released_any;
+}
+
+BEMSURG_INLINE bool ToolContactSolver::readmit_penetrating() {
+  // A released element that the tool still reaches and that lags behind it (the tool would
+  // penetrate) comes back. True when any did.
+  bool readmitted = false;
+  for (std::size_t ti = 0; ti < tools_.size(); ++ti) {
+    Tool& t = tools_[ti];
+    if (!t.engaged || !unilateral(t)) continue;
+    for (std::size_t i = 0; i < t.candidates.size(); ++i) {
+      if (!t.released[i]) continue;
+      const Index e = t.candidates[i];
+      Eigen::Vector3d push, w;
+      if (!geometric_contact(t, e, push, w)) continue;
+      const Eigen::Vector3d moved = contact_.displacement_of(e) - table_->base_displacement().segment<3>(3 * e);
+      // Penetration: the element has not moved as far into the body as the tool demands.
+      const double need = push.dot(w);
+      if (moved.dot(w) < need - 1e-9 * std::abs(need)) {
+        t.released[i] = 0;
+        readmitted = true;
+      }
+    }
+  }
+  return readmitted;
+}
+
 BEMSURG_INLINE ContactStatus ToolContactSolver::step(ContactUpdateReport& report, int max_iterations) noexcept {
   report = ContactUpdateReport{};
   report.consistent = false;
+  ContactStatus failed = ContactStatus::Ok;
   for (int iter = 0; iter < std::max(1, max_iterations); ++iter) {
     report.active_set_iterations = iter + 1;
     // 1. Bring the rows in line with the geometry and the released flags: first every removal
-    //    (it frees capacity), then the additions, committed in one add_rows. A throw (capacity
+    //    (it frees capacity), then the additions, committed in one add_rows. A failure (capacity
     //    exceeded, singular S) rolls the new elements' ownership back, so the solver stays
     //    consistent with the contact set and a later update() starts from there.
     add_buffer_.clear();
-    for (std::size_t ti = 0; ti < tools_.size(); ++ti) {
-      Tool& t = tools_[ti];
-      if (!t.engaged) continue;
-      const int tag = static_cast<int>(ti);
-      for (std::size_t i = 0; i < t.candidates.size(); ++i) {
-        const Index e = t.candidates[i];
-        Eigen::Vector3d push, w;
-        const bool geo = geometric_contact(t, e, push, w);
-        if (!geo) t.released[i] = 0;  // out of reach: forget an old release
-        const bool want = geo && !t.released[i];
-        t.wanted[i] = want ? 1 : 0;
-        int& owner = owner_[static_cast<std::size_t>(e)];
-        if (owner == tag && !want) {
-          contact_.remove_element(e);
-          owner = -1;
-        }
-      }
-    }
-    const Index free_rows = contact_.capacity() - contact_.num_rows();
-    for (std::size_t ti = 0; ti < tools_.size(); ++ti) {
-      Tool& t = tools_[ti];
-      if (!t.engaged) continue;
-      const int tag = static_cast<int>(ti);
-      for (std::size_t i = 0; i < t.candidates.size(); ++i) {
-        if (!t.wanted[i]) continue;
-        const Index e = t.candidates[i];
-        int& owner = owner_[static_cast<std::size_t>(e)];
-        if (owner != -1) continue;  // already in contact (with this tool or another)
-        const Index need = t.spec.mode == ContactMode::Bonded ? 3 : 1;
-        if (static_cast<Index>(add_buffer_.size()) + need > free_rows) {
-          rows_needed_ = contact_.num_rows() + static_cast<Index>(add_buffer_.size()) + need;
-          rollback_additions();
-          report.rows = contact_.num_rows();
-          report.elements = contact_.num_elements();
-          return ContactStatus::CapacityExceeded;
-        }
-        Eigen::Vector3d push, w;
-        geometric_contact(t, e, push, w);
-        add_element_rows(t, tag, e, w);
-        owner = tag;  // claimed, so no other tool adds it too; rolled back if add_rows throws
-      }
+    remove_unwanted_rows();
+    if (!gather_additions()) {
+      failed = ContactStatus::CapacityExceeded;
+      break;
     }
     if (!contact_.try_add_rows(add_buffer_.data(), static_cast<Index>(add_buffer_.size()))) {
       rollback_additions();
-      report.rows = contact_.num_rows();
-      report.elements = contact_.num_elements();
-      return ContactStatus::Singular;
+      failed = ContactStatus::Singular;
+      break;
     }
     // 2. Targets from the poses, then the small solve.
     set_targets();
     contact_.solve();
     // 3. Active set of unilateral tools: release tension; re-admit released elements that would
     //    penetrate. One kind of change per iteration, so the two cannot undo each other at once.
-    double scale = 0.0;
-    for (Index a = 0; a < contact_.num_rows(); ++a) scale = std::max(scale, std::abs(contact_.multiplier(a)));
-    const double tol = 1e-10 * scale;
-    bool released_any = false;
-    for (std::size_t ti = 0; ti < tools_.size(); ++ti) {
-      Tool& t = tools_[ti];
-      if (!t.engaged || !unilateral(t)) continue;
-      for (std::size_t i = 0; i < t.candidates.size(); ++i) {
-        const Index e = t.candidates[i];
-        if (owner_[static_cast<std::size_t>(e)] != static_cast<int>(ti)) continue;
-        const Eigen::Vector3d tr = contact_.traction(e) - table_->base_traction().segment<3>(3 * e);
-        if (tr.dot(mesh_->normal(e)) > tol) {
-          t.released[i] = 1;
-          released_any = true;
-        }
-      }
-    }
-    if (released_any) continue;
-    bool readmitted = false;
-    for (std::size_t ti = 0; ti < tools_.size(); ++ti) {
-      Tool& t = tools_[ti];
-      if (!t.engaged || !unilateral(t)) continue;
-      for (std::size_t i = 0; i < t.candidates.size(); ++i) {
-        if (!t.released[i]) continue;
-        const Index e = t.candidates[i];
-        Eigen::Vector3d push, w;
-        if (!geometric_contact(t, e, push, w)) continue;
-        const Eigen::Vector3d moved = contact_.displacement_of(e) - table_->base_displacement().segment<3>(3 * e);
-        // Penetration: the element has not moved as far into the body as the tool demands.
-        const double need = push.dot(w);
-        if (moved.dot(w) < need - 1e-9 * std::abs(need)) {
-          t.released[i] = 0;
-          readmitted = true;
-        }
-      }
-    }
-    if (!readmitted) {
+    if (release_tension()) continue;
+    if (!readmit_penetrating()) {
       report.consistent = true;
       break;
     }
   }
   report.rows = contact_.num_rows();
   report.elements = contact_.num_elements();
+  if (failed != ContactStatus::Ok) return failed;
   return report.consistent ? ContactStatus::Ok : ContactStatus::Unsettled;
 }
 

@@ -6,18 +6,15 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <sstream>
 
 #include "bemsurg/error.hpp"
+#include "bemsurg/number_text.hpp"
 
 namespace bemsurg {
 
 namespace detail {
 BEMSURG_INLINE std::string short_number(double x) {
-  std::ostringstream s;
-  s.precision(3);
-  s << x;
-  return std::isfinite(x) ? s.str() : std::string("more than 1e308");  // depth 1e308 over a 0.05 body
+  return std::isfinite(x) ? general_text(x, 3) : std::string("more than 1e308");  // depth 1e308 over a 0.05 body
 }
 }  // namespace detail
 

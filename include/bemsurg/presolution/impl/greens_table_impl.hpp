@@ -151,19 +151,24 @@ BEMSURG_INLINE GreensTable GreensTable::compute(std::shared_ptr<const TriangleMe
   table.quadrature_ = options.quadrature;
   table.base_values_ = base.values();
 
-  // Unknown x_k is u_k on traction dofs and t_k on displacement dofs: split into the two fields.
-  table.base_displacement_.resize(n);
-  table.base_traction_.resize(n);
-  for (Index k = 0; k < n; ++k) {
-    const bool t_known = base.kind(k) == BcKind::Traction;
-    table.base_displacement_(k) = t_known ? B(k, 3 * R) : base.value(k);
-    table.base_traction_(k) = t_known ? base.value(k) : B(k, 3 * R);
-  }
+  table.set_base_state(base, B.col(3 * R));
   B.conservativeResize(n, 3 * R);
   if (!B.allFinite()) throw SolverError("GreensTable: the table has non-finite entries");
   table.set_columns_from_solution(std::move(B));
   table.build_slots();
   return table;
+}
+
+BEMSURG_INLINE void GreensTable::set_base_state(const BoundaryConditions& bc, const Eigen::Ref<const Eigen::VectorXd>& x) {
+  // Unknown x_k is u_k on traction dofs and t_k on displacement dofs: split into the two fields.
+  const Index n = x.size();
+  base_displacement_.resize(n);
+  base_traction_.resize(n);
+  for (Index k = 0; k < n; ++k) {
+    const bool t_known = bc.kind(k) == BcKind::Traction;
+    base_displacement_(k) = t_known ? x(k) : bc.value(k);
+    base_traction_(k) = t_known ? bc.value(k) : x(k);
+  }
 }
 
 BEMSURG_INLINE void GreensTable::set_columns_from_solution(Eigen::MatrixXd&& X) {
@@ -254,91 +259,72 @@ BEMSURG_INLINE std::shared_ptr<const GreensTable> GreensTable::refactored() cons
   return out;
 }
 
-BEMSURG_INLINE std::shared_ptr<const GreensTable> GreensTable::updated(std::shared_ptr<const TriangleMesh> after, const MeshDelta& delta,
-                                                               const CutChange& change, const GreensTableUpdateOptions& options,
-                                                               GreensTableUpdateReport* report) const {
-  const auto t_start = SteadyClock::now();
+BEMSURG_INLINE void GreensTable::check_update(const TriangleMesh* after, const MeshDelta& delta, const CutChange& change) const {
   if (!has_factorization())
     throw InvalidArgumentError("GreensTable::updated: this table kept no factorisation (it was read from a file); recompute it");
   if (!after) throw InvalidArgumentError("GreensTable::updated: no mesh");
   check_mesh_delta(delta, *mesh_, *after);
   if (change.n_before != num_dofs() || change.n_after != after->num_dofs())
     throw InvalidArgumentError("GreensTable::updated: the integrated change is for another step");
-  const BoundaryConditions before = base_conditions();
-  const BoundaryConditions bc = conditions_after_cut(before, delta);
-  const auto t_system = SteadyClock::now();
-  const Index n = num_dofs(), n1 = change.n_after, d = change.size();
+}
 
+BEMSURG_INLINE GreensTable::SystemChange GreensTable::system_change(const CutChange& change, const BoundaryConditions& before,
+                                                                    const BoundaryConditions& after) {
   // A*_after = blockdiag(A*_before, I) + U_s V_s^T with U_s = [E_D, Y], V_s = [X^T, E_D]:
   // X = the change of the rows D, Y = the change of the columns D outside the rows D.
-  Eigen::MatrixXd X = system_rows_after(change, bc) - system_rows_before(change, before);
-  Eigen::MatrixXd Y = system_columns_after(change, bc) - system_columns_before(change, before);
+  const Index n1 = change.n_after, d = change.size();
+  SystemChange c;
+  c.X = system_rows_after(change, after) - system_rows_before(change, before);
+  Eigen::MatrixXd Y = system_columns_after(change, after) - system_columns_before(change, before);
   for (Index j = 0; j < d; ++j) Y.row(change.dofs[static_cast<std::size_t>(j)]).setZero();
-  Eigen::MatrixXd Us = Eigen::MatrixXd::Zero(n1, 2 * d), Vs = Eigen::MatrixXd::Zero(n1, 2 * d);
+  c.Us = Eigen::MatrixXd::Zero(n1, 2 * d);
+  c.Vs = Eigen::MatrixXd::Zero(n1, 2 * d);
   for (Index j = 0; j < d; ++j) {
-    Us(change.dofs[static_cast<std::size_t>(j)], j) = 1.0;
-    Vs(change.dofs[static_cast<std::size_t>(j)], d + j) = 1.0;
+    c.Us(change.dofs[static_cast<std::size_t>(j)], j) = 1.0;
+    c.Vs(change.dofs[static_cast<std::size_t>(j)], d + j) = 1.0;
   }
-  Us.rightCols(d) = Y;
-  Vs.leftCols(d) = X.transpose();
-  // The region after the step and the table's columns to solve afresh come first: their LU solve
-  // rides along with U_s's (one multi-right-hand-side dgetrs). Old elements keep their slots;
-  // added elements near the region join at the end.
-  std::vector<Index> region1 = region_after_cut(*after, delta, options);
-  const Index R0 = static_cast<Index>(region_.size()), R1 = static_cast<Index>(region1.size());
-  std::vector<Index> position(static_cast<std::size_t>(n1), -1);  // dof -> index in D
-  for (Index j = 0; j < d; ++j) position[static_cast<std::size_t>(change.dofs[static_cast<std::size_t>(j)])] = j;
+  c.Us.rightCols(d) = Y;
+  c.Vs.leftCols(d) = c.X.transpose();
+  return c;
+}
+
+BEMSURG_INLINE GreensTable::FreshColumns GreensTable::fresh_columns(const CutChange& change, const std::vector<Index>& region_after) {
   // Columns to solve afresh: F for reshaped region elements, G' columns for joining elements.
-  std::vector<Index> fresh_cols;
-  std::vector<Index> fresh_source;  // index j in D of the column's element dof
+  const Index d = change.size(), R1 = static_cast<Index>(region_after.size());
+  std::vector<Index> position(static_cast<std::size_t>(change.n_after), -1);  // dof -> index in D
+  for (Index j = 0; j < d; ++j) position[static_cast<std::size_t>(change.dofs[static_cast<std::size_t>(j)])] = j;
+  FreshColumns fresh;
   for (Index s = 0; s < R1; ++s)
     for (int a = 0; a < 3; ++a) {
-      const Index k = 3 * region1[static_cast<std::size_t>(s)] + a, p = position[static_cast<std::size_t>(k)];
+      const Index k = 3 * region_after[static_cast<std::size_t>(s)] + a, p = position[static_cast<std::size_t>(k)];
       if (p >= 0) {
-        fresh_cols.push_back(3 * s + a);
-        fresh_source.push_back(p);
+        fresh.table_cols.push_back(3 * s + a);
+        fresh.sources.push_back(p);
       }
     }
+  return fresh;
+}
+
+BEMSURG_INLINE Eigen::MatrixXd GreensTable::fresh_right_hand_sides(const CutChange& change, const FreshColumns& fresh,
+                                                                   const Eigen::VectorXd& rhs_after) const {
   // Right-hand sides that ride along with U_s's LU solve (one multi-right-hand-side dgetrs, which
   // streams the n^2 factors once): F, the fresh table columns, and last the base state's b'.
-  const Index nf = static_cast<Index>(fresh_cols.size());
-  Eigen::MatrixXd F = Eigen::MatrixXd::Zero(n1, nf + 1);
+  const Index n = num_dofs(), d = change.size(), R0 = static_cast<Index>(region_.size());
+  const Index nf = static_cast<Index>(fresh.table_cols.size());
+  Eigen::MatrixXd F = Eigen::MatrixXd::Zero(change.n_after, nf + 1);
   for (Index i = 0; i < nf; ++i) {
-    const Index j = fresh_source[static_cast<std::size_t>(i)];
+    const Index j = fresh.sources[static_cast<std::size_t>(i)];
     F.col(i) = change.cols_G.col(j);
-    if (fresh_cols[static_cast<std::size_t>(i)] < 3 * R0) {  // an old column whose element was reshaped: its change only
+    if (fresh.table_cols[static_cast<std::size_t>(i)] < 3 * R0) {  // an old column whose element was reshaped: its change only
       F.col(i).head(n) -= change.old_cols_G.col(j);
       for (Index q = 0; q < d; ++q) F(change.dofs[static_cast<std::size_t>(q)], i) = 0.0;  // in coef already
     }
   }
-  Eigen::VectorXd rhs1 = rhs_after_cut(change, rhs_, before, bc);
-  F.col(nf) = rhs1;
-  Eigen::MatrixXd Z;  // K^-1 U_s, then A*_after^-1 U_s (push-through: no further LU solve)
-  auto solver = std::make_shared<const LowRankUpdatedLu>(solver_->updated(n1, Us, Vs, &Z, &F));
-  solver->finish_solve(Z);
-  solver->finish_solve(F);  // K^-1 F came with U_s's solve
-  auto out = std::make_shared<GreensTable>();
-  GreensTable& t = *out;
-  t.version_ = version_ + 1;
-  t.mesh_ = std::move(after);
-  t.solver_ = solver;
-  t.quadrature_ = quadrature_;
-  t.key_ = make_greens_table_key(*t.mesh_, key_.material, bc, key_.gravity, quadrature_);
-  t.base_kinds_ = bc.kinds();
-  t.base_values_ = bc.values();
-  t.rhs_ = std::move(rhs1);
-  t.base_displacement_.resize(n1);
-  t.base_traction_.resize(n1);
-  for (Index k = 0; k < n1; ++k) {
-    const bool t_known = bc.kind(k) == BcKind::Traction;
-    const double x = F(k, nf);
-    t.base_displacement_(k) = t_known ? x : bc.value(k);
-    t.base_traction_(k) = t_known ? bc.value(k) : x;
-  }
-  const auto t_table = SteadyClock::now();
+  F.col(nf) = rhs_after;
+  return F;
+}
 
-  t.region_ = std::move(region1);
-
+BEMSURG_INLINE Eigen::MatrixXd GreensTable::correction_coefficients_transposed(const CutChange& change, const Eigen::MatrixXd& X) const {
   // The old columns: T' = T + A'^-1 (B' - A' T) with T extended by zero rows. The residual is
   // E_D (dB_D - X T) - Y T_D + F (F: whole columns of reshaped region elements outside rows D),
   // so T' = T + Z_E (dB_D - X T) - Z_Y T_D + A'^-1 F, Z = A'^-1 U_s: T' = T + [Z_E, -Z_Y] CT with
@@ -346,32 +332,39 @@ BEMSURG_INLINE std::shared_ptr<const GreensTable> GreensTable::updated(std::shar
   // (columns_ keeps zeros there, reactions_ the values, reaction_dofs_ ascending); the cutter never
   // reshapes a supported element, but a delta may; new dofs have zero rows in T.
   // Held transposed (3|R0| x 2d): X T is then computed as T^T X^T, a GEMM with a long output and
-  // a short inner side, which OpenBLAS runs about 1.5x faster than the d-row product (measured at
-  // n = 9,000, d = 33: 33 ms against 52 ms).
+  // a short inner side, which OpenBLAS runs faster than the d-row product (measured by
+  // benchmarks/bench_cut, the table phase of the exact update).
+  const Index n = num_dofs(), d = change.size(), R0 = static_cast<Index>(region_.size());
   Eigen::MatrixXd CTt(3 * R0, 2 * d);
-  {
-    auto coef_t = CTt.leftCols(d);
-    const Eigen::MatrixXd Xt = X.leftCols(n).transpose();
-    coef_t.noalias() = -columns_.transpose() * Xt;
-    if (!reaction_dofs_.empty()) {
-      Eigen::MatrixXd Xr_t(static_cast<Index>(reaction_dofs_.size()), d);
-      for (std::size_t i = 0; i < reaction_dofs_.size(); ++i) Xr_t.row(static_cast<Index>(i)) = Xt.row(reaction_dofs_[i]);
-      coef_t.noalias() -= reactions_.transpose() * Xr_t;
-    }
-    for (Index s = 0; s < R0; ++s)
-      for (int a = 0; a < 3; ++a) {
-        const Index k = 3 * region_[static_cast<std::size_t>(s)] + a, col = 3 * s + a;
-        coef_t.row(col) += change.rows_G.col(k).transpose();  // B'_D: the rows D of G' in column k
-        if (k < n) coef_t.row(col).head(change.num_modified_dofs) -= change.old_rows_G.col(k).transpose();
-      }
-    for (Index j = 0; j < d; ++j) {  // T_D: a supported dof's row is its reactions
-      const Index k = change.dofs[static_cast<std::size_t>(j)];
-      const auto it = std::lower_bound(reaction_dofs_.begin(), reaction_dofs_.end(), k);
-      if (k >= n) CTt.col(d + j).setZero();
-      else if (it != reaction_dofs_.end() && *it == k) CTt.col(d + j) = reactions_.row(it - reaction_dofs_.begin()).transpose();
-      else CTt.col(d + j) = columns_.row(k).transpose();
-    }
+  auto coef_t = CTt.leftCols(d);
+  const Eigen::MatrixXd Xt = X.leftCols(n).transpose();
+  coef_t.noalias() = -columns_.transpose() * Xt;
+  if (!reaction_dofs_.empty()) {
+    Eigen::MatrixXd Xr_t(static_cast<Index>(reaction_dofs_.size()), d);
+    for (std::size_t i = 0; i < reaction_dofs_.size(); ++i) Xr_t.row(static_cast<Index>(i)) = Xt.row(reaction_dofs_[i]);
+    coef_t.noalias() -= reactions_.transpose() * Xr_t;
   }
+  for (Index s = 0; s < R0; ++s)
+    for (int a = 0; a < 3; ++a) {
+      const Index k = 3 * region_[static_cast<std::size_t>(s)] + a, col = 3 * s + a;
+      coef_t.row(col) += change.rows_G.col(k).transpose();  // B'_D: the rows D of G' in column k
+      if (k < n) coef_t.row(col).head(change.num_modified_dofs) -= change.old_rows_G.col(k).transpose();
+    }
+  for (Index j = 0; j < d; ++j) {  // T_D: a supported dof's row is its reactions
+    const Index k = change.dofs[static_cast<std::size_t>(j)];
+    const auto it = std::lower_bound(reaction_dofs_.begin(), reaction_dofs_.end(), k);
+    if (k >= n) CTt.col(d + j).setZero();
+    else if (it != reaction_dofs_.end() && *it == k) CTt.col(d + j) = reactions_.row(it - reaction_dofs_.begin()).transpose();
+    else CTt.col(d + j) = columns_.row(k).transpose();
+  }
+  return CTt;
+}
+
+BEMSURG_INLINE Eigen::MatrixXd GreensTable::columns_after_cut(const CutChange& change, const Eigen::MatrixXd& Z, const Eigen::MatrixXd& CTt,
+                                                              const Eigen::MatrixXd& F, const FreshColumns& fresh,
+                                                              Index region_after_size) const {
+  const Index n = num_dofs(), n1 = change.n_after, d = change.size();
+  const Index R0 = static_cast<Index>(region_.size()), R1 = region_after_size;
   Eigen::MatrixXd ZZ(n1, 2 * d);
   ZZ.leftCols(d) = Z.leftCols(d);
   ZZ.rightCols(d) = -Z.rightCols(d);
@@ -380,10 +373,7 @@ BEMSURG_INLINE std::shared_ptr<const GreensTable> GreensTable::updated(std::shar
   // gathered and scattered column by column: a row of a column-major matrix touches one page per
   // entry. (Panels of columns updated in cache were measured slower: narrow GEMMs cost more than
   // the passes over memory they save.)
-  t.reaction_dofs_.clear();
-  for (Index k = 0; k < n1; ++k)
-    if (t.base_kinds_[static_cast<std::size_t>(k)] == BcKind::Displacement) t.reaction_dofs_.push_back(k);
-  const Index S0 = static_cast<Index>(reaction_dofs_.size()), S1 = static_cast<Index>(t.reaction_dofs_.size());
+  const Index S0 = static_cast<Index>(reaction_dofs_.size());
   Eigen::MatrixXd T = large_dense_matrix(n1, 3 * R1);
   T.topLeftCorner(n, 3 * R0) = columns_;
   for (Index c = 0; c < 3 * R0; ++c) {
@@ -394,22 +384,54 @@ BEMSURG_INLINE std::shared_ptr<const GreensTable> GreensTable::updated(std::shar
   T.bottomLeftCorner(n1 - n, 3 * R0).setZero();
   T.rightCols(3 * (R1 - R0)).setZero();
   if (d > 0) T.leftCols(3 * R0).noalias() += ZZ * CTt.transpose();  // one GEMM: both halves of Z
-  for (std::size_t i = 0; i < fresh_cols.size(); ++i) {
-    if (fresh_cols[i] < 3 * R0) T.col(fresh_cols[i]) += F.col(static_cast<Index>(i));
-    else T.col(fresh_cols[i]) = F.col(static_cast<Index>(i));
+  for (std::size_t i = 0; i < fresh.table_cols.size(); ++i) {
+    if (fresh.table_cols[i] < 3 * R0) T.col(fresh.table_cols[i]) += F.col(static_cast<Index>(i));
+    else T.col(fresh.table_cols[i]) = F.col(static_cast<Index>(i));
   }
+  return T;
+}
+
+BEMSURG_INLINE std::shared_ptr<const GreensTable> GreensTable::updated(std::shared_ptr<const TriangleMesh> after, const MeshDelta& delta,
+                                                               const CutChange& change, const GreensTableUpdateOptions& options,
+                                                               GreensTableUpdateReport* report) const {
+  const auto t_start = SteadyClock::now();
+  check_update(after.get(), delta, change);
+  const BoundaryConditions before = base_conditions();
+  const BoundaryConditions bc = conditions_after_cut(before, delta);
+  const auto t_system = SteadyClock::now();
+  const SystemChange system = system_change(change, before, bc);
+  // The region after the step and the table's columns to solve afresh come first: their LU solve
+  // rides along with U_s's (one multi-right-hand-side dgetrs). Old elements keep their slots;
+  // added elements near the region join at the end.
+  std::vector<Index> region1 = region_after_cut(*after, delta, options);
+  const FreshColumns fresh = fresh_columns(change, region1);
+  const Index nf = static_cast<Index>(fresh.table_cols.size());
+  Eigen::VectorXd rhs1 = rhs_after_cut(change, rhs_, before, bc);
+  Eigen::MatrixXd F = fresh_right_hand_sides(change, fresh, rhs1);
+  Eigen::MatrixXd Z;  // K^-1 U_s, then A*_after^-1 U_s (push-through: no further LU solve)
+  auto solver = std::make_shared<const LowRankUpdatedLu>(solver_->updated(change.n_after, system.Us, system.Vs, &Z, &F));
+  solver->finish_solve(Z);
+  solver->finish_solve(F);  // K^-1 F came with U_s's solve
+
+  auto out = std::make_shared<GreensTable>();
+  GreensTable& t = *out;
+  t.version_ = version_ + 1;
+  t.mesh_ = std::move(after);
+  t.solver_ = solver;
+  t.quadrature_ = quadrature_;
+  t.key_ = make_greens_table_key(*t.mesh_, key_.material, bc, key_.gravity, quadrature_);
+  t.base_kinds_ = bc.kinds();
+  t.base_values_ = bc.values();
+  t.rhs_ = std::move(rhs1);
+  t.set_base_state(bc, F.col(nf));
+  const auto t_table = SteadyClock::now();
+
+  const Index R1 = static_cast<Index>(region1.size());
+  t.region_ = std::move(region1);
+  const Eigen::MatrixXd CTt = correction_coefficients_transposed(change, system.X);
+  Eigen::MatrixXd T = columns_after_cut(change, Z, CTt, F, fresh, R1);
   if (!T.allFinite()) throw SolverError("GreensTable::updated: the table has non-finite entries");
-  t.reactions_ = large_dense_matrix(S1, 3 * R1);
-  for (Index c = 0; c < 3 * R1; ++c) {
-    double* col = T.col(c).data();
-    double* r = t.reactions_.col(c).data();
-    for (Index i = 0; i < S1; ++i) {
-      double& x = col[t.reaction_dofs_[static_cast<std::size_t>(i)]];
-      r[i] = x;
-      x = 0.0;
-    }
-  }
-  t.columns_.swap(T);
+  t.set_columns_from_solution(std::move(T));
   t.build_slots();
   t.timings_ = timings_;
 
@@ -419,7 +441,7 @@ BEMSURG_INLINE std::shared_ptr<const GreensTable> GreensTable::updated(std::shar
     report->table_seconds = seconds_since(t_table);
     report->total_seconds = seconds_since(t_start);
     report->rank = solver->rank();
-    report->added_region_elements = R1 - R0;
+    report->added_region_elements = R1 - static_cast<Index>(region_.size());
   }
   return out;
 }
@@ -457,9 +479,10 @@ BEMSURG_INLINE void GreensTable::displacement_field(const Index* elements, const
   const Index n = num_dofs();
   if (u.size() != n) throw InvalidArgumentError("GreensTable::displacement_field: u must have " + std::to_string(n) + " entries");
   u = base_displacement_;
-  // One thread, on purpose: the work streams contiguous columns (memory bound, ~0.4 ms for 50
-  // elements at n = 15,000), and an OpenMP team here would wait for cores that the BLAS threads
-  // and the haptic thread may be spinning on (measured: 8 ms stalls on 2 cores).
+  // One thread, on purpose: the work streams contiguous columns (memory bound; its time is
+  // benchmarks/bench_contact's "full field"), and an OpenMP team here would wait for cores that
+  // the BLAS threads and the haptic thread may be spinning on (on 2 cores that was measured to
+  // stall for far longer than the work itself).
   double* out = u.data();
   const Index ld = columns_.rows();
   for (Index c = 0; c < count; ++c) {

@@ -8,10 +8,10 @@
 
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <string>
 
 #include "bemsurg/error.hpp"
+#include "bemsurg/number_text.hpp"
 #include "bemsurg/timing.hpp"
 #include "bemsurg/solvers/bicg.hpp"
 #include "bemsurg/solvers/bicgstab.hpp"
@@ -24,12 +24,6 @@
 
 namespace bemsurg {
 namespace detail {
-
-BEMSURG_INLINE std::string scientific(double v) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.3e", v);
-  return buffer;
-}
 
 template <template <class, class> class Solver, class Preconditioner>
 BEMSURG_INLINE Eigen::VectorXd run_krylov(const DenseOperator& A, const Preconditioner& M, const Eigen::VectorXd& b, const KrylovSettings& ks,
@@ -48,7 +42,7 @@ BEMSURG_INLINE Eigen::VectorXd run_krylov(const DenseOperator& A, const Precondi
   summary.solve_seconds = report.seconds;
   if (!report.converged())
     throw SolverError(std::string(to_string(summary.method)) + " (preconditioner " + to_string(summary.preconditioner) + ") did not converge to relative residual " +
-                      scientific(ks.tolerance) + ": " + report.summary());
+                      KrylovReport::scientific_text(ks.tolerance) + ": " + report.summary());
   return x;
 }
 
@@ -97,7 +91,7 @@ BEMSURG_INLINE void require_finite_system(const Eigen::MatrixXd& A, const Eigen:
   if (DenseLU::first_non_finite(A, row, col)) {
     summary.status = KrylovStatus::NonFinite;
     summary.breakdown = "non-finite system matrix";
-    throw SolverError("the system matrix A* has a non-finite entry (" + std::to_string(A(row, col)) + " at row " +
+    throw SolverError("the system matrix A* has a non-finite entry (" + number_text(A(row, col)) + " at row " +
                       std::to_string(row) + ", column " + std::to_string(col) + ": element " + std::to_string(row / 3) +
                       ", unknown of element " + std::to_string(col / 3) + ")" + likely);
   }
@@ -105,7 +99,7 @@ BEMSURG_INLINE void require_finite_system(const Eigen::MatrixXd& A, const Eigen:
     if (!std::isfinite(b(k))) {
       summary.status = KrylovStatus::NonFinite;
       summary.breakdown = "non-finite right-hand side";
-      throw SolverError("the right-hand side has a non-finite entry (" + std::to_string(b(k)) + " at row " + std::to_string(k) +
+      throw SolverError("the right-hand side has a non-finite entry (" + number_text(b(k)) + " at row " + std::to_string(k) +
                         ": element " + std::to_string(k / 3) + ", component " + "xyz"[k % 3] +
                         "); check the prescribed values and gravity" + likely);
     }
