@@ -166,7 +166,7 @@ void table1(const std::vector<std::array<int, 3>>& sizes, int repeats, json& out
           o.keep_matrix = m != CutUpdateMethod::Exact && m != CutUpdateMethod::Refactor;
           o.refactor_rank = 1 << 30;
           CutSystemUpdate sys(start[sc], o);
-          const CutStepReport rep = sys.apply(step.mesh, step.delta, m);
+          const CutStepResult rep = sys.apply(step.mesh, step.delta, m);
           const bool krylov = o.keep_matrix;
           secs.push_back(krylov ? rep.system_seconds
                                 : m == CutUpdateMethod::Exact ? rep.system_seconds + rep.table_seconds : rep.total_seconds);
@@ -241,7 +241,7 @@ void latency(const std::vector<int>& equations, json& out) {
     Index rank = 0;
     std::shared_ptr<const GreensTable> before_last;
     for (const Step& s : steps) {
-      GreensTableUpdateReport r;
+      GreensTableUpdateResult r;
       before_last = t;
       t = t->updated(s.mesh, s.delta, {}, &r);
       exact.push_back(r.total_seconds);
@@ -303,7 +303,7 @@ void gap_study(bool quick, json& out) {
       InfluenceMatrices hg = assembler.assemble(body.gravity, g);
       const Eigen::VectorXd b = build_right_hand_side(hg, bc, g);
       const Eigen::MatrixXd A = build_system_matrix_in_place(hg, bc);
-      x[q] = DenseLU(A).solve(b);
+      x[q] = DenseLu(A).solve(b);
     }
     double du = 0, su = 0, dt = 0, st = 0;
     for (Index k = 0; k < x[0].size(); ++k) {

@@ -85,7 +85,7 @@ System make_system(int nx, int ny, int nz, double push, int lu_repeats) {
   s.assembly_seconds = seconds_since(t0);
   s.mesh = std::move(mesh);
   std::vector<double> times;
-  DenseLU lu;
+  DenseLu lu;
   for (int r = 0; r < lu_repeats; ++r) {
     const auto t = Clock::now();
     lu.compute(s.A);
@@ -138,7 +138,7 @@ template <template <class, class> class Solver, class Preconditioner>
 Result ours(const std::string& scenario, const std::string& method, const std::string& pname, const System& s,
             const Preconditioner& M, double setup, const Eigen::VectorXd& x0, const Options& o, int restart = 0) {
   Result r{scenario, "bemsurg", method, pname, "", restart};
-  KrylovSettings ks;
+  KrylovOptions ks;
   ks.tolerance = o.tolerance;
   ks.max_iterations = o.max_iterations;
   ks.restart = restart;

@@ -90,16 +90,16 @@ ElastostaticProblem pressed_cube(double scale, double youngs_modulus) {
 }  // namespace
 
 TEST_CASE("a non-finite system from a vanishing Young's modulus is refused by LU and GMRES") {
-  LinearSolverSettings lu, gmres;
+  LinearSolverOptions lu, gmres;
   gmres.method = SolverMethod::Gmres;
   // The correct input solves with both methods and gives finite displacements.
-  for (const LinearSolverSettings& s : {lu, gmres}) {
+  for (const LinearSolverOptions& s : {lu, gmres}) {
     const ElastostaticSolution ok = solve_elastostatic(pressed_cube(1.0, 1e3), s);
     CHECK(ok.report.solver.status == KrylovStatus::Converged);
     CHECK(ok.boundary.displacement.allFinite());
   }
   // E = the smallest positive double passes Material::validate (E > 0), but 1 / mu overflows in G.
-  for (const LinearSolverSettings& s : {lu, gmres}) {
+  for (const LinearSolverOptions& s : {lu, gmres}) {
     const ElastostaticProblem p = pressed_cube(1.0, std::numeric_limits<double>::denorm_min());
     CHECK_THROWS_AS(solve_elastostatic(p, s), SolverError);
     CHECK_THROWS_WITH(solve_elastostatic(p, s), Contains("non-finite") && Contains("Young's modulus") && Contains("mesh scale"));
@@ -107,28 +107,28 @@ TEST_CASE("a non-finite system from a vanishing Young's modulus is refused by LU
 }
 
 TEST_CASE("a mesh scaled to 1e80 gives a SolverError naming the cause, not a crash") {
-  LinearSolverSettings lu, gmres;
+  LinearSolverOptions lu, gmres;
   gmres.method = SolverMethod::Gmres;
-  for (const LinearSolverSettings& s : {lu, gmres}) {
+  for (const LinearSolverOptions& s : {lu, gmres}) {
     const ElastostaticProblem p = pressed_cube(1e80, 1e3);
     CHECK_THROWS_AS(solve_elastostatic(p, s), SolverError);
     CHECK_THROWS_WITH(solve_elastostatic(p, s), Contains("non-finite") && Contains("mesh scale"));
   }
 }
 
-TEST_CASE("solve_linear_system and DenseLU refuse NaN and infinity before factorising") {
+TEST_CASE("solve_linear_system and DenseLu refuse NaN and infinity before factorising") {
   Eigen::MatrixXd A = Eigen::MatrixXd::Identity(6, 6);
   Eigen::VectorXd b = Eigen::VectorXd::Ones(6);
-  LinearSolveSummary summary;
-  CHECK(solve_linear_system(A, b, LinearSolverSettings(), summary).isApprox(b));
+  LinearSolveResult summary;
+  CHECK(solve_linear_system(A, b, LinearSolverOptions(), summary).isApprox(b));
   A(4, 2) = std::numeric_limits<double>::quiet_NaN();
-  CHECK_THROWS_WITH(solve_linear_system(A, b, LinearSolverSettings(), summary),
+  CHECK_THROWS_WITH(solve_linear_system(A, b, LinearSolverOptions(), summary),
                     Contains("system matrix") && Contains("row 4, column 2"));
   CHECK(summary.status == KrylovStatus::NonFinite);
-  CHECK_THROWS_WITH(DenseLU(A), Contains("non-finite") && Contains("row 4, column 2"));
+  CHECK_THROWS_WITH(DenseLu(A), Contains("non-finite") && Contains("row 4, column 2"));
   A(4, 2) = 0.0;
   b(5) = std::numeric_limits<double>::infinity();
-  CHECK_THROWS_WITH(solve_linear_system(A, b, LinearSolverSettings(), summary),
+  CHECK_THROWS_WITH(solve_linear_system(A, b, LinearSolverOptions(), summary),
                     Contains("right-hand side") && Contains("element 1, component z"));
 }
 

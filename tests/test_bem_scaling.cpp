@@ -1,7 +1,7 @@
 // Physical units do not change the answer: the cube under uniform pressure solved in SI units for
 // steel (E = 2e11 Pa) on a 1 mm cube has the same relative error as with E = 1 on a unit cube.
 // A* then mixes H columns (~1/2) with -G columns (~1e-15), so every singularity test on the way
-// (DenseLU, the Green's table's in-place LU, the block-Jacobi blocks) must be scale-invariant.
+// (DenseLu, the Green's table's in-place LU, the block-Jacobi blocks) must be scale-invariant.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -44,7 +44,7 @@ BoundaryConditions mixed_conditions(const TriangleMesh& m, const ElasticField& f
   return bc;
 }
 
-RelativeErrors solve_mixed(const Units& u, const LinearSolverSettings& settings) {
+RelativeErrors solve_mixed(const Units& u, const LinearSolverOptions& settings) {
   const TriangleMesh m = cube(u.size);
   const Material material{u.young, 0.3, 0.0};
   const ElasticField field = uniform_pressure_field(material, u.pressure);
@@ -83,8 +83,8 @@ TEST_CASE("uniform pressure: steel on a 1 mm cube matches E = 1 on a unit cube (
 }
 
 TEST_CASE("uniform pressure with rollers: scale-invariant by LU and by block-Jacobi GMRES", "[bem][scaling]") {
-  LinearSolverSettings lu;
-  LinearSolverSettings gmres;
+  LinearSolverOptions lu;
+  LinearSolverOptions gmres;
   gmres.method = SolverMethod::Gmres;
   gmres.preconditioner = PreconditionerKind::BlockJacobi;
   gmres.tolerance = 1e-13;
@@ -116,7 +116,7 @@ TEST_CASE("singularity tests judge column-equilibrated pivots", "[bem][scaling]"
   // cond(A) (Frobenius estimate, ~40 here). Measured 2.7e-16 and 3.9e-16 relative.
   const double kappa = A.norm() * A.inverse().norm();
   const double bound = 3.0 * n * std::numeric_limits<double>::epsilon() * kappa;
-  const DenseLU lu(As);
+  const DenseLu lu(As);
   REQUIRE(lu.info() == Eigen::Success);
   const Eigen::VectorXd y = lu.solve(b);
   CHECK((y - x).cwiseProduct(scale).norm() <= bound * z.norm());
@@ -131,13 +131,13 @@ TEST_CASE("singularity tests judge column-equilibrated pivots", "[bem][scaling]"
     Eigen::MatrixXd S = A;
     S.col(3) = S.col(5);
     S *= s;
-    CHECK(DenseLU(S).info() == Eigen::NumericalIssue);
+    CHECK(DenseLu(S).info() == Eigen::NumericalIssue);
     Eigen::MatrixXd B = Eigen::MatrixXd::Ones(n, 1);
     CHECK_THROWS_AS(lu_factor_and_solve_in_place(S, B), SolverError);
   }
   Eigen::MatrixXd Z = A;
   Z.col(7).setZero();
-  CHECK(DenseLU(Z).info() == Eigen::NumericalIssue);
+  CHECK(DenseLu(Z).info() == Eigen::NumericalIssue);
 
   // Block Jacobi: a block with one O(1) and two O(1e-15) columns is invertible.
   Eigen::MatrixXd blocks = Eigen::MatrixXd::Zero(6, 6);

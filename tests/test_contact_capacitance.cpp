@@ -59,7 +59,7 @@ struct Fixture {
   BoundarySolution full_solve(const BoundaryConditions& bc) const {
     const Eigen::MatrixXd A = build_system_matrix(hg, bc);
     const Eigen::VectorXd b = build_right_hand_side(hg, bc, gvec);
-    DenseLU lu(A);
+    DenseLu lu(A);
     return recover_boundary_solution(bc, lu.solve(b));
   }
 };

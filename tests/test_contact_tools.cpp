@@ -99,7 +99,7 @@ TEST_CASE("frictionless flat punch converges towards Boussinesq 2aEd/(1-nu^2) as
     const int punch = solver.add_tool(ToolSpec::flat(a, ContactMode::Frictionless));
     solver.place(punch, Vec3(0, 0, 0), Vec3(0, 0, -1));
     solver.set_depth(punch, d);
-    const ContactUpdateReport report = solver.update();
+    const ContactUpdateResult report = solver.update();
     REQUIRE(report.consistent);
     const Eigen::Vector3d F = solver.force(punch);
     // No lateral force: measured 0 (frictionless rows act along the axis, the base state is zero);
@@ -145,7 +145,7 @@ TEST_CASE("sphere: Hertz force and a contact set that grows as sqrt(R d)", "[con
   double last_ratio = 1.0;
   for (double d : {0.02, 0.05, 0.08, 0.11}) {
     solver.set_depth(sphere, d);
-    const ContactUpdateReport report = solver.update();
+    const ContactUpdateResult report = solver.update();
     REQUIRE(report.consistent);
     const double F = solver.force(sphere).z();
     const double hertz = 4.0 / 3.0 * m.young_modulus / (1.0 - 0.09) * std::sqrt(R) * std::pow(d, 1.5);
@@ -409,7 +409,7 @@ TEST_CASE("a sphere that covers no element centroid is not engaged (no NaN pose)
   const int narrow = solver.add_tool(ToolSpec::sphere(0.01));
   CHECK_FALSE(solver.engage(narrow, Vec3(0.51, 0.52, 3.0), Vec3(0, 0, -1)));
   CHECK_FALSE(solver.engaged(narrow));
-  const ContactUpdateReport report = solver.update();
+  const ContactUpdateResult report = solver.update();
   CHECK(report.rows == 0);
   CHECK(solver.force(far).allFinite());
   // A sphere that does cover centroids still engages, with a finite pose and force.
@@ -433,7 +433,7 @@ TEST_CASE("an update past the capacity throws and leaves the solver consistent",
   CHECK(solver.contact().num_rows() <= capacity);
   CHECK(solver.contact_elements(s) == solver.contact().num_elements());  // bookkeeping matches the set
   solver.set_depth(s, 0.01);
-  const ContactUpdateReport report = solver.update();
+  const ContactUpdateResult report = solver.update();
   REQUIRE(report.consistent);
   ToolContactSolver fresh(b.mesh_ptr, b.table_ptr, capacity);
   const int f = fresh.add_tool(ToolSpec::sphere(1.0));

@@ -193,7 +193,7 @@ TEST_CASE("a Green's table updated after cut steps equals the table computed fro
     SyntheticStep s = step == 3 ? bemsurg::testing::move_vertex(*table->mesh(), table->mesh()->faces()(candidates[2], 0), Vec3(0.0, 0.0, -0.04))
                                 : bemsurg::testing::random_split(*table->mesh(), candidates, 0.1, rng);
     for (Index e : s.delta.added) candidates.push_back(e);
-    GreensTableUpdateReport report;
+    GreensTableUpdateResult report;
     auto next = table->updated(s.mesh, s.delta, {}, &report);
     CHECK(next->version() == table->version() + 1);
     CHECK(next->num_elements() == s.delta.elements_after);
@@ -260,7 +260,7 @@ TEST_CASE("exact, iterative and refactored cut updates agree after every step", 
     const SyntheticStep s = bemsurg::testing::random_split(*systems[0]->table()->mesh(), candidates, 0.1, rng);
     for (Index e : s.delta.added) candidates.push_back(e);
     for (int i = 0; i < 5; ++i) {
-      const CutStepReport r = systems[static_cast<std::size_t>(i)]->apply(s.mesh, s.delta, methods[i]);
+      const CutStepResult r = systems[static_cast<std::size_t>(i)]->apply(s.mesh, s.delta, methods[i]);
       if (i >= 1 && i <= 3) {
         CHECK(r.iterations > 0);
         // The Krylov re-solve reaches its tolerance (1e-12, the true residual): measured 1.7e-13 ..

@@ -143,7 +143,7 @@ TEST_CASE("a scripted press gives the force curve the contact model computes dir
 
 TEST_CASE("a force above the device limit is clamped to 3.3 N and ramps at the rate limit", "[haptics][safety]") {
   NullDevice device(10.0);
-  HapticLoopSettings settings;  // 3.3 N, 300 N/s
+  HapticLoopOptions settings;  // 3.3 N, 300 N/s
   HapticLoop loop(settings, {&device});
   auto m = point_model(block().table, 1);
   loop.offer(m);
@@ -173,7 +173,7 @@ TEST_CASE("a force above the device limit is clamped to 3.3 N and ramps at the r
 TEST_CASE("a non-finite pose or force never reaches the device", "[haptics][safety]") {
   Block& b = block();
   NullDevice device;
-  HapticLoop loop(HapticLoopSettings{}, {&device});
+  HapticLoop loop(HapticLoopOptions{}, {&device});
   // A table whose base traction is NaN on every element: the model's force is NaN.
   Eigen::VectorXd bad = b.table->base_traction();
   bad.setConstant(std::numeric_limits<double>::quiet_NaN());
@@ -210,7 +210,7 @@ TEST_CASE("a non-finite pose or force never reaches the device", "[haptics][safe
 
 TEST_CASE("the watchdog ramps the force to zero on stale state and on repeated overruns", "[haptics][safety]") {
   Block& b = block();
-  HapticLoopSettings settings;
+  HapticLoopOptions settings;
   settings.stale_after_s = 0.1;
   settings.ramp_s = 0.05;
   settings.overrun_limit = 5;
@@ -267,7 +267,7 @@ TEST_CASE("the watchdog ramps the force to zero on stale state and on repeated o
 
 TEST_CASE("a disconnected device gets zero force at once", "[haptics][safety]") {
   NullDevice device;
-  HapticLoop loop(HapticLoopSettings{}, {&device});
+  HapticLoop loop(HapticLoopOptions{}, {&device});
   auto m = point_model(block().table, 1);
   loop.offer(m);
   DeviceState s;
@@ -283,7 +283,7 @@ TEST_CASE("a disconnected device gets zero force at once", "[haptics][safety]") 
 
 TEST_CASE("the loop thread starts and stops with zero force sent", "[haptics][loop]") {
   NullDevice device;
-  HapticLoop loop(HapticLoopSettings{}, {&device});
+  HapticLoop loop(HapticLoopOptions{}, {&device});
   auto m = point_model(block().table, 1);
   loop.offer(m);
   DeviceState s;
@@ -323,7 +323,7 @@ TEST_CASE("model swaps under a running loop are whole: every force is the old or
   // bound a third of it.
   REQUIRE((F_stiff - F_soft).norm() > 0.16 * F_stiff.norm());
   NullDevice device(100.0);
-  HapticLoopSettings settings;
+  HapticLoopOptions settings;
   settings.max_force = 100.0;
   HapticLoop loop(settings, {&device});
   DeviceState s;
@@ -479,7 +479,7 @@ TEST_CASE("a recorded session replays the same poses", "[haptics][devices]") {
 
 TEST_CASE("a haptic tick allocates nothing", "[haptics][loop]") {
   NullDevice device;
-  HapticLoop loop(HapticLoopSettings{}, {&device});
+  HapticLoop loop(HapticLoopOptions{}, {&device});
   auto m = point_model(block().table, 1);
   loop.offer(m);
   DeviceState s;
@@ -532,7 +532,7 @@ TEST_CASE("the workspace maps device positions into the model and forces back", 
   w.scale = 2.0;
   w.offset = Vec3(0.5, 0.5, 0.0);
   w.force_scale = 0.5;
-  HapticLoop loop(HapticLoopSettings{}, {&device}, {w});
+  HapticLoop loop(HapticLoopOptions{}, {&device}, {w});
   auto m = point_model(block().table, 1);
   loop.offer(m);
   DeviceState s;

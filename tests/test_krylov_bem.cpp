@@ -47,10 +47,10 @@ struct Run {
 };
 
 template <template <class, class> class Solver, class Preconditioner>
-Run solve_with(const BemSystem& s, const Preconditioner& M, KrylovSettings settings, Eigen::VectorXd x = Eigen::VectorXd()) {
+Run solve_with(const BemSystem& s, const Preconditioner& M, KrylovOptions settings, Eigen::VectorXd x = Eigen::VectorXd()) {
   const DenseOperator op(s.A);
   Solver<DenseOperator, Preconditioner> solver(settings);
-  const KrylovReport& r = solver.compute(op, M).solve(s.b, x);
+  const KrylovResult& r = solver.compute(op, M).solve(s.b, x);
   INFO(r.summary());
   CHECK(r.true_residual == Approx((s.b - s.A * x).norm() / s.b.norm()).epsilon(1e-6));
   return {r.status, r.iterations, r.true_residual, error_vs_lu(s, x)};
@@ -58,7 +58,7 @@ Run solve_with(const BemSystem& s, const Preconditioner& M, KrylovSettings setti
 
 /// Runs one method with the three preconditioners at tolerance tol.
 template <template <class, class> class Solver>
-std::array<Run, 3> solve_all(const BemSystem& s, const KrylovSettings& settings) {
+std::array<Run, 3> solve_all(const BemSystem& s, const KrylovOptions& settings) {
   const BlockJacobiPreconditioner jacobi(s.A);
   const NearFieldPreconditioner near(s.A, s.mesh, 1.5);
   return {solve_with<Solver>(s, IdentityPreconditioner(s.A.rows()), settings), solve_with<Solver>(s, jacobi, settings),
@@ -69,7 +69,7 @@ std::array<Run, 3> solve_all(const BemSystem& s, const KrylovSettings& settings)
 template <template <class, class> class Solver>
 void check_method(const char* name, double error_bound, int restart = 0) {
   const BemSystem& s = base_system();
-  KrylovSettings loose, tight;
+  KrylovOptions loose, tight;
   loose.tolerance = 1e-6;
   tight.tolerance = 1e-10;
   loose.max_iterations = tight.max_iterations = 3000;
@@ -129,7 +129,7 @@ TEST_CASE("a warm start from the solution before a local change takes fewer iter
   REQUIRE(change > 1e-4);  // the systems differ ...
   REQUIRE(change < 0.1);   // ... but not by much
   const BlockJacobiPreconditioner jacobi(after.A);
-  KrylovSettings settings;
+  KrylovOptions settings;
   settings.tolerance = 1e-8;
   const auto check = [&](const Run& cold, const Run& warm, const char* name) {
     INFO(name << ": cold " << cold.iterations << ", warm " << warm.iterations << " iterations");
@@ -182,7 +182,7 @@ TEST_CASE("the near-field preconditioner keeps what it says and becomes exact at
   Eigen::VectorXd zt(s.A.rows()), lu_t = s.A.transpose().partialPivLu().solve(s.b);
   whole.apply_transpose(s.b, zt);
   CHECK((zt - lu_t).norm() < 1e-9 * lu_t.norm());
-  KrylovSettings settings;
+  KrylovOptions settings;
   settings.tolerance = 1e-10;
   CHECK(solve_with<Gmres>(s, whole, settings).iterations <= 2);
   // Bad input.
@@ -216,12 +216,12 @@ TEST_CASE("solve_linear_system dispatches to every method and reports", "[krylov
   for (const SolverMethod method : {SolverMethod::Lu, SolverMethod::Gmres, SolverMethod::BiCgStab, SolverMethod::BiCg})
     for (const PreconditionerKind preconditioner :
          {PreconditionerKind::None, PreconditionerKind::BlockJacobi, PreconditionerKind::NearField}) {
-      LinearSolverSettings settings;
+      LinearSolverOptions settings;
       settings.method = method;
       settings.preconditioner = preconditioner;
       settings.tolerance = 1e-10;
       settings.max_iterations = 3000;
-      LinearSolveSummary summary;
+      LinearSolveResult summary;
       const auto started = std::chrono::steady_clock::now();
       const Eigen::VectorXd x = solve_linear_system(s.A, s.b, settings, summary, &s.mesh);
       const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
@@ -251,10 +251,10 @@ TEST_CASE("solve_linear_system dispatches to every method and reports", "[krylov
 
 TEST_CASE("solve_linear_system throws on failure after filling the summary", "[krylov][dispatch]") {
   const BemSystem& s = base_system();
-  LinearSolverSettings settings;
+  LinearSolverOptions settings;
   settings.method = SolverMethod::Gmres;
   settings.max_iterations = 3;
-  LinearSolveSummary summary;
+  LinearSolveResult summary;
   CHECK_THROWS_WITH(solve_linear_system(s.A, s.b, settings, summary),
                     Catch::Contains("iteration_limit") && Catch::Contains("3 iterations") && Catch::Contains("residual"));
   CHECK(summary.status == KrylovStatus::IterationLimit);
@@ -281,7 +281,7 @@ TEST_CASE("solve_linear_system throws on failure after filling the summary", "[k
   const Eigen::VectorXd wrong_guess = Eigen::VectorXd::Zero(5);
   CHECK_THROWS_WITH(solve_linear_system(s.A, s.b, settings, summary, nullptr, wrong_guess), Catch::Contains("initial guess"));
 
-  LinearSolverSettings lu;
+  LinearSolverOptions lu;
   Eigen::MatrixXd singular = s.A;
   singular.col(7).setZero();
   CHECK_THROWS_WITH(solve_linear_system(singular, s.b, lu, summary), Catch::Contains("singular"));

@@ -41,7 +41,7 @@ TEST_CASE("each method converges on a well-conditioned system and reports the re
   const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(60, 1.0, 2.0);
   const Eigen::VectorXd exact = A.partialPivLu().solve(b);
   const DenseOperator op(A);
-  KrylovSettings settings;
+  KrylovOptions settings;
   settings.tolerance = 1e-12;
   const double condition = A.norm() * A.inverse().norm();
 
@@ -56,7 +56,7 @@ TEST_CASE("each method converges on a well-conditioned system and reports the re
     CHECK(solver.report().seconds <= wall);
     return solver.report();
   };
-  auto check = [&](const KrylovReport& report, const Eigen::VectorXd& x) {
+  auto check = [&](const KrylovResult& report, const Eigen::VectorXd& x) {
     CHECK(report.status == KrylovStatus::Converged);
     CHECK(report.info() == Eigen::Success);
     CHECK(report.true_residual <= settings.tolerance);
@@ -101,7 +101,7 @@ TEST_CASE("BiCGStab breakdowns are reported with the vanished quantity", "[krylo
     const DenseOperator op(Ad);
     BiCgStab<> solver;
     Eigen::VectorXd x;
-    const KrylovReport& report = solver.compute(op).solve(Eigen::Vector2d(1.0, 0.0), x);
+    const KrylovResult& report = solver.compute(op).solve(Eigen::Vector2d(1.0, 0.0), x);
     CHECK(report.status == KrylovStatus::Breakdown);
     CHECK(report.breakdown.find("sigma") != std::string::npos);
     CHECK(report.true_residual == Approx(1.0));  // no progress, and it says so
@@ -113,7 +113,7 @@ TEST_CASE("BiCGStab breakdowns are reported with the vanished quantity", "[krylo
     const DenseOperator op(A);
     BiCgStab<> solver;
     Eigen::VectorXd x;
-    const KrylovReport& report = solver.compute(op).solve(Eigen::Vector2d(1.0, 0.5), x);
+    const KrylovResult& report = solver.compute(op).solve(Eigen::Vector2d(1.0, 0.5), x);
     CHECK(report.status == KrylovStatus::Breakdown);
     CHECK(report.breakdown.find("omega") != std::string::npos);
     CHECK(report.true_residual > 0.1);
@@ -128,7 +128,7 @@ TEST_CASE("BiCG breakdown is reported with the vanished quantity", "[krylov][bre
   const DenseOperator op(Ad);
   BiCg<> solver;
   Eigen::VectorXd x;
-  const KrylovReport& report = solver.compute(op).solve(Eigen::Vector2d(1.0, 0.0), x);
+  const KrylovResult& report = solver.compute(op).solve(Eigen::Vector2d(1.0, 0.0), x);
   CHECK(report.status == KrylovStatus::Breakdown);
   CHECK(report.breakdown.find("sigma") != std::string::npos);
   CHECK(report.true_residual == Approx(1.0));
@@ -139,11 +139,11 @@ TEST_CASE("GMRES(m) stagnation on a cyclic shift is reported, and full GMRES sol
   const Eigen::MatrixXd A = cyclic_shift(n);
   const Eigen::VectorXd b = Eigen::VectorXd::Unit(n, 0);
   const DenseOperator op(A);
-  KrylovSettings settings;
+  KrylovOptions settings;
   settings.restart = 3;
   Gmres<> restarted(settings);
   Eigen::VectorXd x;
-  const KrylovReport& report = restarted.compute(op).solve(b, x);
+  const KrylovResult& report = restarted.compute(op).solve(b, x);
   CHECK(report.status == KrylovStatus::Stagnation);
   CHECK(report.iterations == 3);  // one cycle without progress is enough to know
   CHECK(report.true_residual == Approx(1.0));
@@ -152,7 +152,7 @@ TEST_CASE("GMRES(m) stagnation on a cyclic shift is reported, and full GMRES sol
   settings.restart = 0;
   Gmres<> full(settings);
   Eigen::VectorXd y;
-  const KrylovReport& full_report = full.compute(op).solve(b, y);
+  const KrylovResult& full_report = full.compute(op).solve(b, y);
   CHECK(full_report.status == KrylovStatus::Converged);
   CHECK(full_report.iterations == n);
   // A^-1 = A^T for a permutation. Measured 0: Arnoldi on a permutation meets only unit vectors and
@@ -165,7 +165,7 @@ TEST_CASE("GMRES on a singular system reports a breakdown, not a solution", "[kr
   const DenseOperator op(A);
   Gmres<> solver;
   Eigen::VectorXd x;
-  const KrylovReport& report = solver.compute(op).solve(Eigen::Vector3d(1.0, 1.0, 1.0), x);
+  const KrylovResult& report = solver.compute(op).solve(Eigen::Vector3d(1.0, 1.0, 1.0), x);
   CHECK(report.status == KrylovStatus::Breakdown);
   CHECK_FALSE(report.breakdown.empty());
   // The best any x can do: r = (1 - x1, 1 - 2 x2, 1) with x1 = 1, x2 = 1/2 up to rounding d, so
@@ -177,14 +177,14 @@ TEST_CASE("an unattainable tolerance is never reported as converged", "[krylov]"
   const Eigen::MatrixXd A = well_conditioned(40);
   const Eigen::VectorXd b = Eigen::VectorXd::Ones(40);
   const DenseOperator op(A);
-  KrylovSettings settings;
+  KrylovOptions settings;
   settings.tolerance = 1e-20;  // below double precision's reach for ||b - A x|| / ||b||
   settings.max_iterations = 400;
   Eigen::VectorXd x1, x2, x3;
   Gmres<> gmres(settings);
   BiCgStab<> bicgstab(settings);
   BiCg<> bicg(settings);
-  for (const KrylovReport* report : {&gmres.compute(op).solve(b, x1), &bicgstab.compute(op).solve(b, x2), &bicg.compute(op).solve(b, x3)}) {
+  for (const KrylovResult* report : {&gmres.compute(op).solve(b, x1), &bicgstab.compute(op).solve(b, x2), &bicg.compute(op).solve(b, x3)}) {
     CHECK_FALSE(report->converged());
     CHECK((report->status == KrylovStatus::Stagnation || report->status == KrylovStatus::IterationLimit ||
            report->status == KrylovStatus::Breakdown));
@@ -199,11 +199,11 @@ TEST_CASE("the iteration limit is reported with the residual reached", "[krylov]
   const Eigen::MatrixXd A = well_conditioned(50);
   const Eigen::VectorXd b = Eigen::VectorXd::Ones(50);
   const DenseOperator op(A);
-  KrylovSettings settings;
+  KrylovOptions settings;
   settings.max_iterations = 2;
   Gmres<> solver(settings);
   Eigen::VectorXd x;
-  const KrylovReport& report = solver.compute(op).solve(b, x);
+  const KrylovResult& report = solver.compute(op).solve(b, x);
   CHECK(report.status == KrylovStatus::IterationLimit);
   CHECK(report.iterations == 2);
   CHECK(report.true_residual == Approx(relative_residual(A, b, x)));
@@ -230,7 +230,7 @@ TEST_CASE("non-finite values are reported as non_finite", "[krylov]") {
     Gmres<> gmres;
     Eigen::VectorXd bad_b = b, x;
     bad_b(2) = std::numeric_limits<double>::infinity();
-    const KrylovReport& report = gmres.compute(op).solve(bad_b, x);
+    const KrylovResult& report = gmres.compute(op).solve(bad_b, x);
     CHECK(report.status == KrylovStatus::NonFinite);
     CHECK(report.breakdown.find("right-hand side") != std::string::npos);
     Eigen::VectorXd bad_x = Eigen::VectorXd::Zero(10);

@@ -54,7 +54,7 @@ TEST_CASE("repeated solves allocate nothing", "[krylov][workspace]") {
   const DenseOperator op(s.A);
   const BlockJacobiPreconditioner jacobi(s.A);
   const NearFieldPreconditioner near(s.A, s.mesh, 1.5);
-  KrylovSettings settings;
+  KrylovOptions settings;
   settings.tolerance = 1e-10;
   settings.max_iterations = 2000;
   SECTION("GMRES, no preconditioner") {

@@ -223,7 +223,7 @@ TEST_CASE("results and meshes written in a comma-decimal locale read back exactl
   check_point_decimal(interior, "interior.csv");
   CHECK(interior.find("1234567.5") != std::string::npos);  // no digit grouping either
 
-  RunReport report;
+  RunResult report;
   report.elements = mesh.num_elements();
   report.timings.load = 0.45;
   report.peak_memory_mb = 1234.5;

@@ -35,7 +35,7 @@ TEST_CASE("box_mesh has exact area, volume, counts and outward normals", "[mesh]
     CHECK(box.normal(e).cwiseAbs().maxCoeff() == Approx(1.0));
     CHECK(box.normal(e).dot(box.centroid(e) - mid) > 0.0);
   }
-  const MeshValidationReport report = validate_mesh(box);
+  const MeshValidationResult report = validate_mesh(box);
   INFO(report.summary());
   CHECK(report.valid());
   CHECK(report.issues.empty());
@@ -205,7 +205,7 @@ TEST_CASE("hollow sphere: two shells, cavity inward, material volume right", "[m
   for (Index f : topo.shell(1)) CHECK(hollow.normal(f).dot(hollow.centroid(f)) < 0.0);
   const double exact = 4.0 / 3.0 * kPi * (b * b * b - a * a * a);
   CHECK(hollow.enclosed_volume() == Approx(exact).epsilon(3.7e-3));  // inscribed polyhedra: measured 1.24e-3 low
-  const MeshValidationReport report = validate_mesh(hollow);
+  const MeshValidationResult report = validate_mesh(hollow);
   INFO(report.summary());
   CHECK(report.valid());
   CHECK_THROWS_AS(hollow_sphere_mesh(Vec3::Zero(), 2.0, 1.0, 1, 1), InvalidMeshError);

@@ -225,7 +225,7 @@ TEST_CASE("OBJ: quads, slash forms, negative indices and ignored lines", "[mesh]
   CHECK(cube.num_elements() == 12);
   CHECK(cube.enclosed_volume() == Approx(1.0).epsilon(1e-14));
   CHECK(cube.total_area() == Approx(6.0).epsilon(1e-14));
-  const MeshValidationReport report = validate_mesh(cube);
+  const MeshValidationResult report = validate_mesh(cube);
   INFO(report.summary());
   CHECK(report.valid());
   // The last face used negative indices -4..-1, i.e. vertices 5..8 (0-based 4..7), fanned from 4.
@@ -551,7 +551,7 @@ TEST_CASE("OBJ: concave polygons are triangulated inside the face, self-crossing
   }
   CHECK(m.total_area() == Approx(2 * 3.0 + 8.0).epsilon(1e-14));
   CHECK(m.enclosed_volume() == Approx(3.0).epsilon(1e-14));
-  const MeshValidationReport r = validate_mesh(m);
+  const MeshValidationResult r = validate_mesh(m);
   INFO(r.summary());
   CHECK(r.valid());
 

@@ -33,7 +33,7 @@ TriangleMesh unweld(const TriangleMesh& mesh) {
   return TriangleMesh(V, F);
 }
 
-bool has_kind(const MeshValidationReport& r, MeshIssueKind kind) { return r.count(kind) > 0; }
+bool has_kind(const MeshValidationResult& r, MeshIssueKind kind) { return r.count(kind) > 0; }
 
 }  // namespace
 
@@ -91,7 +91,7 @@ TEST_CASE("good meshes pass validation", "[mesh][validation]") {
   for (const TriangleMesh& mesh : {icosphere_mesh(Vec3::Zero(), 1.0, 2), box_mesh(Vec3::Zero(), Vec3(1, 2, 3), 2, 3, 4),
                                    hollow_sphere_mesh(Vec3::Zero(), 0.5, 1.0, 2, 2),
                                    merge_meshes(icosphere_mesh(Vec3::Zero(), 1.0, 1), icosphere_mesh(Vec3(5, 0, 0), 1.0, 1))}) {
-    const MeshValidationReport report = validate_mesh(mesh);
+    const MeshValidationResult report = validate_mesh(mesh);
     INFO(report.summary());
     CHECK(report.valid());
     CHECK(report.issues.empty());
@@ -108,7 +108,7 @@ TEST_CASE("empty and non-finite meshes are errors", "[mesh][validation]") {
   V(7, 1) = std::numeric_limits<double>::quiet_NaN();
   V(9, 2) = std::numeric_limits<double>::infinity();
   const TriangleMesh bad(V, sphere.faces());
-  const MeshValidationReport report = validate_mesh(bad);
+  const MeshValidationResult report = validate_mesh(bad);
   CHECK(report.count(MeshIssueKind::NonFiniteVertex) == 2);
   CHECK_FALSE(report.valid());
   CHECK_THROWS_WITH(require_valid_mesh(bad), Catch::Contains("vertex 7") && Catch::Contains("non-finite"));
@@ -123,7 +123,7 @@ TEST_CASE("a mesh scaled until its areas overflow names the face and the mesh sc
   const TriangleMesh huge(1e80 * sphere.vertices(), sphere.faces());
   REQUIRE(huge.vertices().allFinite());
   REQUIRE_FALSE(std::isfinite(huge.area(0)));
-  const MeshValidationReport report = validate_mesh(huge);
+  const MeshValidationResult report = validate_mesh(huge);
   INFO(report.summary());
   CHECK(report.count(MeshIssueKind::DegenerateFace) == static_cast<std::size_t>(huge.num_elements()));
   CHECK(report.count(MeshIssueKind::NonFiniteVertex) == 0);
@@ -148,7 +148,7 @@ TEST_CASE("a degenerate face in an otherwise closed mesh is found by index", "[m
   F.row(n) << m, b, c;
   F.row(n + 1) << a, b, m;
   const TriangleMesh mesh(V, F);
-  const MeshValidationReport report = validate_mesh(mesh);
+  const MeshValidationResult report = validate_mesh(mesh);
   INFO(report.summary());
   CHECK(report.count(MeshIssueKind::DegenerateFace) == 1);
   CHECK(report.num_errors() == 1);
@@ -158,7 +158,7 @@ TEST_CASE("a degenerate face in an otherwise closed mesh is found by index", "[m
   // A face that repeats a vertex is degenerate too (and its self-edge is not also reported).
   RowMatrixX3i G = sphere.faces();
   G(3, 1) = G(3, 0);
-  const MeshValidationReport r2 = validate_mesh(with_faces(sphere, G));
+  const MeshValidationResult r2 = validate_mesh(with_faces(sphere, G));
   CHECK(has_kind(r2, MeshIssueKind::DegenerateFace));
   CHECK_THROWS_WITH(require_valid_mesh(with_faces(sphere, G)), Catch::Contains("face 3") && Catch::Contains("repeats a vertex"));
 }
@@ -167,7 +167,7 @@ TEST_CASE("an unwelded mesh reports coincident vertices and open edges", "[mesh]
   const TriangleMesh soup = unweld(box_mesh(Vec3::Zero(), Vec3::Ones(), 1, 1, 1));
   MeshValidationOptions options;
   options.max_issues_per_kind = 5;
-  const MeshValidationReport report = validate_mesh(soup, options);
+  const MeshValidationResult report = validate_mesh(soup, options);
   // 12 faces x 3 corners = 36 vertices at the cube's 8 positions: 28 duplicates; each face's 3
   // edges now border that face alone: 36 open edges.
   CHECK(report.count(MeshIssueKind::DuplicateVertex) == 36 - 8);
@@ -184,7 +184,7 @@ TEST_CASE("an open mesh names the boundary edge", "[mesh][validation]") {
   const TriangleMesh sphere = icosphere_mesh(Vec3::Zero(), 1.0, 1);
   const RowMatrixX3i F = sphere.faces().bottomRows(sphere.num_elements() - 1);  // drop face 0
   const TriangleMesh open = with_faces(sphere, F);
-  const MeshValidationReport report = validate_mesh(open);
+  const MeshValidationResult report = validate_mesh(open);
   CHECK(report.count(MeshIssueKind::BoundaryEdge) == 3);  // the dropped face's three edges
   CHECK_FALSE(has_kind(report, MeshIssueKind::InwardShell));  // an open shell has no inside to judge
   const int a = sphere.faces()(0, 0), b = sphere.faces()(0, 1);
@@ -204,7 +204,7 @@ TEST_CASE("a non-manifold edge is named with its face count", "[mesh][validation
   RowMatrixX3i F(sphere.num_elements() + 1, 3);
   F << sphere.faces(), a, b, static_cast<int>(sphere.num_vertices());
   const TriangleMesh fin(V, F);
-  const MeshValidationReport report = validate_mesh(fin);
+  const MeshValidationResult report = validate_mesh(fin);
   CHECK(report.count(MeshIssueKind::NonManifoldEdge) == 1);
   const std::string edge = "edge (" + std::to_string(std::min(a, b)) + ", " + std::to_string(std::max(a, b)) + ")";
   CHECK_THROWS_WITH(require_valid_mesh(fin),
@@ -216,7 +216,7 @@ TEST_CASE("one flipped face is an inconsistent orientation", "[mesh][validation]
   const TriangleMesh sphere = icosphere_mesh(Vec3::Zero(), 1.0, 1);
   RowMatrixX3i F = sphere.faces();
   std::swap(F(11, 1), F(11, 2));
-  const MeshValidationReport report = validate_mesh(with_faces(sphere, F));
+  const MeshValidationResult report = validate_mesh(with_faces(sphere, F));
   CHECK(report.count(MeshIssueKind::InconsistentOrientation) == 3);  // one per edge of the flipped face
   CHECK(report.num_errors() == 3);
   for (const MeshIssue& issue : report.issues) CHECK_THAT(issue.message, Catch::Contains("11"));
@@ -226,7 +226,7 @@ TEST_CASE("one flipped face is an inconsistent orientation", "[mesh][validation]
 TEST_CASE("inside-out shells are errors, cavities are not", "[mesh][validation]") {
   const TriangleMesh sphere = icosphere_mesh(Vec3::Zero(), 1.0, 2);
   SECTION("a single inward sphere") {
-    const MeshValidationReport report = validate_mesh(flip_orientation(sphere));
+    const MeshValidationResult report = validate_mesh(flip_orientation(sphere));
     CHECK(report.count(MeshIssueKind::InwardShell) == 1);
     CHECK(report.num_errors() == 1);
     CHECK_THROWS_WITH(require_valid_mesh(flip_orientation(sphere)),
@@ -239,7 +239,7 @@ TEST_CASE("inside-out shells are errors, cavities are not", "[mesh][validation]"
   }
   SECTION("cavity shell facing outward: an error naming the inner shell") {
     const TriangleMesh bad = merge_meshes(outer, inner);
-    const MeshValidationReport report = validate_mesh(bad);
+    const MeshValidationResult report = validate_mesh(bad);
     INFO(report.summary());
     CHECK(report.num_errors() == 1);
     REQUIRE(report.count(MeshIssueKind::InwardShell) == 1);
@@ -248,7 +248,7 @@ TEST_CASE("inside-out shells are errors, cavities are not", "[mesh][validation]"
   }
   SECTION("outer shell flipped: only the outer shell is wrong") {
     const TriangleMesh bad = merge_meshes(flip_orientation(outer), flip_orientation(inner));
-    const MeshValidationReport report = validate_mesh(bad);
+    const MeshValidationResult report = validate_mesh(bad);
     CHECK(report.num_errors() == 1);
     REQUIRE(report.count(MeshIssueKind::InwardShell) == 1);
     CHECK(report.issues.at(0).index == 0);
@@ -264,7 +264,7 @@ TEST_CASE("inside-out shells are errors, cavities are not", "[mesh][validation]"
   }
   SECTION("two separate bodies, one inside-out") {
     const TriangleMesh two = merge_meshes(sphere, flip_orientation(icosphere_mesh(Vec3(3, 0, 0), 1.0, 1)));
-    const MeshValidationReport report = validate_mesh(two);
+    const MeshValidationResult report = validate_mesh(two);
     REQUIRE(report.count(MeshIssueKind::InwardShell) == 1);
     CHECK(report.issues.at(0).index == 1);
     MeshValidationOptions lenient;
@@ -278,7 +278,7 @@ TEST_CASE("unreferenced vertices are warnings only", "[mesh][validation]") {
   RowMatrixX3d V(sphere.num_vertices() + 1, 3);
   V << sphere.vertices(), RowMatrixX3d::Constant(1, 3, 0.0);
   const TriangleMesh mesh(V, sphere.faces());
-  const MeshValidationReport report = validate_mesh(mesh);
+  const MeshValidationResult report = validate_mesh(mesh);
   CHECK(report.valid());
   CHECK(report.num_warnings() == 1);
   CHECK(report.issues.at(0).severity == MeshIssueSeverity::Warning);
@@ -312,7 +312,7 @@ TEST_CASE("self-intersecting surfaces and overlapping shells are refused naming 
   const TriangleMesh a = icosphere_mesh(Eigen::Vector3d::Zero(), 1.0, 2);
   const TriangleMesh b = icosphere_mesh(Eigen::Vector3d(1.2, 0.0, 0.0), 1.0, 2);
   const TriangleMesh both = join_meshes(a, b);
-  const MeshValidationReport r = validate_mesh(both);
+  const MeshValidationResult r = validate_mesh(both);
   CHECK(has_kind(r, MeshIssueKind::SelfIntersection));
   CHECK_THROWS_WITH(require_valid_mesh(both), Catch::Contains("intersect") && Catch::Contains("two shells overlap"));
   // The same spheres apart are fine.
@@ -327,7 +327,7 @@ TEST_CASE("self-intersecting surfaces and overlapping shells are refused naming 
     if (V(v, 2) > V(top, 2)) top = v;
   V.row(top) = Eigen::RowVector3d(0.0, 0.0, -1.5);
   const TriangleMesh folded(V, a.faces());
-  const MeshValidationReport rf = validate_mesh(folded);
+  const MeshValidationResult rf = validate_mesh(folded);
   INFO(rf.summary());
   REQUIRE(has_kind(rf, MeshIssueKind::SelfIntersection));
   const MeshIssue& first = *std::find_if(rf.issues.begin(), rf.issues.end(),

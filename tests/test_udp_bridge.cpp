@@ -141,7 +141,7 @@ TEST_CASE("malformed, late, out-of-order and foreign packets are dropped and cou
 }
 
 TEST_CASE("a bridge that goes silent disconnects the device", "[haptics][udp]") {
-  UdpDeviceSettings settings;
+  UdpDeviceOptions settings;
   settings.lost_after_s = 0.02;
   UdpDevice device(settings);
   UdpBridgeClient bridge(device.port());

@@ -46,7 +46,7 @@ void mouse_to_device(App& app, double x, double y, bool down) {
     const double now = app.recorder.now();
     app.recorder.last_move = now;
     Eigen::Vector3d tip = s.position;
-    const SlotSettings& slot = app.settings.slots[static_cast<std::size_t>(app.active_slot)];
+    const SlotOptions& slot = app.settings.slots[static_cast<std::size_t>(app.active_slot)];
     if (app.tool == ToolKind::Sphere && app.field.physics)
       tip -= (slot.radius > 0.0 ? slot.radius : default_tool_radius(ToolKind::Sphere, app.field.physics->mean_edge)) * app.press_dir;
     // Samples at most every 0.1 s, each a 0.1 s linear move (a tool's actions may not overlap).
@@ -70,7 +70,7 @@ bool pick(App& app, double x, double y, Eigen::Vector3d& point, Eigen::Vector3d&
 }
 
 /// A recorded press or pinch where the tool met the body at `p` (surface normal `n`).
-void record_press(App& app, const SlotSettings& s, const Eigen::Vector3d& p, const Eigen::Vector3d& n) {
+void record_press(App& app, const SlotOptions& s, const Eigen::Vector3d& p, const Eigen::Vector3d& n) {
   const double radius = app.tool == ToolKind::Point ? 0.0
                         : s.radius > 0.0 ? s.radius
                         : default_tool_radius(app.tool, app.field.physics->mean_edge);
@@ -101,7 +101,7 @@ void begin_press(App& app, double x, double y) {
     app.cuts.begin_drag(p, app.worker, gap_width(app));
     return;
   }
-  SlotSettings& s = app.settings.slots[static_cast<std::size_t>(app.active_slot)];
+  SlotOptions& s = app.settings.slots[static_cast<std::size_t>(app.active_slot)];
   s.kind = app.tool;
   s.radius = app.tool == ToolKind::Plate ? 0.0 : 1e-3 * app.tool_radius_mm;
   s.plate_size = app.tool == ToolKind::Plate ? 1e-3 * app.tool_radius_mm : 0.0;

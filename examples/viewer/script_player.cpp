@@ -36,9 +36,9 @@ ScriptPlayer::ScriptPlayer(ActionScript script) : script_(std::move(script)) {
   }
 }
 
-SlotSettings ScriptPlayer::slot_settings(int tool) const {
+SlotOptions ScriptPlayer::slot_settings(int tool) const {
   const ScriptTool& t = script_.tools[static_cast<std::size_t>(tool)];
-  SlotSettings s;
+  SlotOptions s;
   s.kind = tool_kind(t.shape);
   s.radius = t.radius;
   s.frictionless = t.frictionless;

@@ -35,7 +35,7 @@ class ScriptPlayer {
   const ActionScript& script() const { return script_; }
   /// Tool driven by slot s (-1: none); blades have no slot.
   int tool_of_slot(int slot) const { return tool_of_slot_[static_cast<std::size_t>(slot)]; }
-  SlotSettings slot_settings(int tool) const;
+  SlotOptions slot_settings(int tool) const;
   /// The keyframes of a pressing tool's device. `base` is the surface under self-weight (the
   /// table's base state); throws SceneError naming the action whose approach line misses it.
   std::vector<haptics::Keyframe> keyframes(int tool, const TriangleBvh& base) const;

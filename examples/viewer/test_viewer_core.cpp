@@ -176,7 +176,7 @@ TEST_CASE("the haptic tick presses a sphere through a device as the contact solv
 
   haptics::NullDevice device;
   haptics::HapticDevice* devices[kMaxTools] = {&device, nullptr};
-  StepperSettings settings;
+  StepperOptions settings;
   settings.slots[0].kind = ToolKind::Sphere;
   settings.slots[0].radius = 0.03;
   settings.force_limit = 100.0;

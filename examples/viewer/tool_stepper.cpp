@@ -32,7 +32,7 @@ void set_message(ContactSnapshot& out, const std::string& m) {
 
 }  // namespace
 
-bool ToolStepper::engage(Slot& s, const SlotSettings& want, const haptics::DeviceState& d, std::string& why) {
+bool ToolStepper::engage(Slot& s, const SlotOptions& want, const haptics::DeviceState& d, std::string& why) {
   const PhysicsState& ph = *physics_;
   const double edge = ph.mean_edge;
   const double radius = want.radius > 0.0 ? want.radius : default_tool_radius(want.kind, edge);
@@ -147,7 +147,7 @@ void ToolStepper::follow_model(const std::shared_ptr<const PhysicsState>& physic
   }
 }
 
-void ToolStepper::follow_device(int i, haptics::HapticDevice* dev, const SlotSettings& want, double time) {
+void ToolStepper::follow_device(int i, haptics::HapticDevice* dev, const SlotOptions& want, double time) {
   // The button's edges engage and release the slot's tool; while engaged it follows the device.
   Slot& s = slots_[static_cast<std::size_t>(i)];
   const haptics::DeviceState d = dev ? dev->read(time) : haptics::DeviceState{};
@@ -182,7 +182,7 @@ void ToolStepper::follow_device(int i, haptics::HapticDevice* dev, const SlotSet
 void ToolStepper::step_contact() {
   if (!solver_) return;
   // The never-throwing step: a failed step leaves the contact set (and force) of the last good one.
-  ContactUpdateReport report;
+  ContactUpdateResult report;
   const ContactStatus status = solver_->step(report);
   if (status == ContactStatus::CapacityExceeded)
     message_ = "the contact set needs " + std::to_string(solver_->rows_needed()) +
@@ -191,7 +191,7 @@ void ToolStepper::step_contact() {
     message_ = std::string("contact: ") + to_string(status);
 }
 
-void ToolStepper::send_force(int i, haptics::HapticDevice* dev, const StepperSettings& settings, double dt, SlotSnapshot& o) {
+void ToolStepper::send_force(int i, haptics::HapticDevice* dev, const StepperOptions& settings, double dt, SlotSnapshot& o) {
   // The slot's state for the graphics thread, and its force to the device.
   Slot& s = slots_[static_cast<std::size_t>(i)];
   o.engaged = s.engaged;
@@ -217,7 +217,7 @@ void ToolStepper::send_force(int i, haptics::HapticDevice* dev, const StepperSet
 }
 
 void ToolStepper::tick(const std::shared_ptr<const PhysicsState>& physics, haptics::HapticDevice* const* devices,
-                       const StepperSettings& settings, double time, double dt, ContactSnapshot& out) {
+                       const StepperOptions& settings, double time, double dt, ContactSnapshot& out) {
   const auto t0 = std::chrono::steady_clock::now();
   if (physics != physics_) follow_model(physics);
   out.physics_version = physics_ ? physics_->version : 0;

@@ -62,7 +62,7 @@ class MouseDevice : public haptics::HapticDevice {
 };
 
 /// What the GUI chooses for a tool slot.
-struct SlotSettings {
+struct SlotOptions {
   ToolKind kind = ToolKind::Sphere;
   double radius = 0.0;      // sphere/flat radius, pinch jaw; 0 = default from the mesh size
   double plate_size = 0.0;  // plate half-width; 0 = default
@@ -76,8 +76,8 @@ struct SlotSettings {
   double plate_tolerance = 0.0;
 };
 
-struct StepperSettings {
-  std::array<SlotSettings, kMaxTools> slots;
+struct StepperOptions {
+  std::array<SlotOptions, kMaxTools> slots;
   bool haptic_force = true;  // write the force to the device (off: zero)
   double force_limit = 3.3;  // newtons (a Touch-class desktop device)
   double force_rate = 300.0; // newtons per second: the largest change of the sent force
@@ -112,7 +112,7 @@ class ToolStepper {
   /// One tick at session time `time`, `dt` seconds after the previous one. `physics` may be null
   /// or without a table (nothing happens but the snapshot).
   void tick(const std::shared_ptr<const PhysicsState>& physics, haptics::HapticDevice* const* devices,
-            const StepperSettings& settings, double time, double dt, ContactSnapshot& out);
+            const StepperOptions& settings, double time, double dt, ContactSnapshot& out);
 
  private:
   struct Slot {
@@ -132,15 +132,15 @@ class ToolStepper {
     haptics::ForceLimiter limiter{3.3, 300.0};
     double limit = 3.3, rate = 300.0;
   };
-  bool engage(Slot& s, const SlotSettings& want, const haptics::DeviceState& d, std::string& why);
+  bool engage(Slot& s, const SlotOptions& want, const haptics::DeviceState& d, std::string& why);
   /// After a new model (a cut, new parameters): the same tool where it was engaged, at the same
   /// translation, on the new solver.
   bool reengage(Slot& s);
   // The steps of tick(), in order.
   void follow_model(const std::shared_ptr<const PhysicsState>& physics);
-  void follow_device(int slot, haptics::HapticDevice* device, const SlotSettings& want, double time);
+  void follow_device(int slot, haptics::HapticDevice* device, const SlotOptions& want, double time);
   void step_contact();
-  void send_force(int slot, haptics::HapticDevice* device, const StepperSettings& settings, double dt, SlotSnapshot& out);
+  void send_force(int slot, haptics::HapticDevice* device, const StepperOptions& settings, double dt, SlotSnapshot& out);
 
   std::shared_ptr<const PhysicsState> physics_;
   std::unique_ptr<ToolContactSolver> solver_;

@@ -91,7 +91,7 @@ struct App {
   float young_kpa = 3.0f, poisson = 0.45f;
   bool gravity = true;
   float gap_mm = -1.0f;  // cut gap width; negative: 0.2 x the mean element size of the model
-  StepperSettings settings;
+  StepperOptions settings;
   std::string scene_input;
   std::string record_path = "session.json";
   std::string record_message;
@@ -100,7 +100,7 @@ struct App {
   // Devices and the haptic thread
   std::array<std::unique_ptr<MouseDevice>, kMaxTools> mice;
   std::array<std::unique_ptr<haptics::ScriptedDevice>, kMaxTools> scripted;
-  haptics::TripleBuffer<StepperSettings> settings_buffer;
+  haptics::TripleBuffer<StepperOptions> settings_buffer;
   haptics::TripleBuffer<ContactSnapshot> snapshots{snapshot_prototype()};
   ToolStepper stepper;
   std::thread haptic_thread;

@@ -25,18 +25,20 @@ struct ElastostaticProblem {
 
 /// Size and timings of one solve_elastostatic call: elements, equations, seconds spent assembling and building the
 /// system, and the linear solver's summary.
-struct ElastostaticReport {
+struct ElastostaticResult {
   Index elements = 0;
   Index equations = 0;
   double assembly_seconds = 0.0;  // H, G and gravity
   double system_seconds = 0.0;    // column swap into A* and the right-hand side
-  LinearSolveSummary solver;
+  LinearSolveResult solver;
 };
+/// Deprecated name (before 0.2), kept one minor version: use ElastostaticResult.
+using ElastostaticReport [[deprecated("renamed to ElastostaticResult in bemsurg 0.2")]] = ElastostaticResult;
 
 /// What solve_elastostatic returns: the displacement and traction of every element, and the report of the run.
 struct ElastostaticSolution {
   BoundarySolution boundary;
-  ElastostaticReport report;
+  ElastostaticResult report;
 };
 
 /// Bytes solve_elastostatic needs at its peak for a mesh of `num_elements`: H, G and A*
@@ -49,7 +51,7 @@ double estimate_elastostatic_bytes(Index num_elements);
 /// anything large) or SolverError with a message.
 /// The mesh is not validated here (callers that read files run require_valid_mesh first).
 ElastostaticSolution solve_elastostatic(const ElastostaticProblem& problem,
-                                        const LinearSolverSettings& solver = LinearSolverSettings());
+                                        const LinearSolverOptions& solver = LinearSolverOptions());
 
 }  // namespace bemsurg
 

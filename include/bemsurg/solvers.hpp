@@ -11,8 +11,8 @@
 /// - dense_lu.hpp
 /// - gmres.hpp
 /// - identity_preconditioner.hpp
-/// - krylov_report.hpp
-/// - krylov_settings.hpp
+/// - krylov_options.hpp
+/// - krylov_result.hpp
 /// - krylov_solver_base.hpp
 /// - linear_operator.hpp
 /// - linear_solve.hpp
@@ -28,8 +28,8 @@
 #include "bemsurg/solvers/dense_lu.hpp"
 #include "bemsurg/solvers/gmres.hpp"
 #include "bemsurg/solvers/identity_preconditioner.hpp"
-#include "bemsurg/solvers/krylov_report.hpp"
-#include "bemsurg/solvers/krylov_settings.hpp"
+#include "bemsurg/solvers/krylov_options.hpp"
+#include "bemsurg/solvers/krylov_result.hpp"
 #include "bemsurg/solvers/krylov_solver_base.hpp"
 #include "bemsurg/solvers/linear_operator.hpp"
 #include "bemsurg/solvers/linear_solve.hpp"

@@ -181,7 +181,7 @@ int run_cut(int argc, char** argv) {
     if (reason.empty())
       for (const auto& s : cutter.sections())
         if (s.split && reason.empty()) reason = narrow_gap_reason(s.width, s.edge_length);
-    CutStepReport r;
+    CutStepResult r;
     if (reason.empty()) {
       try {
         r = system.apply(cutter.mesh(), st.delta, o.update);

@@ -135,7 +135,7 @@ int run_press(int argc, char** argv) {
                                 ") through the given point does not meet the body (or only outside the table's region, or the "
                          "sphere is narrower than the elements where it lands and covers no element centroid)");
   solver.set_depth(tool, o.depth);
-  const bemsurg::ContactUpdateReport report = solver.update();
+  const bemsurg::ContactUpdateResult report = solver.update();
   const Eigen::Vector3d force = solver.force(tool);
   // Never a NaN or a sudden zero (docs/design.md §10): inside the depth range the contact set is
   // never empty once the tool pushes, so an empty one or a non-finite force is a failure to report.

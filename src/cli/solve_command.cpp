@@ -80,7 +80,7 @@ int run_solve(int argc, char** argv) {
   write_solution_vtk((out / "surface.vtk").string(), scene.problem.mesh, solution.boundary);
   const SteadyClock::time_point finished = SteadyClock::now();
 
-  RunReport report;
+  RunResult report;
   report.scene = options.scene;
   report.mesh_source = scene.mesh_source;
   report.elements = solution.report.elements;
@@ -97,7 +97,7 @@ int run_solve(int argc, char** argv) {
   write_report_json((out / "report.json").string(), report);
 
   if (!options.quiet) {
-    const LinearSolveSummary& s = solution.report.solver;
+    const LinearSolveResult& s = solution.report.solver;
     std::cout << std::setprecision(3) << "  solver " << to_string(s.method) << " (" << to_string(s.preconditioner) << "): " << to_string(s.status) << ", "
               << s.iterations << " iterations, relative residual " << s.relative_residual << "\n"
               << "  time: load " << report.timings.load << " s, assembly " << report.timings.assembly << " s, system "

@@ -22,7 +22,7 @@ PublishedContact contact_prototype(Index capacity) {
 }
 }  // namespace
 
-HapticLoop::HapticLoop(const HapticLoopSettings& settings, std::vector<HapticDevice*> devices,
+HapticLoop::HapticLoop(const HapticLoopOptions& settings, std::vector<HapticDevice*> devices,
                        std::vector<Workspace> workspaces)
     : settings_(settings),
       devices_(std::move(devices)),
@@ -149,7 +149,7 @@ void HapticLoop::read_channel(int channel, double now, ToolContactSolver* solver
 
 ContactStatus HapticLoop::step_contact(ToolContactSolver* solver) {
   if (!solver) return ContactStatus::Ok;
-  ContactUpdateReport report;
+  ContactUpdateResult report;
   const ContactStatus status = solver->step(report, settings_.max_active_set_iterations);
   if (status == ContactStatus::CapacityExceeded || status == ContactStatus::Singular) ++counters_.failed_steps;
   return status;

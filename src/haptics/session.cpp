@@ -398,7 +398,7 @@ SessionResult Session::run(SessionObserver* observer) {
       owned.push_back(std::make_unique<NullDevice>(options_.loop.max_force));
       d = owned.back().get();
     }
-  HapticLoopSettings ls = options_.loop;
+  HapticLoopOptions ls = options_.loop;
   ls.rate_hz = script_.rate_hz;
   HapticLoop loop(ls, devices);
   const auto wall0 = std::chrono::steady_clock::now();

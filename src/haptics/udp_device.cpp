@@ -162,7 +162,7 @@ int open_loopback_socket(int port, int& bound_port, const char* who) {
 }
 }  // namespace
 
-UdpDevice::UdpDevice(const UdpDeviceSettings& settings) : settings_(settings) {
+UdpDevice::UdpDevice(const UdpDeviceOptions& settings) : settings_(settings) {
   if (settings.listen_port < 0 || settings.listen_port > 65535 || settings.peer_port < 0 || settings.peer_port > 65535)
     throw InvalidArgumentError("UdpDevice: ports must lie in [0, 65535]");
   if (!(settings.max_age_s > 0.0) || !(settings.lost_after_s > 0.0) || !(settings.max_force > 0.0))

@@ -99,7 +99,7 @@ double peak_memory_mb() {
   return static_cast<double>(usage.ru_maxrss) / 1024.0;  // Linux reports KiB
 }
 
-void write_report_json(const std::string& path, const RunReport& report) {
+void write_report_json(const std::string& path, const RunResult& report) {
   // Non-finite values are not JSON; a residual that is NaN is reported as null.
   const auto number = [](double x) { return std::isfinite(x) ? nlohmann::ordered_json(x) : nlohmann::ordered_json(); };
   nlohmann::ordered_json j;

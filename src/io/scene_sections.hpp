@@ -24,7 +24,7 @@ TriangleMesh load_mesh(const JsonReader& mesh, const std::string& directory, std
 
 /// "material", "solver", "quadrature" (scene_settings.cpp).
 Material load_material(const JsonReader& material, bool gravity_on);
-LinearSolverSettings load_solver(const JsonReader& solver);
+LinearSolverOptions load_solver(const JsonReader& solver);
 QuadratureOptions load_quadrature(const JsonReader& quadrature);
 
 /// "boundary_conditions": rules in order, then the per-element CSV file (docs/design.md §5;

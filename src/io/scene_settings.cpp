@@ -45,10 +45,10 @@ auto read_name(const JsonReader& v, Parse parse, const std::string& what, const 
 
 }  // namespace
 
-LinearSolverSettings load_solver(const JsonReader& s) {
+LinearSolverOptions load_solver(const JsonReader& s) {
   s.object();
   s.warn_unknown_keys({"method", "tolerance", "max_iterations", "restart", "preconditioner", "near_field_radius"});
-  LinearSolverSettings out;
+  LinearSolverOptions out;
   if (const std::optional<JsonReader> v = s.optional("method"))
     out.method = read_name(*v, parse_solver_method, "method", "lu, gmres, bicgstab or bicg");
   if (const std::optional<JsonReader> v = s.optional("tolerance")) {

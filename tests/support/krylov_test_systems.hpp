@@ -57,7 +57,7 @@ inline BemSystem make_bem_system(int nx, int ny, int nz, double push = 0.0) {
   const InfluenceMatrices hg = assembler.assemble();
   BemSystem s{mesh, build_system_matrix(hg, bc),
               build_right_hand_side(hg, bc, assembler.gravity_vector(Vec3(0.0, 0.0, -9.81))), {}, 0.0};
-  const DenseLU lu(s.A);
+  const DenseLu lu(s.A);
   s.x_lu = lu.solve(s.b);
   s.lu_condition = 1.0 / lu.rcond();
   return s;

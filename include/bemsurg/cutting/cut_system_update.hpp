@@ -60,8 +60,8 @@ inline CutUpdateMethod parse_cut_update_method(const std::string& name) {
 /// refactorised, whether the explicit A* is built at once, and the table's update options.
 struct CutSystemOptions {
   /// Krylov settings of the iterative modes (method set per step). Full GMRES, block-Jacobi.
-  LinearSolverSettings krylov = [] {
-    LinearSolverSettings s;
+  LinearSolverOptions krylov = [] {
+    LinearSolverOptions s;
     s.tolerance = 1e-12;
     s.max_iterations = 2000;
     return s;
@@ -77,7 +77,7 @@ struct CutSystemOptions {
 
 /// What one CutSystemUpdate::apply step did: the method, Krylov iterations and residual, seconds per phase, the
 /// accumulated correction rank, and whether a refactorisation was started.
-struct CutStepReport {
+struct CutStepResult {
   CutUpdateMethod method = CutUpdateMethod::Exact;
   int iterations = 0;                // Krylov iterations (0 for exact and refactor)
   double relative_residual = 0.0;    // Krylov: ||b - A x|| / ||b||
@@ -88,6 +88,8 @@ struct CutStepReport {
   Index rank = 0;                    // accumulated correction rank after the step
   bool refactor_started = false;     // a refactorisation was started (or done, if not in background)
 };
+/// Deprecated name (before 0.2), kept one minor version: use CutStepResult.
+using CutStepReport [[deprecated("renamed to CutStepResult in bemsurg 0.2")]] = CutStepResult;
 
 /// The BEM system and the Green's table of a body being cut, updated step by step (exactly, iteratively or by
 /// refactorisation; docs/cutting.md); readers get an immutable table snapshot and never see a half-updated one.
@@ -120,9 +122,9 @@ class CutSystemUpdate {
 
   /// One cut step: `after` is the cut mesh, `delta` what changed from the current mesh.
   /// On an exception nothing has changed (the current table and solution stay as they were).
-  CutStepReport apply(std::shared_ptr<const TriangleMesh> after, const MeshDelta& delta, CutUpdateMethod method) {
+  CutStepResult apply(std::shared_ptr<const TriangleMesh> after, const MeshDelta& delta, CutUpdateMethod method) {
     const auto t0 = SteadyClock::now();
-    CutStepReport r;
+    CutStepResult r;
     r.method = method;
     const std::shared_ptr<const GreensTable> current = table();
     std::shared_ptr<const GreensTable> next;
@@ -139,7 +141,7 @@ class CutSystemUpdate {
       const CutChange change =
           integrate_cut_change(*current->mesh(), *after, delta, current->key().material, current->quadrature(), current->key().gravity);
       r.integration_seconds = change.integration_seconds;
-      GreensTableUpdateReport tr;
+      GreensTableUpdateResult tr;
       next = current->updated(after, delta, change, options_.table, &tr);
       r.table_seconds = tr.table_seconds;
       r.system_seconds = tr.system_seconds;
@@ -153,13 +155,13 @@ class CutSystemUpdate {
         A = updated_matrix(*current, *after, delta, &change, r);
       }
       if (method != CutUpdateMethod::Exact) {
-        LinearSolverSettings s = options_.krylov;
+        LinearSolverOptions s = options_.krylov;
         s.method = method == CutUpdateMethod::Gmres ? SolverMethod::Gmres
                    : method == CutUpdateMethod::BiCgStab ? SolverMethod::BiCgStab
                                                          : SolverMethod::BiCg;
         Eigen::VectorXd x0 = Eigen::VectorXd::Zero(A.rows());
         x0.head(x_.size()) = x_;
-        LinearSolveSummary summary;
+        LinearSolveResult summary;
         const auto ts = SteadyClock::now();
         x = solve_linear_system(A, next->rhs(), s, summary, after.get(), x0);
         r.system_seconds = seconds_since(ts);
@@ -198,7 +200,7 @@ class CutSystemUpdate {
 
   /// The explicit A* after the step: blockdiag(A*, I) with the rows and columns D replaced.
   Eigen::MatrixXd updated_matrix(const GreensTable& current, const TriangleMesh& after, const MeshDelta& delta,
-                                 const CutChange* known, CutStepReport& r) const {
+                                 const CutChange* known, CutStepResult& r) const {
     CutChange local;
     if (!known) {
       local = integrate_cut_change(*current.mesh(), after, delta, current.key().material, current.quadrature(), current.key().gravity);

@@ -51,7 +51,7 @@ struct ContactModel {
        Eigen::Quaterniond::Identity()}};
 };
 
-struct HapticLoopSettings {
+struct HapticLoopOptions {
   double rate_hz = 1000.0;         // 100 .. 10000
   double max_force = 3.3;          // N (a Touch-class desktop device); also capped by each device's own
   double max_force_rate = 300.0;   // N/s: 0.3 N per tick at 1 kHz
@@ -70,6 +70,10 @@ struct HapticLoopSettings {
   /// costs more CPU (>= the period: it never sleeps, a whole core).
   double spin_us = 150.0;
 };
+
+/// Deprecated name (before 0.2), kept one minor version: use HapticLoopOptions.
+
+using HapticLoopSettings [[deprecated("renamed to HapticLoopOptions in bemsurg 0.2")]] = HapticLoopOptions;
 
 struct ChannelSample {
   Eigen::Vector3d position = Eigen::Vector3d::Zero();  // model frame
@@ -118,7 +122,7 @@ class HapticLoop {
   /// `devices[c]` drives channel c (at most kMaxChannels; the loop does not own them and they
   /// must outlive it); `workspaces[c]` maps its frame into the model's (default: identity).
   /// Throws InvalidArgumentError for bad settings or too many / null devices.
-  HapticLoop(const HapticLoopSettings& settings, std::vector<HapticDevice*> devices,
+  HapticLoop(const HapticLoopOptions& settings, std::vector<HapticDevice*> devices,
              std::vector<Workspace> workspaces = {});
   ~HapticLoop();
   HapticLoop(const HapticLoop&) = delete;
@@ -162,7 +166,7 @@ class HapticLoop {
   /// Statistics so far (complete after stop(); while running, from the simulation side only
   /// the atomic counters are safe, so call it after stop()).
   LoopStatistics statistics() const;
-  const HapticLoopSettings& settings() const { return settings_; }
+  const HapticLoopOptions& settings() const { return settings_; }
   int channels() const { return static_cast<int>(devices_.size()); }
 
  private:
@@ -182,7 +186,7 @@ class HapticLoop {
   inline void record_tick(TickSample& sample, double now, double dt, bool late,
                           std::chrono::steady_clock::time_point t_start) noexcept;
 
-  HapticLoopSettings settings_;
+  HapticLoopOptions settings_;
   std::vector<HapticDevice*> devices_;
   std::vector<Workspace> workspaces_;
   std::vector<ForceLimiter> limiters_;

@@ -54,7 +54,7 @@ bool decode(const unsigned char* data, std::size_t bytes, ForcePacket& p) noexce
 std::uint64_t monotonic_us() noexcept;
 }  // namespace udp
 
-struct UdpDeviceSettings {
+struct UdpDeviceOptions {
   int listen_port = 0;        // 127.0.0.1 port to bind; 0: any free port (see UdpDevice::port())
   int peer_port = 0;          // the only sender port accepted; 0: the first valid sender is locked in
   std::uint16_t channel = 0;  // packets for another channel are refused as unexpected
@@ -62,6 +62,10 @@ struct UdpDeviceSettings {
   double lost_after_s = 0.1;  // no valid pose for this long: disconnected (zero force)
   double max_force = 3.3;
 };
+
+/// Deprecated name (before 0.2), kept one minor version: use UdpDeviceOptions.
+
+using UdpDeviceSettings [[deprecated("renamed to UdpDeviceOptions in bemsurg 0.2")]] = UdpDeviceOptions;
 
 /// Counts of refused packets (each increments exactly one).
 struct UdpCounters {
@@ -73,7 +77,7 @@ class UdpDevice : public HapticDevice {
  public:
   static constexpr int kMaxPacketsPerRead = 64;
   /// Binds 127.0.0.1:listen_port (throws IoError with the reason when it cannot).
-  explicit UdpDevice(const UdpDeviceSettings& settings = {});
+  explicit UdpDevice(const UdpDeviceOptions& settings = {});
   ~UdpDevice() override;
   UdpDevice(const UdpDevice&) = delete;
   UdpDevice& operator=(const UdpDevice&) = delete;
@@ -91,7 +95,7 @@ class UdpDevice : public HapticDevice {
   UdpCounters counters() const;
 
  private:
-  UdpDeviceSettings settings_;
+  UdpDeviceOptions settings_;
   int fd_ = -1;
   int port_ = 0;
   std::uint32_t peer_addr_ = 0;  // network order; 0: none yet

@@ -20,7 +20,7 @@ BEMSURG_INLINE double estimate_elastostatic_bytes(Index num_elements) {
   return 8.0 * (2.0 * n * n + 8.0 * n);
 }
 
-BEMSURG_INLINE ElastostaticSolution solve_elastostatic(const ElastostaticProblem& problem, const LinearSolverSettings& solver) {
+BEMSURG_INLINE ElastostaticSolution solve_elastostatic(const ElastostaticProblem& problem, const LinearSolverOptions& solver) {
   problem.material.validate();
   if (!problem.gravity.allFinite()) throw BoundaryConditionError("gravity must be finite");
   problem.boundary_conditions.require_supported(problem.mesh);

@@ -47,7 +47,7 @@ struct PhaseTimings {
 
 /// What report.json records of a `bemsurg solve` run (write_report_json): scene and mesh source, sizes, phase timings,
 /// peak memory and the solver summary.
-struct RunReport {
+struct RunResult {
   std::string scene;
   std::string mesh_source;
   Index elements = 0;
@@ -55,8 +55,10 @@ struct RunReport {
   Index interior_points = 0;
   PhaseTimings timings;
   double peak_memory_mb = 0.0;
-  LinearSolveSummary solver;
+  LinearSolveResult solver;
 };
+/// Deprecated name (before 0.2), kept one minor version: use RunResult.
+using RunReport [[deprecated("renamed to RunResult in bemsurg 0.2")]] = RunResult;
 
 /// Peak resident memory of this process so far, in MiB (getrusage ru_maxrss).
 double peak_memory_mb();
@@ -64,6 +66,6 @@ double peak_memory_mb();
 /// report.json: {"elements", "equations", "interior_points", "timings": {load, assembly, system,
 /// solve, post, total}, "peak_memory_mb", "solver": {method, preconditioner, iterations, status,
 /// relative_residual, setup_seconds, solve_seconds}, "scene", "mesh", "bemsurg_version"}.
-void write_report_json(const std::string& path, const RunReport& report);
+void write_report_json(const std::string& path, const RunResult& report);
 
 }  // namespace bemsurg

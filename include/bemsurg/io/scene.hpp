@@ -28,7 +28,7 @@ struct Scene {
   /// (acceleration; body force = density * gravity), boundary conditions (every element set:
   /// unspecified elements are traction-free), quadrature options.
   ElastostaticProblem problem;
-  LinearSolverSettings solver;
+  LinearSolverOptions solver;
   /// Points at which to evaluate displacement and stress, one per row; each lies strictly inside
   /// the body (checked when loading). Empty when the scene asks for none.
   RowMatrixX3d interior_points = RowMatrixX3d(0, 3);

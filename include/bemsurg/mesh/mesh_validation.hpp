@@ -63,7 +63,7 @@ struct MeshValidationOptions {
 
 /// The result of validate_mesh: the stored issues in check order and the number found of each kind, including
 /// those not stored.
-struct MeshValidationReport {
+struct MeshValidationResult {
   std::vector<MeshIssue> issues;  // stored issues, errors and warnings, in check order
   /// Number of issues found per kind, including those beyond max_issues_per_kind.
   std::vector<std::size_t> counts = std::vector<std::size_t>(kNumMeshIssueKinds, 0);
@@ -76,8 +76,10 @@ struct MeshValidationReport {
   /// One line per stored issue, errors first, and a line for the issues counted but not stored.
   std::string summary() const;
 };
+/// Deprecated name (before 0.2), kept one minor version: use MeshValidationResult.
+using MeshValidationReport [[deprecated("renamed to MeshValidationResult in bemsurg 0.2")]] = MeshValidationResult;
 
-MeshValidationReport validate_mesh(const TriangleMesh& mesh, const MeshValidationOptions& options = {});
+MeshValidationResult validate_mesh(const TriangleMesh& mesh, const MeshValidationOptions& options = {});
 
 /// Throws InvalidMeshError if validate_mesh finds an error. The message starts with the first
 /// error (e.g. "face 1042: edge (17, 88) is shared by 3 faces: the mesh is not 2-manifold") and

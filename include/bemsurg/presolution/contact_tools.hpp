@@ -78,12 +78,14 @@ enum class ContactStatus : std::uint8_t {
 const char* to_string(ContactStatus status) noexcept;
 
 /// What one update() did.
-struct ContactUpdateReport {
+struct ContactUpdateResult {
   int active_set_iterations = 0;
   bool consistent = true;  // false: the active set did not settle within the iteration limit
   Index rows = 0;
   Index elements = 0;
 };
+/// Deprecated name (before 0.2), kept one minor version: use ContactUpdateResult.
+using ContactUpdateReport [[deprecated("renamed to ContactUpdateResult in bemsurg 0.2")]] = ContactUpdateResult;
 
 class ToolContactSolver {
  public:
@@ -134,11 +136,11 @@ class ToolContactSolver {
   /// Throws bemsurg::Error when the contact set would exceed the capacity (or SolverError for a
   /// singular small system); the contact set and the solver's bookkeeping are then left as they
   /// were before the failed additions, so a later update() at a reachable pose is correct.
-  ContactUpdateReport update(int max_active_set_iterations = 50);
+  ContactUpdateResult update(int max_active_set_iterations = 50);
   /// The same step for the haptic thread: never allocates, throws, locks or builds a message.
   /// CapacityExceeded / Singular leave the contact set as it was before the failed additions (the
   /// force of the last good step stays in force()); Unsettled means the iteration limit was hit.
-  ContactStatus step(ContactUpdateReport& report, int max_active_set_iterations = 50) noexcept;
+  ContactStatus step(ContactUpdateResult& report, int max_active_set_iterations = 50) noexcept;
 
   /// Force on one tool (after update()).
   Eigen::Vector3d force(int tool) const { return contact_.force_of_tag(tool); }

@@ -64,7 +64,7 @@ struct GreensTableUpdateOptions {
 };
 
 /// Wall-clock seconds of one updated() call, by phase.
-struct GreensTableUpdateReport {
+struct GreensTableUpdateResult {
   double integration_seconds = 0.0;  // rows and columns of the changed elements, both meshes
   double system_seconds = 0.0;       // low-rank update of the factorisation and the base state
   double table_seconds = 0.0;        // the table's columns (old ones corrected, new ones solved)
@@ -72,6 +72,8 @@ struct GreensTableUpdateReport {
   Index rank = 0;                    // accumulated rank of the correction after the step
   Index added_region_elements = 0;   // new elements that joined the region
 };
+/// Deprecated name (before 0.2), kept one minor version: use GreensTableUpdateResult.
+using GreensTableUpdateReport [[deprecated("renamed to GreensTableUpdateResult in bemsurg 0.2")]] = GreensTableUpdateResult;
 
 /// What a table was computed for; a saved table is used only when all of it matches.
 struct CutChange;  // assembly/cut_change.hpp
@@ -127,14 +129,14 @@ class GreensTable {
   /// the cut system is singular. `this` is not changed.
   std::shared_ptr<const GreensTable> updated(std::shared_ptr<const TriangleMesh> after, const MeshDelta& delta,
                                              const GreensTableUpdateOptions& options = {},
-                                             GreensTableUpdateReport* report = nullptr) const;
+                                             GreensTableUpdateResult* report = nullptr) const;
 
   /// The same step taken with the rows and columns already integrated (integrate_cut_change on
   /// this table's mesh, `after`, its material, quadrature and gravity), e.g. shared with an
   /// iterative re-solve of the same step.
   std::shared_ptr<const GreensTable> updated(std::shared_ptr<const TriangleMesh> after, const MeshDelta& delta,
                                              const CutChange& change, const GreensTableUpdateOptions& options = {},
-                                             GreensTableUpdateReport* report = nullptr) const;
+                                             GreensTableUpdateResult* report = nullptr) const;
   /// The reference for updated(): the same step by full re-assembly and a new factorisation
   /// (same region rule, version() + 1).
   std::shared_ptr<const GreensTable> recomputed_after(std::shared_ptr<const TriangleMesh> after, const MeshDelta& delta,

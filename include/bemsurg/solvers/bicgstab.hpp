@@ -44,7 +44,7 @@ class BiCgStab : public KrylovSolverBase<BiCgStab<Operator, Preconditioner>, Ope
 
   /// One pass of the recurrence, from the residual in r_ with it as the shadow residual r0~.
   void run_pass(const Operator& A, const Preconditioner& M, Eigen::VectorXd& x, typename Base::Pass& pass) {
-    const KrylovSettings& s = this->settings_;
+    const KrylovOptions& s = this->settings_;
     r0_ = r_;
     const double r0_norm = r0_.norm();
     double rho_old = 1.0, alpha = 1.0, omega = 1.0;

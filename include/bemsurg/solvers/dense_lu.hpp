@@ -14,10 +14,10 @@
 
 namespace bemsurg {
 
-class DenseLU {
+class DenseLu {
  public:
-  DenseLU() = default;
-  explicit DenseLU(const Eigen::MatrixXd& A) { compute(A); }
+  DenseLu() = default;
+  explicit DenseLu(const Eigen::MatrixXd& A) { compute(A); }
 
   /// Factorises A. A numerically singular matrix (a zero or non-finite pivot) sets info() to
   /// NumericalIssue; solve() then throws instead of returning garbage.
@@ -30,14 +30,14 @@ class DenseLU {
   /// power-of-two factors A D = L (U D) holds exactly, so factorising A itself and dividing its
   /// pivots by the column maxima is the equilibrated factorisation; solving for the scaled
   /// unknowns y = D^-1 x and unscaling gives the same x bit for bit, without an n x n copy.
-  DenseLU& compute(const Eigen::MatrixXd& A) {
-    if (A.rows() != A.cols()) throw SolverError("DenseLU: the matrix is not square");
+  DenseLu& compute(const Eigen::MatrixXd& A) {
+    if (A.rows() != A.cols()) throw SolverError("DenseLu: the matrix is not square");
     // LAPACK's dgetrf is not defined for NaN or infinite entries (OpenBLAS may crash in it):
     // refuse them before factorising. One O(n^2) pass against the O(n^3) factorisation.
     if (!A.allFinite()) {
       Eigen::Index row = 0, col = 0;
       first_non_finite(A, row, col);
-      throw SolverError("DenseLU: the matrix has a non-finite entry (" + number_text(A(row, col)) + " at row " +
+      throw SolverError("DenseLu: the matrix has a non-finite entry (" + number_text(A(row, col)) + " at row " +
                         std::to_string(row) + ", column " + std::to_string(col) + "); it cannot be factorised");
     }
     const Eigen::VectorXd column_max = column_maxima(A);
@@ -77,7 +77,7 @@ class DenseLU {
 
   template <class Rhs>
   Eigen::Matrix<double, Eigen::Dynamic, Rhs::ColsAtCompileTime> solve(const Eigen::MatrixBase<Rhs>& b) const {
-    if (!ok_) throw SolverError("DenseLU: the system matrix is singular to working precision (is the body supported?)");
+    if (!ok_) throw SolverError("DenseLu: the system matrix is singular to working precision (is the body supported?)");
     return lu_.solve(b);
   }
 
@@ -91,5 +91,9 @@ class DenseLU {
   Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
   bool ok_ = false;
 };
+
+/// Deprecated name (before 0.2), kept one minor version: use DenseLu.
+
+using DenseLU [[deprecated("renamed to DenseLu in bemsurg 0.2")]] = DenseLu;
 
 }  // namespace bemsurg

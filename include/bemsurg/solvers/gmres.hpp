@@ -40,7 +40,7 @@ class Gmres : public KrylovSolverBase<Gmres<Operator, Preconditioner>, Operator,
   friend Base;  // solve() calls workspace() and iterate()
 
   Eigen::VectorXd& workspace(Eigen::Index n) {
-    const KrylovSettings& s = this->settings_;
+    const KrylovOptions& s = this->settings_;
     // Basis size: the restart length, or (full GMRES) as many vectors as iterations allowed, never more than n.
     basis_size_ = std::min<Eigen::Index>(n, s.restart > 0 ? std::min(s.restart, s.max_iterations) : s.max_iterations);
     reserve(n, basis_size_);
@@ -49,8 +49,8 @@ class Gmres : public KrylovSolverBase<Gmres<Operator, Preconditioner>, Operator,
 
   void iterate(const Operator& A, const Preconditioner& M, const Eigen::VectorXd& b, Eigen::VectorXd& x, double residual,
                typename Base::Clock::time_point start) {
-    const KrylovSettings& s = this->settings_;
-    KrylovReport& report = this->report_;
+    const KrylovOptions& s = this->settings_;
+    KrylovResult& report = this->report_;
     const Eigen::Index m = basis_size_;
     const double tiny = std::max(s.breakdown_tolerance, 16 * std::numeric_limits<double>::epsilon());
     for (;;) {  // one restart cycle per pass

@@ -15,7 +15,7 @@
 //   Gmres<DenseOperator, BlockJacobiPreconditioner> gmres;   // or BiCgStab<...>, BiCg<...>
 //   gmres.settings().tolerance = 1e-8;
 //   Eigen::VectorXd x;                            // empty: start from zero
-//   const KrylovReport& report = gmres.compute(A, M).solve(b, x);
+//   const KrylovResult& report = gmres.compute(A, M).solve(b, x);
 //   if (!report.converged()) throw SolverError(report.summary());
 #pragma once
 
@@ -28,8 +28,8 @@
 
 #include "bemsurg/error.hpp"
 #include "bemsurg/solvers/identity_preconditioner.hpp"
-#include "bemsurg/solvers/krylov_report.hpp"
-#include "bemsurg/solvers/krylov_settings.hpp"
+#include "bemsurg/solvers/krylov_result.hpp"
+#include "bemsurg/solvers/krylov_options.hpp"
 #include "bemsurg/timing.hpp"
 
 namespace bemsurg {
@@ -43,11 +43,11 @@ template <class Derived, class Operator, class Preconditioner>
 class KrylovSolverBase {
  public:
   KrylovSolverBase() = default;
-  explicit KrylovSolverBase(const KrylovSettings& settings) : settings_(settings) {}
+  explicit KrylovSolverBase(const KrylovOptions& settings) : settings_(settings) {}
 
   /// Solves A x = b. On entry x is the initial guess (empty: zero), on exit the last iterate,
   /// whatever the status. Returns the report (also report()).
-  const KrylovReport& solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+  const KrylovResult& solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
     Clock::time_point start;
     if (!begin(b, x, start)) return report_;
     Eigen::VectorXd& r = derived().workspace(A_->rows());
@@ -62,8 +62,8 @@ class KrylovSolverBase {
   /// Unpreconditioned (only when Preconditioner is IdentityPreconditioner).
   Derived& compute(const Operator& A) { return set_operator(A), derived(); }
 
-  KrylovSettings& settings() { return settings_; }
-  const KrylovSettings& settings() const { return settings_; }
+  KrylovOptions& settings() { return settings_; }
+  const KrylovOptions& settings() const { return settings_; }
 
   void set_operator(const Operator& A, const Preconditioner& M) {
     if (M.rows() != A.rows())
@@ -79,7 +79,7 @@ class KrylovSolverBase {
     set_operator(A, identity_);
   }
 
-  const KrylovReport& report() const { return report_; }
+  const KrylovResult& report() const { return report_; }
   Eigen::ComputationInfo info() const { return report_.info(); }
   int iterations() const { return report_.iterations; }
   double error() const { return report_.true_residual; }
@@ -203,7 +203,7 @@ class KrylovSolverBase {
   /// residual, now in `r` (report().restarts counts it; `replaced_at` is its value).
   bool restart_from_true_residual(const Eigen::VectorXd& b, const Eigen::VectorXd& x, const Pass& pass, Eigen::VectorXd& scratch,
                                   Eigen::VectorXd& r, double& replaced_at, Clock::time_point start) {
-    const KrylovSettings& s = settings_;
+    const KrylovOptions& s = settings_;
     const double previous = replaced_at;
     report_.true_residual = true_residual(b, x, scratch);
     if (!std::isfinite(report_.true_residual))
@@ -228,8 +228,8 @@ class KrylovSolverBase {
   /// Most iterations whose residual history is reserved before a solve (32 KiB).
   static constexpr int kHistoryReserveCap = 4096;
 
-  KrylovSettings settings_;
-  KrylovReport report_;
+  KrylovOptions settings_;
+  KrylovResult report_;
   const Operator* A_ = nullptr;
   const Preconditioner* M_ = nullptr;
   IdentityPreconditioner identity_;

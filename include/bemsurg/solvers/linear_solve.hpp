@@ -9,7 +9,7 @@
 
 #include "bemsurg/error.hpp"
 #include "bemsurg/mesh/triangle_mesh.hpp"
-#include "bemsurg/solvers/krylov_report.hpp"
+#include "bemsurg/solvers/krylov_result.hpp"
 
 namespace bemsurg {
 
@@ -49,7 +49,7 @@ inline PreconditionerKind parse_preconditioner(const std::string& name) {
   throw SolverError("unknown preconditioner '" + name + "' (expected none, block_jacobi or near_field)");
 }
 
-struct LinearSolverSettings {
+struct LinearSolverOptions {
   SolverMethod method = SolverMethod::Lu;
   double tolerance = 1e-10;             // relative residual ||b - A x|| / ||b|| for Krylov methods
   int max_iterations = 1000;
@@ -60,7 +60,11 @@ struct LinearSolverSettings {
   double near_field_radius = 2.0;       // near-field preconditioner: element diameters
 };
 
-struct LinearSolveSummary {
+/// Deprecated name (before 0.2), kept one minor version: use LinearSolverOptions.
+
+using LinearSolverSettings [[deprecated("renamed to LinearSolverOptions in bemsurg 0.2")]] = LinearSolverOptions;
+
+struct LinearSolveResult {
   SolverMethod method = SolverMethod::Lu;
   PreconditionerKind preconditioner = PreconditionerKind::None;  // None for LU
   KrylovStatus status = KrylovStatus::NotComputed;  // LU too: Converged, Breakdown (singular) or NonFinite
@@ -68,7 +72,7 @@ struct LinearSolveSummary {
   double relative_residual = 0.0;    // true residual ||b - A x|| / ||b||, recomputed
   double setup_seconds = 0.0;        // factorisation or preconditioner build
   double solve_seconds = 0.0;
-  // Added for the Krylov methods (solvers/krylov_report.hpp); zero or empty for LU.
+  // Added for the Krylov methods (solvers/krylov_result.hpp); zero or empty for LU.
   std::string breakdown;                // status breakdown/non_finite: which quantity vanished or went non-finite
   double initial_residual = 0.0;        // ||b - A x0|| / ||b|| (1 for a cold start)
   int restarts = 0;                     // GMRES(m) cycles after the first; residual replacements in BiCG(Stab)
@@ -77,10 +81,14 @@ struct LinearSolveSummary {
   double preconditioner_fill = 0.0;          // near_field: nonzeros of L + U / nonzeros kept
 };
 
+/// Deprecated name (before 0.2), kept one minor version: use LinearSolveResult.
+
+using LinearSolveSummary [[deprecated("renamed to LinearSolveResult in bemsurg 0.2")]] = LinearSolveResult;
+
 /// Solves A x = b. `mesh` gives the geometry the near-field preconditioner needs (may be null
 /// otherwise). `x0` (optional, may be empty) is a warm start for Krylov methods.
-Eigen::VectorXd solve_linear_system(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const LinearSolverSettings& settings,
-                                    LinearSolveSummary& summary, const TriangleMesh* mesh = nullptr,
+Eigen::VectorXd solve_linear_system(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const LinearSolverOptions& settings,
+                                    LinearSolveResult& summary, const TriangleMesh* mesh = nullptr,
                                     const Eigen::VectorXd& x0 = Eigen::VectorXd());
 
 }  // namespace bemsurg

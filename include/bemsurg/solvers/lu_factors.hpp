@@ -3,7 +3,7 @@
 // system grows by partitioning "on top of the factorisation kept from the precompute").
 // With BEMSURG_HAVE_BLAS: LAPACK dgetrf / dgetrs (threaded OpenBLAS, no copy of A); otherwise
 // Eigen's PartialPivLU in place. Memory: n^2 doubles for L and U (stored in A's storage) plus n
-// pivots. The singularity test is DenseLU's (column-equilibrated pivots, scale-invariant).
+// pivots. The singularity test is DenseLu's (column-equilibrated pivots, scale-invariant).
 // The LAPACKE *_work entry points: the plain ones scan the whole n x n matrix for NaN on every
 // call (n^2 reads per solve, ~100 ms per call at n = 9,000, more than the solve of a few columns
 // after a cut); finiteness is checked once, before factorising, by column_maxima.
@@ -37,7 +37,7 @@ class LuFactors {
     const Index n = A.rows();
     if (A.cols() != n) throw SolverError("LuFactors: the matrix is not square");
     if (n == 0) throw SolverError("LuFactors: empty system");
-    const Eigen::VectorXd column_max = DenseLU::column_maxima(A);
+    const Eigen::VectorXd column_max = DenseLu::column_maxima(A);
     if (!column_max.allFinite()) throw SolverError("the system matrix A* has non-finite entries");
     const auto t0 = SteadyClock::now();
     f.lu_.swap(A);
@@ -53,7 +53,7 @@ class LuFactors {
     for (Index i = 0; i < n; ++i) f.pivots_[static_cast<std::size_t>(i)] = lu.permutationP().indices()(i);  // P as indices
     const bool ok = true;
 #endif
-    if (!ok || !DenseLU::equilibrated_pivots_ok(f.lu_.diagonal(), column_max))
+    if (!ok || !DenseLu::equilibrated_pivots_ok(f.lu_.diagonal(), column_max))
       throw SolverError("the system matrix A* is singular to working precision (is the body supported?)");
     if (seconds) *seconds = seconds_since(t0);
     return f;

@@ -165,7 +165,7 @@ BEMSURG_INLINE bool SurfaceCutter::check_manifold(const Work& w, const TriangleM
     }
   MeshValidationOptions vo;
   vo.warn_unreferenced_vertices = false;
-  const MeshValidationReport report = validate_mesh(mesh, vo);
+  const MeshValidationResult report = validate_mesh(mesh, vo);
   if (!report.valid()) {
     reason = "the cut would leave an invalid surface: " + report.summary();
     return false;

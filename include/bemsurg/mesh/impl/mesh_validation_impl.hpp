@@ -53,7 +53,7 @@ BEMSURG_INLINE std::string shell_name(const MeshTopology& topo, Index s) {
 
 class Collector {
  public:
-  Collector(MeshValidationReport& report, std::size_t max_per_kind) : report_(report), max_(max_per_kind) {}
+  Collector(MeshValidationResult& report, std::size_t max_per_kind) : report_(report), max_(max_per_kind) {}
   void add(MeshIssueKind kind, MeshIssueSeverity severity, Index index, std::string message) {
     std::size_t& n = report_.counts[static_cast<std::size_t>(kind)];
     if (n < max_) report_.issues.push_back({kind, severity, index, std::move(message)});
@@ -64,7 +64,7 @@ class Collector {
   }
 
  private:
-  MeshValidationReport& report_;
+  MeshValidationResult& report_;
   std::size_t max_;
 };
 
@@ -133,18 +133,18 @@ BEMSURG_INLINE void check_shell_orientation(const TriangleMesh& mesh, const Mesh
 
 }  // namespace detail
 
-BEMSURG_INLINE std::size_t MeshValidationReport::num_errors() const {
+BEMSURG_INLINE std::size_t MeshValidationResult::num_errors() const {
   std::size_t n = 0;
   for (std::size_t k = 0; k < counts.size(); ++k)
     if (static_cast<MeshIssueKind>(k) != MeshIssueKind::UnreferencedVertex) n += counts[k];
   return n;
 }
 
-BEMSURG_INLINE std::size_t MeshValidationReport::num_warnings() const {
+BEMSURG_INLINE std::size_t MeshValidationResult::num_warnings() const {
   return count(MeshIssueKind::UnreferencedVertex);
 }
 
-BEMSURG_INLINE std::string MeshValidationReport::summary() const {
+BEMSURG_INLINE std::string MeshValidationResult::summary() const {
   std::ostringstream s;
   use_classic_locale(s);
   for (auto severity : {MeshIssueSeverity::Error, MeshIssueSeverity::Warning})
@@ -159,8 +159,8 @@ BEMSURG_INLINE std::string MeshValidationReport::summary() const {
   return s.str();
 }
 
-BEMSURG_INLINE MeshValidationReport validate_mesh(const TriangleMesh& mesh, const MeshValidationOptions& options) {
-  MeshValidationReport report;
+BEMSURG_INLINE MeshValidationResult validate_mesh(const TriangleMesh& mesh, const MeshValidationOptions& options) {
+  MeshValidationResult report;
   report.counts.assign(kNumMeshIssueKinds, 0);
   detail::Collector out(report, options.max_issues_per_kind);
   const Index nv = mesh.num_vertices(), nf = mesh.num_elements();
@@ -285,7 +285,7 @@ BEMSURG_INLINE MeshValidationReport validate_mesh(const TriangleMesh& mesh, cons
 }
 
 BEMSURG_INLINE void require_valid_mesh(const TriangleMesh& mesh, const MeshValidationOptions& options) {
-  const MeshValidationReport report = validate_mesh(mesh, options);
+  const MeshValidationResult report = validate_mesh(mesh, options);
   if (report.valid()) return;
   const auto first = std::find_if(report.issues.begin(), report.issues.end(),
                                   [](const MeshIssue& i) { return i.severity == MeshIssueSeverity::Error; });

@@ -322,8 +322,8 @@ BEMSURG_INLINE void ToolContactSolver::rollback_additions() {
   add_buffer_.clear();
 }
 
-BEMSURG_INLINE ContactUpdateReport ToolContactSolver::update(int max_iterations) {
-  ContactUpdateReport report;
+BEMSURG_INLINE ContactUpdateResult ToolContactSolver::update(int max_iterations) {
+  ContactUpdateResult report;
   switch (step(report, max_iterations)) {
     case ContactStatus::CapacityExceeded:
       throw CapacityError("contact tools: the contact set needs at least " + std::to_string(rows_needed_) +
@@ -433,8 +433,8 @@ BEMSURG_INLINE bool ToolContactSolver::readmit_penetrating() {
   return readmitted;
 }
 
-BEMSURG_INLINE ContactStatus ToolContactSolver::step(ContactUpdateReport& report, int max_iterations) noexcept {
-  report = ContactUpdateReport{};
+BEMSURG_INLINE ContactStatus ToolContactSolver::step(ContactUpdateResult& report, int max_iterations) noexcept {
+  report = ContactUpdateResult{};
   report.consistent = false;
   ContactStatus failed = ContactStatus::Ok;
   for (int iter = 0; iter < std::max(1, max_iterations); ++iter) {

@@ -199,7 +199,7 @@ BEMSURG_INLINE BoundaryConditions GreensTable::base_conditions() const {
 
 BEMSURG_INLINE std::shared_ptr<const GreensTable> GreensTable::updated(std::shared_ptr<const TriangleMesh> after, const MeshDelta& delta,
                                                                const GreensTableUpdateOptions& options,
-                                                               GreensTableUpdateReport* report) const {
+                                                               GreensTableUpdateResult* report) const {
   const auto t_start = SteadyClock::now();
   if (!has_factorization())
     throw InvalidArgumentError("GreensTable::updated: this table kept no factorisation (it was read from a file); recompute it");
@@ -393,7 +393,7 @@ BEMSURG_INLINE Eigen::MatrixXd GreensTable::columns_after_cut(const CutChange& c
 
 BEMSURG_INLINE std::shared_ptr<const GreensTable> GreensTable::updated(std::shared_ptr<const TriangleMesh> after, const MeshDelta& delta,
                                                                const CutChange& change, const GreensTableUpdateOptions& options,
-                                                               GreensTableUpdateReport* report) const {
+                                                               GreensTableUpdateResult* report) const {
   const auto t_start = SteadyClock::now();
   check_update(after.get(), delta, change);
   const BoundaryConditions before = base_conditions();

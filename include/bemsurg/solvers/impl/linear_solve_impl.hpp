@@ -1,5 +1,5 @@
 // linear_solve.cpp: the dispatcher behind solve_linear_system (include/bemsurg/solvers/linear_solve.hpp):
-// "lu" by DenseLU, "gmres" / "bicgstab" / "bicg" by bemsurg's Krylov solvers with the preconditioner
+// "lu" by DenseLu, "gmres" / "bicgstab" / "bicg" by bemsurg's Krylov solvers with the preconditioner
 // the scene names (Wang et al. 2007 eq. 6 for the system, §5.3 and Table 1 for the methods). Every
 // path fills the summary before it returns or throws, so a failed solve is still reported.
 #pragma once
@@ -26,12 +26,12 @@ namespace bemsurg {
 namespace detail {
 
 template <template <class, class> class Solver, class Preconditioner>
-BEMSURG_INLINE Eigen::VectorXd run_krylov(const DenseOperator& A, const Preconditioner& M, const Eigen::VectorXd& b, const KrylovSettings& ks,
-                           const Eigen::VectorXd& x0, LinearSolveSummary& summary) {
+BEMSURG_INLINE Eigen::VectorXd run_krylov(const DenseOperator& A, const Preconditioner& M, const Eigen::VectorXd& b, const KrylovOptions& ks,
+                           const Eigen::VectorXd& x0, LinearSolveResult& summary) {
   Solver<DenseOperator, Preconditioner> solver(ks);
   solver.compute(A, M);
   Eigen::VectorXd x = x0;
-  const KrylovReport& report = solver.solve(b, x);
+  const KrylovResult& report = solver.solve(b, x);
   summary.status = report.status;
   summary.breakdown = report.breakdown;
   summary.iterations = report.iterations;
@@ -42,13 +42,13 @@ BEMSURG_INLINE Eigen::VectorXd run_krylov(const DenseOperator& A, const Precondi
   summary.solve_seconds = report.seconds;
   if (!report.converged())
     throw SolverError(std::string(to_string(summary.method)) + " (preconditioner " + to_string(summary.preconditioner) + ") did not converge to relative residual " +
-                      KrylovReport::scientific_text(ks.tolerance) + ": " + report.summary());
+                      KrylovResult::scientific_text(ks.tolerance) + ": " + report.summary());
   return x;
 }
 
 template <template <class, class> class Solver>
-BEMSURG_INLINE Eigen::VectorXd run_with_preconditioner(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const LinearSolverSettings& settings,
-                                        const KrylovSettings& ks, LinearSolveSummary& summary, const TriangleMesh* mesh,
+BEMSURG_INLINE Eigen::VectorXd run_with_preconditioner(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const LinearSolverOptions& settings,
+                                        const KrylovOptions& ks, LinearSolveResult& summary, const TriangleMesh* mesh,
                                         const Eigen::VectorXd& x0) {
   const DenseOperator op(A);
   const auto setup_start = SteadyClock::now();
@@ -83,12 +83,12 @@ BEMSURG_INLINE Eigen::VectorXd run_with_preconditioner(const Eigen::MatrixXd& A,
 /// Refuses a matrix or right-hand side with NaN or infinite entries before any solver sees it:
 /// LAPACK's factorisation is undefined on them (it may crash) and a Krylov solve would spread
 /// them into the result. Unknown k of A* is component k % 3 of element k / 3 (docs/design.md §2).
-BEMSURG_INLINE void require_finite_system(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, LinearSolveSummary& summary) {
+BEMSURG_INLINE void require_finite_system(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, LinearSolveResult& summary) {
   static const char* const likely =
       "; the likely cause is the material's Young's modulus (too small or too large: the Kelvin kernels divide by the "
       "shear modulus) or the mesh scale (coordinates far from metres overflow the kernels and the element areas)";
   Eigen::Index row = 0, col = 0;
-  if (DenseLU::first_non_finite(A, row, col)) {
+  if (DenseLu::first_non_finite(A, row, col)) {
     summary.status = KrylovStatus::NonFinite;
     summary.breakdown = "non-finite system matrix";
     throw SolverError("the system matrix A* has a non-finite entry (" + number_text(A(row, col)) + " at row " +
@@ -105,9 +105,9 @@ BEMSURG_INLINE void require_finite_system(const Eigen::MatrixXd& A, const Eigen:
     }
 }
 
-BEMSURG_INLINE Eigen::VectorXd solve_lu(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, LinearSolveSummary& summary) {
+BEMSURG_INLINE Eigen::VectorXd solve_lu(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, LinearSolveResult& summary) {
   const auto start = SteadyClock::now();
-  const DenseLU lu(A);
+  const DenseLu lu(A);
   summary.setup_seconds = seconds_since(start);
   if (lu.info() != Eigen::Success) {
     summary.status = KrylovStatus::Breakdown;
@@ -132,9 +132,9 @@ BEMSURG_INLINE Eigen::VectorXd solve_lu(const Eigen::MatrixXd& A, const Eigen::V
 
 }  // namespace detail
 
-BEMSURG_INLINE Eigen::VectorXd solve_linear_system(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const LinearSolverSettings& settings,
-                                    LinearSolveSummary& summary, const TriangleMesh* mesh, const Eigen::VectorXd& x0) {
-  summary = LinearSolveSummary();
+BEMSURG_INLINE Eigen::VectorXd solve_linear_system(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const LinearSolverOptions& settings,
+                                    LinearSolveResult& summary, const TriangleMesh* mesh, const Eigen::VectorXd& x0) {
+  summary = LinearSolveResult();
   summary.method = settings.method;
   summary.preconditioner = settings.method == SolverMethod::Lu ? PreconditionerKind::None : settings.preconditioner;
   summary.status = KrylovStatus::NotComputed;
@@ -150,7 +150,7 @@ BEMSURG_INLINE Eigen::VectorXd solve_linear_system(const Eigen::MatrixXd& A, con
   detail::require_finite_system(A, b, summary);
   if (settings.method == SolverMethod::Lu) return detail::solve_lu(A, b, summary);
 
-  KrylovSettings ks;
+  KrylovOptions ks;
   ks.tolerance = settings.tolerance;
   ks.max_iterations = settings.max_iterations;
   ks.restart = settings.restart;
