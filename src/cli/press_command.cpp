@@ -101,6 +101,26 @@ std::optional<PressOptions> parse(int argc, char** argv) {
   return o;
 }
 
+/// One force evaluation at the current contact set (targets in, force out through the 3 x k
+/// force operator), in microseconds: the median of many, reported as force_update_us.
+double median_force_update_us(bemsurg::CapacitanceContact& contact) {
+  std::vector<double> targets(static_cast<std::size_t>(contact.num_rows()));
+  for (bemsurg::Index a = 0; a < contact.num_rows(); ++a) targets[static_cast<std::size_t>(a)] = contact.target(a);
+  std::vector<double> us;
+  const int reps = 2001;
+  us.reserve(reps);
+  volatile double sink = 0.0;
+  for (int r = 0; r < reps; ++r) {
+    const auto t0 = SteadyClock::now();
+    for (bemsurg::Index a = 0; a < contact.num_rows(); ++a) contact.set_target(a, targets[static_cast<std::size_t>(a)]);
+    sink = sink + contact.force_for_targets()(2);
+    us.push_back(std::chrono::duration<double, std::micro>(SteadyClock::now() - t0).count());
+  }
+  (void)sink;
+  std::nth_element(us.begin(), us.begin() + reps / 2, us.end());
+  return us[reps / 2];
+}
+
 }  // namespace
 
 int run_press(int argc, char** argv) {
@@ -147,23 +167,8 @@ int run_press(int argc, char** argv) {
                                 " beyond first contact but no element is in contact (the contact set emptied); "
                                 "try a smaller --depth or a wider tool");
 
-  // Time one force evaluation at this contact set (targets in, force out through the 3 x k force
-  // operator), median of many.
   auto& contact = solver.contact();
-  std::vector<double> targets(static_cast<std::size_t>(contact.num_rows()));
-  for (bemsurg::Index a = 0; a < contact.num_rows(); ++a) targets[static_cast<std::size_t>(a)] = contact.target(a);
-  std::vector<double> us;
-  const int reps = 2001;
-  us.reserve(reps);
-  volatile double sink = 0.0;
-  for (int r = 0; r < reps; ++r) {
-    const auto t0 = SteadyClock::now();
-    for (bemsurg::Index a = 0; a < contact.num_rows(); ++a) contact.set_target(a, targets[static_cast<std::size_t>(a)]);
-    sink = sink + contact.force_for_targets()(2);
-    us.push_back(std::chrono::duration<double, std::micro>(SteadyClock::now() - t0).count());
-  }
-  std::nth_element(us.begin(), us.begin() + reps / 2, us.end());
-  const double force_update_us = us[reps / 2];
+  const double force_update_us = median_force_update_us(contact);
 
   // Full field and the per-element output, as `bemsurg solve` writes it.
   const bemsurg::Index E = p.mesh.num_elements();
@@ -201,6 +206,5 @@ int run_press(int argc, char** argv) {
     std::cout << "press: " << o.tool_text << " depth " << o.depth << ": force (" << force.x() << ", " << force.y() << ", "
               << force.z() << ") N on " << solver.contact_elements(tool) << " elements; one force update "
               << force_update_us << " us\n";
-  (void)sink;
   return 0;
 }

@@ -159,22 +159,13 @@ BEMSURG_INLINE std::string MeshValidationResult::summary() const {
   return s.str();
 }
 
-BEMSURG_INLINE MeshValidationResult validate_mesh(const TriangleMesh& mesh, const MeshValidationOptions& options) {
-  MeshValidationResult report;
-  report.counts.assign(kNumMeshIssueKinds, 0);
-  detail::Collector out(report, options.max_issues_per_kind);
-  const Index nv = mesh.num_vertices(), nf = mesh.num_elements();
+namespace detail {
+
+/// Reports vertices with a non-finite coordinate; true when every vertex is finite.
+BEMSURG_INLINE bool check_vertices_finite(const TriangleMesh& mesh, Collector& out) {
   const auto& V = mesh.vertices();
-  const auto& F = mesh.faces();
-
-  if (nf == 0 || nv == 0) {
-    out.error(MeshIssueKind::EmptyMesh, -1,
-              "the mesh is empty (" + std::to_string(nv) + " vertices, " + std::to_string(nf) + " faces)");
-    return report;
-  }
-
   bool all_finite = true;
-  for (Index v = 0; v < nv; ++v)
+  for (Index v = 0; v < mesh.num_vertices(); ++v)
     if (!V.row(v).allFinite()) {
       all_finite = false;
       out.error(MeshIssueKind::NonFiniteVertex, v,
@@ -182,6 +173,14 @@ BEMSURG_INLINE MeshValidationResult validate_mesh(const TriangleMesh& mesh, cons
                     ", " + detail::num(V(v, 2)) + ")");
     }
 
+  return all_finite;
+}
+
+/// Reports faces that repeat a vertex, overflow, or have near-zero area relative to the mean.
+BEMSURG_INLINE void check_degenerate_faces(const TriangleMesh& mesh, const MeshValidationOptions& options, Collector& out) {
+  const Index nf = mesh.num_elements();
+  const auto& V = mesh.vertices();
+  const auto& F = mesh.faces();
   // Degenerate faces: relative to the mean area, so the test does not depend on units.
   double area_sum = 0.0;
   Index area_count = 0;
@@ -215,6 +214,14 @@ BEMSURG_INLINE MeshValidationResult validate_mesh(const TriangleMesh& mesh, cons
     }
   }
 
+}
+
+/// Warns about unused vertices and reports coincident used ones; returns the bounding-box
+/// diagonal of the used vertices (the scale of the later tolerances).
+BEMSURG_INLINE double check_vertex_use(const TriangleMesh& mesh, const MeshValidationOptions& options, Collector& out) {
+  const Index nv = mesh.num_vertices(), nf = mesh.num_elements();
+  const auto& V = mesh.vertices();
+  const auto& F = mesh.faces();
   // Referenced vertices: unused ones are only warned about; coincident used ones are errors.
   std::vector<bool> used(static_cast<std::size_t>(nv), false);
   for (Index f = 0; f < nf; ++f)
@@ -241,7 +248,11 @@ BEMSURG_INLINE MeshValidationResult validate_mesh(const TriangleMesh& mesh, cons
                     detail::num(V(b, 1)) + ", " + detail::num(V(b, 2)) + "): the mesh is probably not welded");
     }
 
-  const MeshTopology topo(mesh);
+  return diag;
+}
+
+/// Reports open, non-manifold and inconsistently oriented edges.
+BEMSURG_INLINE void check_edges(const MeshTopology& topo, Collector& out) {
   for (Index e = 0; e < topo.num_edges(); ++e) {
     const MeshEdge& edge = topo.edge(e);
     if (edge.vertices[0] == edge.vertices[1]) continue;  // reported as a degenerate face already
@@ -261,6 +272,11 @@ BEMSURG_INLINE MeshValidationResult validate_mesh(const TriangleMesh& mesh, cons
     }
   }
 
+}
+
+/// Reports pairs of faces that intersect (only on meshes whose faces and vertices passed).
+BEMSURG_INLINE void check_self_intersections(const TriangleMesh& mesh, const MeshValidationOptions& options, bool all_finite,
+                                             const MeshValidationResult& report, Collector& out) {
   // Before the shell orientation: overlapping shells also confuse their nesting, and the face
   // pair is the cause to name.
   // Not on unwelded meshes: faces meeting at coincident but distinct vertices would all count as
@@ -280,6 +296,26 @@ BEMSURG_INLINE MeshValidationResult validate_mesh(const TriangleMesh& mesh, cons
     }
   }
 
+}
+
+}  // namespace detail
+
+BEMSURG_INLINE MeshValidationResult validate_mesh(const TriangleMesh& mesh, const MeshValidationOptions& options) {
+  MeshValidationResult report;
+  report.counts.assign(kNumMeshIssueKinds, 0);
+  detail::Collector out(report, options.max_issues_per_kind);
+  const Index nv = mesh.num_vertices(), nf = mesh.num_elements();
+  if (nf == 0 || nv == 0) {
+    out.error(MeshIssueKind::EmptyMesh, -1,
+              "the mesh is empty (" + std::to_string(nv) + " vertices, " + std::to_string(nf) + " faces)");
+    return report;
+  }
+  const bool all_finite = detail::check_vertices_finite(mesh, out);
+  detail::check_degenerate_faces(mesh, options, out);
+  const double diag = detail::check_vertex_use(mesh, options, out);
+  const MeshTopology topo(mesh);
+  detail::check_edges(topo, out);
+  detail::check_self_intersections(mesh, options, all_finite, report, out);
   if (options.check_shell_orientation && all_finite) detail::check_shell_orientation(mesh, topo, diag, out);
   return report;
 }
