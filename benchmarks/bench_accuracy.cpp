@@ -194,7 +194,7 @@ int main(int argc, char** argv) {
        << fmt(r.order_t, 2) << " | " << fmt(r.assembly_s, 3) << " | " << fmt(r.solve_s, 3) << " |\n";
   md << "\nRigid-body identity, max over block rows of |sum_e H_ie| / |H_ii|:\n\n| elements | ratio |\n|---|---|\n";
   for (const auto& [E, ratio] : rigid) {
-    md << "| " << E << " | " << bench::scientific_text(ratio, 2) << " |\n";
+    md << "| " << E << " | " << scientific_text(ratio, 2) << " |\n";
   }
   md << "\nTraction error of the Kelvin Dirichlet solve, split into the first row of elements along the box's "
         "edges and the rest:\n\n| elements | first row at edges (%) | elsewhere (%) |\n|---|---|---|\n";

@@ -200,7 +200,7 @@ void table1(const std::vector<std::array<int, 3>>& sizes, int repeats, json& out
                     row["method"].get<std::string>().c_str(), fixed_text(row["seconds"].get<double>(), 5).c_str(),
                     row["iterations"].get<int>(), ps > 0.0 ? fixed_text(ps, 6).substr(0, 7).c_str() : "-",
                     ps > 0.0 ? std::to_string(row["paper_iterations"].get<int>()).c_str() : "-",
-                    bench::scientific_text(row["agreement_vs_refactor"].get<double>(), 1).c_str());
+                    scientific_text(row["agreement_vs_refactor"].get<double>(), 1).c_str());
         out.push_back(row);
       }
     }
@@ -259,7 +259,7 @@ void latency(const std::vector<int>& equations, json& out) {
     std::printf("%7lld %7zu %8s %11s %11s %11s %9s %11s %9s %6lld\n", static_cast<long long>(n), t->region().size(),
                 fixed_text(changed, 1).c_str(), fixed_text(median(exact), 4).c_str(), fixed_text(median(integ), 4).c_str(),
                 fixed_text(median(sys), 4).c_str(), fixed_text(median(tab), 4).c_str(), fixed_text(refactor_s, 3).c_str(),
-                bench::scientific_text(agreement, 1).c_str(), static_cast<long long>(rank));
+                scientific_text(agreement, 1).c_str(), static_cast<long long>(rank));
     out.push_back({{"equations", n}, {"block", {c[0], c[1], c[2]}}, {"region_elements", before_last->region().size()},
                    {"steps", steps.size()}, {"changed_elements_per_step", changed}, {"exact_seconds", median(exact)},
                    {"exact_seconds_all", exact}, {"integration_seconds", median(integ)}, {"system_seconds", median(sys)},
@@ -313,7 +313,7 @@ void gap_study(bool quick, json& out) {
     }
     (void)changed;
     std::printf("%10s %10lld %14s %14s\n", fixed_text(ratio, 3).c_str(), static_cast<long long>(x[0].size()),
-                bench::scientific_text(du / su, 2).c_str(), bench::scientific_text(dt / st, 2).c_str());
+                scientific_text(du / su, 2).c_str(), scientific_text(dt / st, 2).c_str());
     out.push_back({{"gap_ratio", ratio}, {"equations", x[0].size()}, {"difference_vs_fine_quadrature", du / su},
                    {"traction_difference_vs_fine_quadrature", dt / st}});
   }

@@ -218,7 +218,7 @@ std::vector<Result> run_scenario(const std::string& scenario, const System& s, c
 
 void print(const System& s, const std::vector<Result>& results) {
   std::printf("\n%s: n = %ld, cond1 ~ %s, assembly %s s, dense LU %s s (median)\n", s.name.c_str(), static_cast<long>(s.A.rows()),
-              bench::scientific_text(s.condition, 2).c_str(), fixed_text(s.assembly_seconds, 2).c_str(),
+              scientific_text(s.condition, 2).c_str(), fixed_text(s.assembly_seconds, 2).c_str(),
               fixed_text(s.lu_seconds, 4).c_str());
   std::printf("  %-5s %-8s %-9s %-13s %3s %-17s %6s %11s %10s %10s %10s %8s\n", "scen.", "library", "method", "precond.",
               "m", "status", "iters", "median [s]", "setup [s]", "true res.", "err vs LU", "ours/Eig");
@@ -226,7 +226,7 @@ void print(const System& s, const std::vector<Result>& results) {
     std::printf("  %-5s %-8s %-9s %-13s %3d %-17s %6d %11s %10s %10s %10s", r.scenario.c_str(), r.library.c_str(),
                 r.method.c_str(), r.preconditioner.c_str(), r.restart, r.status.c_str(), r.iterations,
                 fixed_text(r.median_seconds, 5).c_str(), fixed_text(r.setup_seconds, 5).c_str(),
-                bench::scientific_text(r.true_residual, 2).c_str(), bench::scientific_text(r.error_vs_lu, 2).c_str());
+                scientific_text(r.true_residual, 2).c_str(), scientific_text(r.error_vs_lu, 2).c_str());
     if (r.ratio_vs_eigen > 0) std::printf(" %8s", fixed_text(r.ratio_vs_eigen, 2).c_str());
     std::printf("\n");
   }
@@ -259,7 +259,7 @@ int main(int argc, char** argv) {
   const char* backend = "Eigen gemv (OpenMP row split)";
 #endif
   std::printf("bench_krylov: tolerance %s on ||b - A x|| / ||b||, %d repeats (median), %d OpenMP threads, products: %s\n",
-              bench::scientific_text(o.tolerance, 1).c_str(), o.repeats, threads, backend);
+              scientific_text(o.tolerance, 1).c_str(), o.repeats, threads, backend);
   json report = {{"benchmark", "bench_krylov"}, {"mode", quick ? "quick" : "full"}, {"tolerance", o.tolerance},
                  {"max_iterations", o.max_iterations}, {"repeats", o.repeats}, {"threads", threads},
                  {"matrix_vector_backend", backend}, {"systems", json::array()}};
@@ -283,7 +283,7 @@ int main(int argc, char** argv) {
       std::printf(
           "  warm: start from the solution before the push; ||x_after - x_before|| / ||x_after|| = %s; LU of the pushed system "
           "%s s\n",
-          bench::scientific_text(change, 2).c_str(), fixed_text(after.lu_seconds, 4).c_str());
+          scientific_text(change, 2).c_str(), fixed_text(after.lu_seconds, 4).c_str());
       json sys = {{"name", before.name}, {"n", before.A.rows()}, {"elements", before.mesh.num_elements()},
                   {"assembly_seconds", before.assembly_seconds}, {"lu_seconds", before.lu_seconds},
                   {"lu_seconds_after_change", after.lu_seconds}, {"condition_estimate", before.condition},

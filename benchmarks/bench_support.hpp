@@ -55,15 +55,6 @@ inline cli::OptionParser command_line(const std::string& program, const std::str
   return parser;
 }
 
-/// x in scientific notation with `digits` digits after the point ("%.*e" without the locale),
-/// beside number_text.hpp's fixed_text and general_text for the printed tables.
-inline std::string scientific_text(double x, int digits) {
-  char buffer[64];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, x, std::chars_format::scientific, std::clamp(digits, 0, 17));
-  if (result.ec != std::errc()) return number_text(x);
-  return std::string(buffer, result.ptr);
-}
-
 /// x with `digits` digits after the point and always a sign ("%+.*f" without the locale): the
 /// differences the tables print.
 inline std::string signed_fixed_text(double x, int digits) { return (std::signbit(x) ? "" : "+") + fixed_text(x, digits); }

@@ -79,6 +79,15 @@ inline std::string general_text(double x, int digits) {
   return std::string(buffer, result.ptr);
 }
 
+/// x in scientific notation with `digits` digits after the point ("%.*e" without the locale:
+/// "1.234e-05"), for residuals and tolerances in messages and printed tables.
+inline std::string scientific_text(double x, int digits) {
+  char buffer[64];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, x, std::chars_format::scientific, digits < 0 ? 0 : digits > 17 ? 17 : digits);
+  if (result.ec != std::errc()) return number_text(x);
+  return std::string(buffer, result.ptr);
+}
+
 /// Makes a stream write and read numbers the same in every locale ("C": point, no grouping),
 /// whatever std::locale::global() says. Call it on every stream that writes a file or a
 /// report another program parses. Returns the stream for chaining.

@@ -7,6 +7,8 @@
 #include <Eigen/Core>
 #include <charconv>
 #include <string>
+
+#include "bemsurg/number_text.hpp"
 #include <vector>
 
 namespace bemsurg {
@@ -63,17 +65,10 @@ struct KrylovResult {
   std::string summary() const {
     std::string s = to_string(status);
     if (!breakdown.empty()) s += " (" + breakdown + ")";
-    s += " after " + std::to_string(iterations) + " iterations, true relative residual " + scientific_text(true_residual);
+    s += " after " + std::to_string(iterations) + " iterations, true relative residual " + scientific_text(true_residual, 3);
     return s;
   }
 
-  /// v as "%.3e" would write it in the C locale ("1.234e-05"), whatever the locale: to_chars with
-  /// a precision is defined as printf in the C locale.
-  static std::string scientific_text(double v) {
-    char buffer[32];
-    const auto result = std::to_chars(buffer, buffer + sizeof buffer, v, std::chars_format::scientific, 3);
-    return std::string(buffer, result.ptr);
-  }
 };
 
 /// Deprecated name (before 0.2), kept one minor version: use KrylovResult.

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "bemsurg/config.hpp"
+#include "bemsurg/number_text.hpp"
 
 #include <array>
 #include <cmath>
@@ -13,10 +14,7 @@ namespace bemsurg {
 
 namespace detail {
 
-BEMSURG_INLINE std::string str(double x) {
-  std::string s = std::to_string(x);
-  return s;
-}
+BEMSURG_INLINE std::string str(double x) { return fixed_text(x, 6); }  // as "%f" printed it, without the locale
 
 BEMSURG_INLINE void check_grid(const std::vector<double>& g, const char* name) {
   if (g.size() < 2)

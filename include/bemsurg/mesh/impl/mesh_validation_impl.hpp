@@ -35,12 +35,7 @@ BEMSURG_INLINE const char* kind_name(MeshIssueKind kind) {
   return "issues";
 }
 
-BEMSURG_INLINE std::string num(double x) {
-  std::ostringstream s;
-  use_classic_locale(s).precision(6);
-  s << x;
-  return s.str();
-}
+BEMSURG_INLINE std::string num(double x) { return general_text(x, 6); }
 
 BEMSURG_INLINE std::string edge_name(const MeshEdge& e) {
   return "edge (" + std::to_string(e.vertices[0]) + ", " + std::to_string(e.vertices[1]) + ")";

@@ -42,7 +42,7 @@ BEMSURG_INLINE Eigen::VectorXd run_krylov(const DenseOperator& A, const Precondi
   summary.solve_seconds = report.seconds;
   if (!report.converged())
     throw SolverError(std::string(to_string(summary.method)) + " (preconditioner " + to_string(summary.preconditioner) + ") did not converge to relative residual " +
-                      KrylovResult::scientific_text(ks.tolerance) + ": " + report.summary());
+                      scientific_text(ks.tolerance, 3) + ": " + report.summary());
   return x;
 }
 
