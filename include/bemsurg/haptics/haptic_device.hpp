@@ -39,6 +39,8 @@ struct Workspace {
   Eigen::Vector3d to_device_force(const Eigen::Vector3d& f) const noexcept { return force_scale * f; }
 };
 
+/// The one abstract haptic device the simulation talks to: read() gives the pose and buttons, write_force() sends the force,
+/// both from the haptic thread without blocking, allocating or throwing; available() and why() say whether it is usable.
 class HapticDevice {
  public:
   virtual ~HapticDevice() = default;

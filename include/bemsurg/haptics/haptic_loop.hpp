@@ -51,6 +51,8 @@ struct ContactModel {
        Eigen::Quaterniond::Identity()}};
 };
 
+/// Settings of a HapticLoop: tick rate, the safety stages (force and force-rate limits, watchdog staleness, overruns and
+/// ramp time), ring capacities, and the real-time priority and spin time of the haptic thread.
 struct HapticLoopOptions {
   double rate_hz = 1000.0;         // 100 .. 10000
   double max_force = 3.3;          // N (a Touch-class desktop device); also capped by each device's own
@@ -75,6 +77,8 @@ struct HapticLoopOptions {
 
 using HapticLoopSettings [[deprecated("renamed to HapticLoopOptions in bemsurg 0.2")]] = HapticLoopOptions;
 
+/// One device channel in one tick: the pose in the model frame, the contact model's force and the force sent after the
+/// safety stages, buttons, contact elements and the contact step's status.
 struct ChannelSample {
   Eigen::Vector3d position = Eigen::Vector3d::Zero();  // model frame
   Eigen::Vector3d direction = -Eigen::Vector3d::UnitZ();
@@ -86,6 +90,8 @@ struct ChannelSample {
   bool connected = true;
 };
 
+/// What one tick of the haptic loop did, per channel, with the session time, the model version and the watchdog gain:
+/// the entries of the trace (pop_sample) and the newest sample for graphics (latest).
 struct TickSample {
   std::uint64_t tick = 0;
   double time = 0.0;  // session seconds
@@ -107,6 +113,8 @@ struct PublishedContact {
   std::vector<double> tractions;  // 3 per element
 };
 
+/// A button edge on a device channel (press or release), with the pose in the model frame at the edge: what the haptic
+/// thread hands the simulation side (pop_event).
 struct ButtonEvent {
   double time = 0.0;
   int channel = 0;
@@ -117,6 +125,8 @@ struct ButtonEvent {
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
 };
 
+/// The haptic loop: its own thread at a fixed rate that reads the devices, computes each tool's force from the contact model
+/// and writes it back through the safety stages, never locking, allocating, throwing or waiting (docs/haptics.md).
 class HapticLoop {
  public:
   /// `devices[c]` drives channel c (at most kMaxChannels; the loop does not own them and they

@@ -10,6 +10,8 @@
 
 namespace bemsurg::haptics {
 
+/// A fixed-size histogram of durations in microseconds (0.1 us bins up to 20 ms, one overflow bin) that the haptic thread
+/// records into without allocating; quantiles are exact to 0.1 us below 20 ms.
 class MicrosecondHistogram {
  public:
   static constexpr double kBinUs = 0.1;
@@ -47,6 +49,7 @@ class MicrosecondHistogram {
   double max_ = 0.0;
 };
 
+/// Median, 99th and 99.9th percentiles and maximum of a distribution of times (percentiles_of a MicrosecondHistogram).
 struct Percentiles {
   double p50 = 0.0, p99 = 0.0, p999 = 0.0, max = 0.0;
 };

@@ -24,6 +24,8 @@ struct Keyframe {
   bool connected = true;
 };
 
+/// A device whose pose and buttons follow a trajectory: a function of time, keyframes or a CSV file (what RecordingDevice
+/// writes). Forces written to it are kept for inspection.
 class ScriptedDevice : public HapticDevice {
  public:
   /// From a function of the session time (it must not allocate, lock or throw).

@@ -37,6 +37,8 @@ struct CutResult {
 /// The cutting module's entry point for sessions. Unset: a session refuses scripts with cuts.
 using CutHook = std::function<CutResult(const CutRequest&)>;
 
+/// How a Session runs: virtual or real-time clock, the simulation and graphics rates, how far sphere and flat tools may slide,
+/// the haptic loop's options and the hook that computes cuts.
 struct SessionOptions {
   /// true: ticks run back to back in session time on the calling thread, the simulation side
   /// every few ticks — deterministic (tests, reproducible traces); false: the loop's own thread
@@ -59,6 +61,8 @@ class SessionObserver {
   virtual void on_cut(int /*index*/, const TriangleMesh&) {}
 };
 
+/// What Session::run reports: the loop's statistics, the largest force jump between ticks, peak forces per tool, the models
+/// built, cuts, displacement-field updates and their times.
 struct SessionResult {
   LoopStatistics loop;
   /// Largest |F_k - F_(k-1)| / max(|F_k|, |F_(k-1)|) of a tool's contact-model force between
@@ -74,6 +78,8 @@ struct SessionResult {
   double session_seconds = 0.0;
 };
 
+/// A scripted surgical session (docs/actions.md, docs/haptics.md): the action script drives scripted devices, the haptic loop
+/// renders their forces, and this object, on the calling thread, runs engagements and cuts and hands new contact models to the loop.
 class Session {
  public:
   /// Checks the script against the model (tools on channels 0..3, no cut without a hook: the

@@ -27,6 +27,7 @@ constexpr std::uint16_t kForceType = 2;  // bemsurg -> device
 constexpr std::size_t kPoseBytes = 88;
 constexpr std::size_t kForceBytes = 64;
 
+/// A pose packet, bridge to bemsurg: sequence number, channel, sender time, position, orientation and buttons (docs/haptics.md).
 struct PosePacket {
   std::uint32_t sequence = 0;
   std::uint16_t channel = 0;
@@ -35,6 +36,7 @@ struct PosePacket {
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
   std::uint32_t buttons = 0;
 };
+/// A force packet, bemsurg to bridge: sequence number, channel, sender time, the force, status bits and the pose it answers.
 struct ForcePacket {
   std::uint32_t sequence = 0;
   std::uint16_t channel = 0;
@@ -54,6 +56,8 @@ bool decode(const unsigned char* data, std::size_t bytes, ForcePacket& p) noexce
 std::uint64_t monotonic_us() noexcept;
 }  // namespace udp
 
+/// Settings of a UdpDevice: the ports, the channel accepted, when a pose counts as late or the device as disconnected, and
+/// the largest force.
 struct UdpDeviceOptions {
   int listen_port = 0;        // 127.0.0.1 port to bind; 0: any free port (see UdpDevice::port())
   int peer_port = 0;          // the only sender port accepted; 0: the first valid sender is locked in
@@ -73,6 +77,8 @@ struct UdpCounters {
   std::uint64_t dropped() const { return malformed + late + out_of_order + unexpected_sender; }
 };
 
+/// A haptic device on the other side of a loopback UDP socket, so a separate program holding a vendor SDK drives bemsurg;
+/// malformed, late, out-of-order or foreign packets are dropped and counted, never acted on.
 class UdpDevice : public HapticDevice {
  public:
   static constexpr int kMaxPacketsPerRead = 64;

@@ -33,12 +33,16 @@
 
 namespace bemsurg {
 
+/// One constraint row of a contact: the displacement component direction . u(element) is prescribed and the traction
+/// along `direction` is the unknown; `tag` says which tool owns the row.
 struct ContactRow {
   Index element = 0;
   Eigen::Vector3d direction = Eigen::Vector3d::UnitX();  // unit vector
   int tag = 0;  // which tool owns the row (forces are reported per tag)
 };
 
+/// Exact contact on any set of elements at once by the capacitance-matrix method (James & Pai 1999; docs/design.md §6)
+/// on the compliance table: keeps P = S^-1 explicitly and borders or reduces it as rows join or leave. Allocation-free after construction.
 class CapacitanceContact {
  public:
   /// `mesh` gives areas (the force) and must be the table's mesh; both are shared snapshots.

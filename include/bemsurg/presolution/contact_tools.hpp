@@ -44,6 +44,8 @@ namespace bemsurg {
 enum class ToolShape { Point, FlatPunch, Sphere, Plate, Pinch };
 enum class ContactMode { Bonded, Frictionless };
 
+/// Shape and contact mode of a surgical tool (point, flat punch, sphere, plate, pinch) and its sizes, with a factory per
+/// shape; see the top of this header for what each shape does.
 struct ToolSpec {
   ToolShape shape = ToolShape::Point;
   ContactMode mode = ContactMode::Bonded;
@@ -87,6 +89,8 @@ struct ContactUpdateResult {
 /// Deprecated name (before 0.2), kept one minor version: use ContactUpdateResult.
 using ContactUpdateReport [[deprecated("renamed to ContactUpdateResult in bemsurg 0.2")]] = ContactUpdateResult;
 
+/// Surgical tools as contact constraints on the compliance table, several at once, solved exactly and together by
+/// CapacitanceContact. Engagement runs off the haptic thread; try_set_translation, try_set_rotation and step() are the haptic path.
 class ToolContactSolver {
  public:
   /// `capacity_rows`: the most constraint rows of all tools together (bonded elements take 3).

@@ -37,6 +37,8 @@
 
 namespace bemsurg {
 
+/// What GreensTable::compute is asked for: the region where tools may act, the gravity of the base state, the quadrature
+/// and the memory limit.
 struct GreensTableOptions {
   /// Elements where tools may act (each must be free: traction prescribed on all three
   /// components). Empty: every free element.
@@ -75,9 +77,9 @@ struct GreensTableUpdateResult {
 /// Deprecated name (before 0.2), kept one minor version: use GreensTableUpdateResult.
 using GreensTableUpdateReport [[deprecated("renamed to GreensTableUpdateResult in bemsurg 0.2")]] = GreensTableUpdateResult;
 
-/// What a table was computed for; a saved table is used only when all of it matches.
 struct CutChange;  // assembly/cut_change.hpp
 
+/// What a table was computed for; a saved table is used only when all of it matches.
 struct GreensTableKey {
   std::uint64_t mesh_hash = 0;        // vertices and faces, bit for bit
   std::uint64_t conditions_hash = 0;  // kinds and values of the base boundary conditions
@@ -98,6 +100,8 @@ GreensTableKey make_greens_table_key(const TriangleMesh& mesh, const Material& m
 /// Base boundary conditions of docs/design.md §6: `supported` elements held (u = 0), the rest free.
 BoundaryConditions supported_base_conditions(Index num_elements, const std::vector<Index>& supported);
 
+/// The compliance Green's-function table of a supported body (docs/design.md §6; Wang et al. 2007 §5.1): the base state
+/// and the displacement of every dof per unit traction on each region dof. Immutable: a cut's updated() returns a new table.
 class GreensTable {
  public:
   GreensTable() = default;

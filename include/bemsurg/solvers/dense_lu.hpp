@@ -14,6 +14,8 @@
 
 namespace bemsurg {
 
+/// The direct solver of A* x = b: LU with partial pivoting of the dense matrix, with a scale-invariant singularity test
+/// (column-equilibrated pivots). Shaped as Eigen's solvers: compute, solve, info.
 class DenseLu {
  public:
   DenseLu() = default;

@@ -12,6 +12,8 @@
 
 namespace bemsurg {
 
+/// "No preconditioner" (M = I) in the preconditioner concept the Krylov solvers take, described at the top of this
+/// header: apply and apply_transpose copy r to z.
 class IdentityPreconditioner {
  public:
   IdentityPreconditioner() = default;

@@ -36,6 +36,8 @@ inline const char* to_string(KrylovStatus status) {
   return "unknown";
 }
 
+/// What a Krylov solve says about itself: status, iterations, restarts, residuals and wall time. Converged means the true
+/// residual b - A x, recomputed from the returned x, met the tolerance.
 struct KrylovResult {
   KrylovStatus status = KrylovStatus::NotComputed;
   /// For Breakdown: which quantity vanished, e.g. "rho = (r0~, r)"; for NonFinite: where the

@@ -49,6 +49,8 @@ inline PreconditionerKind parse_preconditioner(const std::string& name) {
   throw SolverError("unknown preconditioner '" + name + "' (expected none, block_jacobi or near_field)");
 }
 
+/// What solve_linear_system is asked to do: the method (direct LU or a Krylov method), the Krylov stopping rule and
+/// restart length, and the preconditioner (block-Jacobi by default) with its near-field radius.
 struct LinearSolverOptions {
   SolverMethod method = SolverMethod::Lu;
   double tolerance = 1e-10;             // relative residual ||b - A x|| / ||b|| for Krylov methods
@@ -64,6 +66,8 @@ struct LinearSolverOptions {
 
 using LinearSolverSettings [[deprecated("renamed to LinearSolverOptions in bemsurg 0.2")]] = LinearSolverOptions;
 
+/// What solve_linear_system reports about a solve: method, preconditioner, status, iterations, true relative residual
+/// and timings, plus the Krylov details (zero or empty for LU).
 struct LinearSolveResult {
   SolverMethod method = SolverMethod::Lu;
   PreconditionerKind preconditioner = PreconditionerKind::None;  // None for LU

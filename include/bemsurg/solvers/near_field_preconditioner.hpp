@@ -33,6 +33,8 @@ struct NearFieldStatistics {
   double build_seconds = 0.0;        // the two together
 };
 
+/// Preconditioner M = the near-field part of A* (element pairs within radius element diameters), factorised once by UMFPACK
+/// and back-substituted every iteration. Compiled, needs SuiteSparse; apply() is const but not safe from two threads at once.
 class NearFieldPreconditioner {
  public:
   NearFieldPreconditioner();
