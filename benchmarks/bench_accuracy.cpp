@@ -55,8 +55,8 @@ Row solve_case(const std::string& problem, const std::string& variant, const Tri
   r.error_t = err.traction;
   r.assembly_s = s.report.assembly_seconds;
   r.solve_s = s.report.system_seconds + s.report.solver.setup_seconds + s.report.solver.solve_seconds;
-  std::cerr << problem << " / " << variant << ": " << r.elements << " elements, u " << r.error_u << ", t " << r.error_t
-            << ", assembly " << r.assembly_s << " s, solve " << r.solve_s << " s\n";
+  std::cerr << problem << " / " << variant << ": " << r.elements << " elements, u " << r.error_u << ", t " << r.error_t << ", assembly "
+            << r.assembly_s << " s, solve " << r.solve_s << " s\n";
   return r;
 }
 
@@ -105,8 +105,7 @@ int main(int argc, char** argv) {
   bool quick = false;
   std::string json_path, csv_path, md_path;
   cli::OptionParser parser = bench::command_line(
-      "bench_accuracy", "Errors of the BEM solution against closed forms (docs/accuracy.md is generated from it).\n", quick,
-      json_path);
+      "bench_accuracy", "Errors of the BEM solution against closed forms (docs/accuracy.md is generated from it).\n", quick, json_path);
   parser.value("--csv", "PATH", csv_path, "write one row per solve to PATH as CSV");
   parser.value("--markdown", "PATH", md_path, "write the tables to PATH as Markdown");
   if (const std::optional<int> status = cli::parse_command_line(parser, argc, argv)) return *status;
@@ -127,8 +126,15 @@ int main(int argc, char** argv) {
   // Kelvin point force outside a 2 x 1.2 x 1.2 box.
   const Eigen::Vector3d x0(0.3, 0.2, 1.4), f(0.4, -0.3, 1.0);
   const ElasticField kelvin = kelvin_field(m, x0, f);
-  struct EdgeRow { Index elements; double edge, rest; };
-  struct InteriorRow { std::string problem; Index elements; double u, stress; };
+  struct EdgeRow {
+    Index elements;
+    double edge, rest;
+  };
+  struct InteriorRow {
+    std::string problem;
+    Index elements;
+    double u, stress;
+  };
   std::vector<EdgeRow> edge_rows;
   std::vector<InteriorRow> interior_rows;
   RowMatrixX3d kelvin_points(4, 3), lame_points(3, 3);
@@ -137,13 +143,14 @@ int main(int argc, char** argv) {
   for (int n : quick ? std::vector<int>{1} : std::vector<int>{1, 2, 3, 4, 6}) {
     const TriangleMesh box = box_mesh(Eigen::Vector3d(-1, -0.6, -0.6), Eigen::Vector3d(1, 0.6, 0.6), 3 * n, 2 * n, 2 * n);
     BoundarySolution dirichlet, mixed;
-    rows.push_back(solve_case("kelvin", "dirichlet", box, m, kelvin, [](Index) { return true; }, Eigen::Vector3d::Zero(), &dirichlet));
+    rows.push_back(solve_case(
+        "kelvin", "dirichlet", box, m, kelvin, [](Index) { return true; }, Eigen::Vector3d::Zero(), &dirichlet));
     rows.push_back(solve_case("kelvin", "neumann", box, m, kelvin, a_few_elements(box)));
     rows.back().error_t = NAN;  // only four pinned elements carry an unknown traction: no field to compare
-    rows.push_back(solve_case("kelvin", "mixed", box, m, kelvin, [&](Index e) { return box.centroid(e).z() < 0.0; },
-                              Eigen::Vector3d::Zero(), &mixed));
-    const auto [edge, rest] = edge_split_traction_error(box, dirichlet, exact_traces(box, kelvin),
-                                                        Eigen::Vector3d(2.0 / (3 * n), 1.2 / (2 * n), 1.2 / (2 * n)));
+    rows.push_back(solve_case(
+        "kelvin", "mixed", box, m, kelvin, [&](Index e) { return box.centroid(e).z() < 0.0; }, Eigen::Vector3d::Zero(), &mixed));
+    const auto [edge, rest] =
+        edge_split_traction_error(box, dirichlet, exact_traces(box, kelvin), Eigen::Vector3d(2.0 / (3 * n), 1.2 / (2 * n), 1.2 / (2 * n)));
     edge_rows.push_back({box.num_elements(), edge, rest});
     const InteriorErrors ie = interior_relative_errors(box, m, kelvin, mixed, kelvin_points);
     interior_rows.push_back({"kelvin (mixed)", box.num_elements(), ie.displacement, ie.stress});
@@ -156,8 +163,9 @@ int main(int argc, char** argv) {
     const TriangleMesh shell = hollow_sphere_mesh(Eigen::Vector3d::Zero(), a, b, s, s);
     const double mid = 0.5 * (a + b);
     BoundarySolution sol;
-    rows.push_back(solve_case("lame", "inner u, outer t", shell, m, lame,
-                              [&](Index e) { return shell.centroid(e).norm() < mid; }, Eigen::Vector3d::Zero(), &sol));
+    rows.push_back(solve_case(
+        "lame", "inner u, outer t", shell, m, lame, [&](Index e) { return shell.centroid(e).norm() < mid; }, Eigen::Vector3d::Zero(),
+        &sol));
     const InteriorErrors ie = interior_relative_errors(shell, m, lame, sol, lame_points);
     interior_rows.push_back({"lame (inner u, outer t)", shell.num_elements(), ie.displacement, ie.stress});
     rows.push_back(solve_case("lame", "pressures", shell, m, lame, a_few_elements(shell)));
@@ -189,17 +197,14 @@ int main(int argc, char** argv) {
   md << "| problem | case | elements | mean h | error u (%) | order u | error t (%) | order t | assembly (s) | solve (s) |\n";
   md << "|---|---|---|---|---|---|---|---|---|---|\n";
   for (const Row& r : rows)
-    md << "| " << r.problem << " | " << r.variant << " | " << r.elements << " | " << fmt(r.h, 4) << " | "
-       << fmt(r.error_u, 2, true) << " | " << fmt(r.order_u, 2) << " | " << fmt(r.error_t, 2, true) << " | "
-       << fmt(r.order_t, 2) << " | " << fmt(r.assembly_s, 3) << " | " << fmt(r.solve_s, 3) << " |\n";
+    md << "| " << r.problem << " | " << r.variant << " | " << r.elements << " | " << fmt(r.h, 4) << " | " << fmt(r.error_u, 2, true)
+       << " | " << fmt(r.order_u, 2) << " | " << fmt(r.error_t, 2, true) << " | " << fmt(r.order_t, 2) << " | " << fmt(r.assembly_s, 3)
+       << " | " << fmt(r.solve_s, 3) << " |\n";
   md << "\nRigid-body identity, max over block rows of |sum_e H_ie| / |H_ii|:\n\n| elements | ratio |\n|---|---|\n";
-  for (const auto& [E, ratio] : rigid) {
-    md << "| " << E << " | " << scientific_text(ratio, 2) << " |\n";
-  }
+  for (const auto& [E, ratio] : rigid) { md << "| " << E << " | " << scientific_text(ratio, 2) << " |\n"; }
   md << "\nTraction error of the Kelvin Dirichlet solve, split into the first row of elements along the box's "
         "edges and the rest:\n\n| elements | first row at edges (%) | elsewhere (%) |\n|---|---|---|\n";
-  for (const EdgeRow& r : edge_rows)
-    md << "| " << r.elements << " | " << fmt(r.edge, 2, true) << " | " << fmt(r.rest, 2, true) << " |\n";
+  for (const EdgeRow& r : edge_rows) md << "| " << r.elements << " | " << fmt(r.edge, 2, true) << " | " << fmt(r.rest, 2, true) << " |\n";
   md << "\nInterior points (relative L2 over the points of displacement and of the six stress components):\n\n"
         "| problem | elements | error u (%) | error stress (%) |\n|---|---|---|---|\n";
   for (const InteriorRow& r : interior_rows)
@@ -211,19 +216,24 @@ int main(int argc, char** argv) {
     use_classic_locale(csv);
     csv << "problem,case,elements,mean_h,error_u,order_u,error_t,order_t,assembly_s,solve_s\n";
     for (const Row& r : rows)
-      csv << r.problem << "," << r.variant << "," << r.elements << "," << r.h << "," << r.error_u << "," << r.order_u
-          << "," << r.error_t << "," << r.order_t << "," << r.assembly_s << "," << r.solve_s << "\n";
+      csv << r.problem << "," << r.variant << "," << r.elements << "," << r.h << "," << r.error_u << "," << r.order_u << "," << r.error_t
+          << "," << r.order_t << "," << r.assembly_s << "," << r.solve_s << "\n";
   }
   if (!json_path.empty()) {
     nlohmann::json j;
     j["benchmark"] = "bench_accuracy";
     j["quick"] = quick;
     for (const Row& r : rows)
-      j["rows"].push_back({{"problem", r.problem}, {"case", r.variant}, {"elements", r.elements}, {"mean_h", r.h},
-                           {"error_u", r.error_u}, {"error_t", r.error_t},
+      j["rows"].push_back({{"problem", r.problem},
+                           {"case", r.variant},
+                           {"elements", r.elements},
+                           {"mean_h", r.h},
+                           {"error_u", r.error_u},
+                           {"error_t", r.error_t},
                            {"order_u", std::isnan(r.order_u) ? nlohmann::json() : nlohmann::json(r.order_u)},
                            {"order_t", std::isnan(r.order_t) ? nlohmann::json() : nlohmann::json(r.order_t)},
-                           {"assembly_s", r.assembly_s}, {"solve_s", r.solve_s}});
+                           {"assembly_s", r.assembly_s},
+                           {"solve_s", r.solve_s}});
     for (const EdgeRow& r : edge_rows)
       j["kelvin_edge_split"].push_back({{"elements", r.elements}, {"error_t_edge_row", r.edge}, {"error_t_elsewhere", r.rest}});
     for (const InteriorRow& r : interior_rows)

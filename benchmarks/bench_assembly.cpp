@@ -36,9 +36,9 @@
 #include <string>
 #include <vector>
 
-#include "bemsurg/mesh/geometry.hpp"
 #include "bemsurg/assembly/influence_assembler.hpp"
 #include "bemsurg/assembly/linear_system.hpp"
+#include "bemsurg/mesh/geometry.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/presolution/greens_table.hpp"
 #include "bench_support.hpp"
@@ -51,9 +51,7 @@ namespace {
 
 double seconds(Clock::time_point a) { return seconds_since(a); }
 
-TriangleMesh bench_box(int N) {
-  return box_mesh(Vec3(0, 0, 0), Vec3(0.1, 0.1, 0.1 * (N - 1) / N), N, N, std::max(1, N - 1));
-}
+TriangleMesh bench_box(int N) { return box_mesh(Vec3(0, 0, 0), Vec3(0.1, 0.1, 0.1 * (N - 1) / N), N, N, std::max(1, N - 1)); }
 
 // The quadrature policy's classification of a pair (source centroid p, element e): the same test
 // as ElementQuadrature's first level (distance from p to e's centroid over e's longest edge).
@@ -177,7 +175,8 @@ int main(int argc, char** argv) {
         const int k = static_cast<int>(classify(mesh, qopt, i, e));
         ++count[k];
         auto& s = sample[k];
-        if (s.size() < 4000) s.emplace_back(i, e);
+        if (s.size() < 4000)
+          s.emplace_back(i, e);
         else {
           const long j = std::uniform_int_distribution<long>(0, count[k] - 1)(rng);
           if (j < 4000) s[static_cast<std::size_t>(j)] = {i, e};
@@ -204,11 +203,10 @@ int main(int argc, char** argv) {
     std::printf(
         "  assembly %s s = H,G and gravity in one pass %s s + A*, rhs %s s (H,G alone %s s, %s ns per pair per thread; "
         "gravity alone %s s)\n",
-        fixed_text(assembly_s, 3).c_str(), fixed_text(one_pass_s, 3).c_str(), fixed_text(build_s, 3).c_str(),
-        fixed_text(hg_s, 3).c_str(), fixed_text(ns_pair_thread, 1).c_str(), fixed_text(grav_s, 3).c_str());
-    std::printf(
-        "  H,G into storage written before (integration only, no first-touch page faults): %s s, %s ns per pair per thread\n",
-        fixed_text(reuse_s, 3).c_str(), fixed_text(reuse_s * threads / pairs * 1e9, 1).c_str());
+        fixed_text(assembly_s, 3).c_str(), fixed_text(one_pass_s, 3).c_str(), fixed_text(build_s, 3).c_str(), fixed_text(hg_s, 3).c_str(),
+        fixed_text(ns_pair_thread, 1).c_str(), fixed_text(grav_s, 3).c_str());
+    std::printf("  H,G into storage written before (integration only, no first-touch page faults): %s s, %s ns per pair per thread\n",
+                fixed_text(reuse_s, 3).c_str(), fixed_text(reuse_s * threads / pairs * 1e9, 1).c_str());
     std::printf("  after assembly: dgetrf %s s + dgetrs %s s; bare: dgetrf %s s + dgetrs %s s\n", fixed_text(fac_s, 3).c_str(),
                 fixed_text(sol_s, 3).c_str(), fixed_text(bare_f, 3).c_str(), fixed_text(bare_s, 3).c_str());
     std::printf(
@@ -266,14 +264,10 @@ int main(int argc, char** argv) {
       checksum += rh(0, 0) + cg(0, 0);
     }
     const double rows_ms = median(t_rows) * 1e3, cols_ms = median(t_cols) * 1e3;
-    std::printf("\ncut update at %ld elements: rows of %zu new elements %s ms + columns %s ms = %s ms (target <= 10 ms)\n",
-                long(E), fresh.size(), fixed_text(rows_ms, 2).c_str(), fixed_text(cols_ms, 2).c_str(),
-                fixed_text(rows_ms + cols_ms, 2).c_str());
-    out["cut_update"] = {{"elements", E},
-                         {"new_elements", fresh.size()},
-                         {"rows_ms", rows_ms},
-                         {"columns_ms", cols_ms},
-                         {"total_ms", rows_ms + cols_ms}};
+    std::printf("\ncut update at %ld elements: rows of %zu new elements %s ms + columns %s ms = %s ms (target <= 10 ms)\n", long(E),
+                fresh.size(), fixed_text(rows_ms, 2).c_str(), fixed_text(cols_ms, 2).c_str(), fixed_text(rows_ms + cols_ms, 2).c_str());
+    out["cut_update"] = {
+        {"elements", E}, {"new_elements", fresh.size()}, {"rows_ms", rows_ms}, {"columns_ms", cols_ms}, {"total_ms", rows_ms + cols_ms}};
   }
   if (!std::isfinite(checksum)) std::printf("(non-finite checksum!)\n");
   if (!bench::write_json_file(json_path, out, "bench_assembly")) return 1;

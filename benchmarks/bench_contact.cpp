@@ -126,9 +126,8 @@ int main(int argc, char** argv) {
     const double assembly_ratio = pt.assembly_seconds / bare_f;
     std::printf("\nn = %ld equations (%ld elements), region %zu elements, table %s MiB\n", long(n), long(E), region.size(),
                 fixed_text(double(table.bytes()) / 1048576.0, 1).c_str());
-    std::printf("  precompute: assembly %s s, factorisation %s s, table %s s (total %s s)\n",
-                fixed_text(pt.assembly_seconds, 3).c_str(), fixed_text(pt.factorization_seconds, 3).c_str(),
-                fixed_text(pt.table_seconds, 3).c_str(), fixed_text(pre_total, 3).c_str());
+    std::printf("  precompute: assembly %s s, factorisation %s s, table %s s (total %s s)\n", fixed_text(pt.assembly_seconds, 3).c_str(),
+                fixed_text(pt.factorization_seconds, 3).c_str(), fixed_text(pt.table_seconds, 3).c_str(), fixed_text(pre_total, 3).c_str());
     std::printf(
         "  bare dgetrf + dgetrs(%zu rhs): %s s + %s s; precompute (assembly + factorisation + table) / bare = %s "
         "(target <= 1.5); factorisation + table / bare = %s; assembly / bare dgetrf = %s (target <= 0.5)\n",
@@ -236,22 +235,22 @@ int main(int argc, char** argv) {
           "(max %s); force only median %s us, p99 %s us, p99.9 %s us (bare 3 x k product median %s us: ratio %s); "
           "set change %s us; full field %s ms%s\n",
           k, updates, fixed_text(p.median, 2).c_str(), fixed_text(p.p99, 2).c_str(), fixed_text(p.p999, 2).c_str(),
-          fixed_text(p.max, 1).c_str(), fixed_text(q.median, 2).c_str(), fixed_text(q.p99, 2).c_str(),
-          fixed_text(q.p999, 2).c_str(), fixed_text(bare.median, 2).c_str(), fixed_text(force_only_over_bare, 2).c_str(),
-          fixed_text(change_med, 1).c_str(), fixed_text(field_med, 3).c_str(), sink.allFinite() ? "" : " (non-finite!)");
-      size_json["contact"].push_back({{"contact_elements", k},
-                                      {"force_update_us", {{"median", p.median}, {"p99", p.p99}, {"p999", p.p999}, {"max", p.max}}},
-                                      {"force_only_update_us", {{"median", q.median}, {"p99", q.p99}, {"p999", q.p999}, {"max", q.max}}},
-                                      {"bare_force_product_us", {{"median", bare.median}, {"p99", bare.p99}, {"p999", bare.p999}, {"max", bare.max}}},
-                                      {"force_only_over_bare", force_only_over_bare},
-                                      {"updates", updates},
-                                      {"set_change_median_us", change_med},
-                                      {"full_field_median_ms", field_med}});
+          fixed_text(p.max, 1).c_str(), fixed_text(q.median, 2).c_str(), fixed_text(q.p99, 2).c_str(), fixed_text(q.p999, 2).c_str(),
+          fixed_text(bare.median, 2).c_str(), fixed_text(force_only_over_bare, 2).c_str(), fixed_text(change_med, 1).c_str(),
+          fixed_text(field_med, 3).c_str(), sink.allFinite() ? "" : " (non-finite!)");
+      size_json["contact"].push_back(
+          {{"contact_elements", k},
+           {"force_update_us", {{"median", p.median}, {"p99", p.p99}, {"p999", p.p999}, {"max", p.max}}},
+           {"force_only_update_us", {{"median", q.median}, {"p99", q.p99}, {"p999", q.p999}, {"max", q.max}}},
+           {"bare_force_product_us", {{"median", bare.median}, {"p99", bare.p99}, {"p999", bare.p999}, {"max", bare.max}}},
+           {"force_only_over_bare", force_only_over_bare},
+           {"updates", updates},
+           {"set_change_median_us", change_med},
+           {"full_field_median_ms", field_med}});
       if (csv.is_open())
-        csv << n << ',' << region.size() << ',' << pt.assembly_seconds << ',' << pt.factorization_seconds << ','
-            << pt.table_seconds << ',' << bare_f << ',' << bare_s << ',' << ratio << ',' << k << ',' << p.median << ','
-            << p.p99 << ',' << p.p999 << ',' << q.median << ',' << q.p999 << ',' << change_med << ',' << field_med << ','
-            << bare.median << ',' << force_only_over_bare << '\n';
+        csv << n << ',' << region.size() << ',' << pt.assembly_seconds << ',' << pt.factorization_seconds << ',' << pt.table_seconds << ','
+            << bare_f << ',' << bare_s << ',' << ratio << ',' << k << ',' << p.median << ',' << p.p99 << ',' << p.p999 << ',' << q.median
+            << ',' << q.p999 << ',' << change_med << ',' << field_med << ',' << bare.median << ',' << force_only_over_bare << '\n';
     }
     out["sizes"].push_back(size_json);
     std::fflush(stdout);

@@ -85,9 +85,8 @@ std::vector<Index> region_near(const Body& b, std::size_t limit) {
   std::vector<Index> free;
   for (Index e = 0; e < b.mesh->num_elements(); ++e)
     if (b.bc.is_free(e)) free.push_back(e);
-  std::sort(free.begin(), free.end(), [&](Index x, Index y) {
-    return (b.mesh->centroid(x) - b.from).squaredNorm() < (b.mesh->centroid(y) - b.from).squaredNorm();
-  });
+  std::sort(free.begin(), free.end(),
+            [&](Index x, Index y) { return (b.mesh->centroid(x) - b.from).squaredNorm() < (b.mesh->centroid(y) - b.from).squaredNorm(); });
   if (free.size() > limit) free.resize(limit);
   std::sort(free.begin(), free.end());
   return free;
@@ -133,15 +132,14 @@ struct PaperRow {
   int it_gmres, it_bicgstab, it_bicg;
 };
 const PaperRow kPaper[] = {
-    {1080, "new cut", 0.06250, 0.234375, 0.234375, 3, 8, 12},    {1080, "extended cut", 0.14062, 0.25000, 0.296875, 9, 9, 14},
-    {1272, "new cut", 0.09375, 0.453125, 0.578125, 3, 11, 20},   {1272, "extended cut", 0.17188, 0.468750, 0.609375, 7, 11, 21},
-    {1584, "new cut", 0.17188, 0.890625, 0.93750, 3, 13, 20},    {1584, "extended cut", 0.21875, 1.140625, 0.93750, 6, 18, 21},
+    {1080, "new cut", 0.06250, 0.234375, 0.234375, 3, 8, 12},  {1080, "extended cut", 0.14062, 0.25000, 0.296875, 9, 9, 14},
+    {1272, "new cut", 0.09375, 0.453125, 0.578125, 3, 11, 20}, {1272, "extended cut", 0.17188, 0.468750, 0.609375, 7, 11, 21},
+    {1584, "new cut", 0.17188, 0.890625, 0.93750, 3, 13, 20},  {1584, "extended cut", 0.21875, 1.140625, 0.93750, 6, 18, 21},
 };
 
 void table1(const std::vector<std::array<int, 3>>& sizes, int repeats, json& out) {
   std::printf("\nTable 1 (Wang et al. 2007): seconds (iterations) of one cut step's re-solve; paper: 3.06 GHz, 1 core\n");
-  std::printf("%6s %-13s %-9s %11s %6s | %9s %5s | %12s\n", "n", "scenario", "method", "seconds", "iter", "paper s", "iter",
-              "vs refactor");
+  std::printf("%6s %-13s %-9s %11s %6s | %9s %5s | %12s\n", "n", "scenario", "method", "seconds", "iter", "paper s", "iter", "vs refactor");
   const CutUpdateMethod methods[] = {CutUpdateMethod::Gmres, CutUpdateMethod::BiCgStab, CutUpdateMethod::BiCg, CutUpdateMethod::Exact,
                                      CutUpdateMethod::Refactor};
   for (const auto& c : sizes) {
@@ -168,17 +166,23 @@ void table1(const std::vector<std::array<int, 3>>& sizes, int repeats, json& out
           CutSystemUpdate sys(start[sc], o);
           const CutStepResult rep = sys.apply(step.mesh, step.delta, m);
           const bool krylov = o.keep_matrix;
-          secs.push_back(krylov ? rep.system_seconds
-                                : m == CutUpdateMethod::Exact ? rep.system_seconds + rep.table_seconds : rep.total_seconds);
+          secs.push_back(krylov                        ? rep.system_seconds
+                         : m == CutUpdateMethod::Exact ? rep.system_seconds + rep.table_seconds
+                                                       : rep.total_seconds);
           integ.push_back(rep.integration_seconds);
           iterations = rep.iterations;
           x = sys.solution();
         }
         if (m == CutUpdateMethod::Refactor) reference = x;
         const double agreement = relative_max(x, reference);
-        json row = {{"equations", n}, {"equations_after", 3 * step.delta.elements_after}, {"scenario", names[sc]},
-                    {"method", to_string(m)}, {"seconds", median(secs)}, {"iterations", iterations},
-                    {"integration_seconds", median(integ)}, {"agreement_vs_refactor", agreement}};
+        json row = {{"equations", n},
+                    {"equations_after", 3 * step.delta.elements_after},
+                    {"scenario", names[sc]},
+                    {"method", to_string(m)},
+                    {"seconds", median(secs)},
+                    {"iterations", iterations},
+                    {"integration_seconds", median(integ)},
+                    {"agreement_vs_refactor", agreement}};
         const PaperRow* paper = nullptr;
         for (const PaperRow& p : kPaper)
           if (p.n == n && std::string(p.scenario) == names[sc]) paper = &p;
@@ -205,8 +209,9 @@ void table1(const std::vector<std::array<int, 3>>& sizes, int repeats, json& out
       }
     }
   }
-  std::printf("  Krylov seconds: the iterations only (as the paper); exact: system + table update (integration apart);\n"
-              "  refactor: re-assembly, LU and table. Agreement: max |x - x_refactor| / max |x_refactor|.\n");
+  std::printf(
+      "  Krylov seconds: the iterations only (as the paper); exact: system + table update (integration apart);\n"
+      "  refactor: re-assembly, LU and table. Agreement: max |x - x_refactor| / max |x_refactor|.\n");
 }
 
 /// Box nearest `equations`: nx = ny = a (>= 8 for the cut's room), nz = b <= a.
@@ -260,14 +265,24 @@ void latency(const std::vector<int>& equations, json& out) {
                 fixed_text(changed, 1).c_str(), fixed_text(median(exact), 4).c_str(), fixed_text(median(integ), 4).c_str(),
                 fixed_text(median(sys), 4).c_str(), fixed_text(median(tab), 4).c_str(), fixed_text(refactor_s, 3).c_str(),
                 scientific_text(agreement, 1).c_str(), static_cast<long long>(rank));
-    out.push_back({{"equations", n}, {"block", {c[0], c[1], c[2]}}, {"region_elements", before_last->region().size()},
-                   {"steps", steps.size()}, {"changed_elements_per_step", changed}, {"exact_seconds", median(exact)},
-                   {"exact_seconds_all", exact}, {"integration_seconds", median(integ)}, {"system_seconds", median(sys)},
-                   {"table_seconds", median(tab)}, {"refactor_seconds", refactor_s}, {"precompute_seconds", precompute_s},
-                   {"agreement", agreement}, {"final_rank", rank}});
+    out.push_back({{"equations", n},
+                   {"block", {c[0], c[1], c[2]}},
+                   {"region_elements", before_last->region().size()},
+                   {"steps", steps.size()},
+                   {"changed_elements_per_step", changed},
+                   {"exact_seconds", median(exact)},
+                   {"exact_seconds_all", exact},
+                   {"integration_seconds", median(integ)},
+                   {"system_seconds", median(sys)},
+                   {"table_seconds", median(tab)},
+                   {"refactor_seconds", refactor_s},
+                   {"precompute_seconds", precompute_s},
+                   {"agreement", agreement},
+                   {"final_rank", rank}});
   }
-  std::printf("  targets (medians): exact <= 0.020 s at n = 1,584 and <= 0.25 s at n = 9,000. Agreement: max relative\n"
-              "  difference of base state and table from a full refactorisation after the last step.\n");
+  std::printf(
+      "  targets (medians): exact <= 0.020 s at n = 1,584 and <= 0.25 s at n = 9,000. Agreement: max relative\n"
+      "  difference of base state and table from a full refactorisation after the last step.\n");
 }
 
 void gap_study(bool quick, json& out) {
@@ -314,7 +329,9 @@ void gap_study(bool quick, json& out) {
     (void)changed;
     std::printf("%10s %10lld %14s %14s\n", fixed_text(ratio, 3).c_str(), static_cast<long long>(x[0].size()),
                 scientific_text(du / su, 2).c_str(), scientific_text(dt / st, 2).c_str());
-    out.push_back({{"gap_ratio", ratio}, {"equations", x[0].size()}, {"difference_vs_fine_quadrature", du / su},
+    out.push_back({{"gap_ratio", ratio},
+                   {"equations", x[0].size()},
+                   {"difference_vs_fine_quadrature", du / su},
                    {"traction_difference_vs_fine_quadrature", dt / st}});
   }
   std::printf("  gap/edge 0: the uncut body (the quadrature's own error). Differences: max over dofs, relative to the largest.\n");
@@ -353,7 +370,7 @@ int main(int argc, char** argv) {
   const bool reused = reuse_memory && reuse_freed_memory();
   if (quick) repeats = 1;
   if (equations.empty()) equations = quick ? std::vector<int>{1000} : std::vector<int>{1584, 4752, 9000, 15000};
-  std::vector<std::array<int, 3>> sizes = {{4, 4, 2}};  // n = 384
+  std::vector<std::array<int, 3>> sizes = {{4, 4, 2}};    // n = 384
   if (!quick) sizes = {{6, 3, 8}, {2, 8, 9}, {6, 6, 8}};  // n = 1080, 1272, 1584
   int threads = 1;
 #ifdef _OPENMP
@@ -367,8 +384,16 @@ int main(int argc, char** argv) {
   std::printf("bench_cut (%s): %d OpenMP threads, dense back end %s, %d repeats (median), freed memory %s, load average %s\n",
               quick ? "quick" : "full", threads, backend, repeats, reused ? "reused" : "returned (fresh pages)",
               fixed_text(load_average(), 2).c_str());
-  json report = {{"benchmark", "bench_cut"}, {"mode", quick ? "quick" : "full"}, {"threads", threads}, {"dense_backend", backend},
-                 {"repeats", repeats}, {"freed_memory_reused", reused}, {"load_average_at_start", load_average()}, {"table1", json::array()}, {"latency", json::array()}, {"gap", json::array()}};
+  json report = {{"benchmark", "bench_cut"},
+                 {"mode", quick ? "quick" : "full"},
+                 {"threads", threads},
+                 {"dense_backend", backend},
+                 {"repeats", repeats},
+                 {"freed_memory_reused", reused},
+                 {"load_average_at_start", load_average()},
+                 {"table1", json::array()},
+                 {"latency", json::array()},
+                 {"gap", json::array()}};
   try {
     if (do_table1) table1(sizes, repeats, report["table1"]);
     if (do_latency) latency(equations, report["latency"]);

@@ -24,9 +24,9 @@ int main(int argc, char** argv) {
   bool quick = false;
   std::string json_path;
   std::vector<int> sizes;
-  cli::OptionParser parser = bench::command_line(
-      "bench_cut_topology", "The cutter's topology steps (open, extend, deepen) against a validation of the same mesh.\n", quick,
-      json_path);
+  cli::OptionParser parser =
+      bench::command_line("bench_cut_topology",
+                          "The cutter's topology steps (open, extend, deepen) against a validation of the same mesh.\n", quick, json_path);
   parser.value("--sizes", "N1,N2,...", sizes, "cubes of N cells per edge").at_least(4).default_text("8,16,32; --quick: 6,10");
   if (const std::optional<int> status = cli::parse_command_line(parser, argc, argv)) return *status;
   if (sizes.empty()) sizes = quick ? std::vector<int>{6, 10} : std::vector<int>{8, 16, 32};
@@ -70,9 +70,9 @@ int main(int argc, char** argv) {
       deepen.push_back(seconds_since(clock));
     }
     const double v = bench::median(validate), o = bench::median(open), e = bench::median(extend), d = bench::median(deepen);
-    std::printf("%8lld  %11s  %7s  %9s  %9s  %15s\n", static_cast<long long>(mesh->num_elements()),
-                fixed_text(1e3 * v, 2).c_str(), fixed_text(1e3 * o, 2).c_str(), fixed_text(1e3 * e, 2).c_str(),
-                fixed_text(1e3 * d, 2).c_str(), fixed_text(e / v, 2).c_str());
+    std::printf("%8lld  %11s  %7s  %9s  %9s  %15s\n", static_cast<long long>(mesh->num_elements()), fixed_text(1e3 * v, 2).c_str(),
+                fixed_text(1e3 * o, 2).c_str(), fixed_text(1e3 * e, 2).c_str(), fixed_text(1e3 * d, 2).c_str(),
+                fixed_text(e / v, 2).c_str());
     result["sizes"].push_back({{"elements", mesh->num_elements()},
                                {"validate_seconds", v},
                                {"open_seconds", o},

@@ -109,8 +109,7 @@ int main(int argc, char** argv) {
         {"peak_memory", grad.press.peak_bytes / fine.press.peak_bytes},
         {"table_memory", grad.press.table_bytes / fine.press.table_bytes},
         {"precompute_time", grad.precompute_median / fine.precompute_median}}},
-      {"differences",
-       {{"force_relative", force_error}, {"region_displacement_relative_l2", disp_error}}}};
+      {"differences", {{"force_relative", force_error}, {"region_displacement_relative_l2", disp_error}}}};
   std::printf("bench_graded%s: brain, h_in %s m, h_out %s m, sphere tool R %s m pressed %s m\n", quick ? " --quick" : "",
               general_text(h_in, 4).c_str(), general_text(h_out, 4).c_str(), general_text(c.tool_radius, 3).c_str(),
               general_text(c.depth, 3).c_str());
@@ -128,7 +127,7 @@ int main(int argc, char** argv) {
       "region displacement by %s %% (L2)\n",
       fixed_text(out["ratios_graded_over_fine"]["elements"].get<double>(), 3).c_str(),
       fixed_text(out["ratios_graded_over_fine"]["peak_memory"].get<double>(), 3).c_str(),
-      fixed_text(out["ratios_graded_over_fine"]["precompute_time"].get<double>(), 3).c_str(),
-      fixed_text(100 * force_error, 2).c_str(), fixed_text(100 * disp_error, 2).c_str());
+      fixed_text(out["ratios_graded_over_fine"]["precompute_time"].get<double>(), 3).c_str(), fixed_text(100 * force_error, 2).c_str(),
+      fixed_text(100 * disp_error, 2).c_str());
   return bench::write_json_file(json_path, out, "bench_graded") ? 0 : 1;
 }

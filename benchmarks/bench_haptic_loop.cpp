@@ -44,10 +44,10 @@
 #include <thread>
 #include <vector>
 
-#include "support/half_space_table.hpp"
 #include "bemsurg/haptics/session.hpp"
 #include "bemsurg/io/action_script.hpp"
 #include "bench_support.hpp"
+#include "support/half_space_table.hpp"
 
 using namespace bemsurg;
 using Vec3 = Eigen::Vector3d;
@@ -77,13 +77,21 @@ std::string script_text(double rate_hz, double scale, bool cuts) {
   "actions": [
     {"time": 0.0, "tool": "probe", "type": "press", "at": [-0.006, -0.002, 0.02], "direction": [0, 0, -1], "depth": 0.001, "duration": )" +
                   t(0.3) + R"(},
-    {"time": )" + t(0.3) + R"(, "tool": "probe", "type": "move", "to": [0.006, -0.002, )" +
-                  number_text(0.010 - 0.001) + R"(], "duration": )" + number_text(slide) + R"(},
-    {"time": )" + t(0.3) + R"(, "tool": "grasper", "type": "pinch", "at": [0.0, 0.006, 0.02], "direction": [0, 0, -1]},
-    {"time": )" + t(0.3) + R"(, "tool": "grasper", "type": "move", "to": [0.0, 0.006, 0.001], "duration": )" + t(0.5) + R"(},
-    {"time": )" + t(1.0) + R"(, "tool": "grasper", "type": "release"})";
-  if (cuts) s += R"(,
-    {"time": )" + t(0.5) + R"(, "tool": "scalpel", "type": "cut", "from": [-0.004, 0.008, 0.0], "direction": [1, 0, 0], "steps": 2, "step_interval": )" + t(0.3) + "}";
+    {"time": )" + t(0.3) +
+                  R"(, "tool": "probe", "type": "move", "to": [0.006, -0.002, )" + number_text(0.010 - 0.001) + R"(], "duration": )" +
+                  number_text(slide) + R"(},
+    {"time": )" + t(0.3) +
+                  R"(, "tool": "grasper", "type": "pinch", "at": [0.0, 0.006, 0.02], "direction": [0, 0, -1]},
+    {"time": )" + t(0.3) +
+                  R"(, "tool": "grasper", "type": "move", "to": [0.0, 0.006, 0.001], "duration": )" + t(0.5) + R"(},
+    {"time": )" + t(1.0) +
+                  R"(, "tool": "grasper", "type": "release"})";
+  if (cuts)
+    s += R"(,
+    {"time": )" +
+         t(0.5) +
+         R"(, "tool": "scalpel", "type": "cut", "from": [-0.004, 0.008, 0.0], "direction": [1, 0, 0], "steps": 2, "step_interval": )" +
+         t(0.3) + "}";
   s += "]}";
   return s;
 }
@@ -110,9 +118,12 @@ std::string air_script(double rate_hz, double duration) {
             {"name": "grasper", "shape": "pinch", "radius": 0.0015, "start": [0.0, 0.006, 0.2]},
             {"name": "scalpel", "shape": "blade", "start": [-0.004, 0.008, 0.2]}],
   "actions": [
-    {"time": 0.0, "tool": "probe", "type": "move", "to": [0.006, -0.002, 0.2], "duration": )" + d + R"(},
-    {"time": 0.0, "tool": "grasper", "type": "move", "to": [0.0, 0.006, 0.21], "duration": )" + d + R"(},
-    {"time": 0.0, "tool": "scalpel", "type": "move", "to": [0.004, 0.008, 0.2], "duration": )" + d + R"(}
+    {"time": 0.0, "tool": "probe", "type": "move", "to": [0.006, -0.002, 0.2], "duration": )" +
+         d + R"(},
+    {"time": 0.0, "tool": "grasper", "type": "move", "to": [0.0, 0.006, 0.21], "duration": )" +
+         d + R"(},
+    {"time": 0.0, "tool": "scalpel", "type": "move", "to": [0.004, 0.008, 0.2], "duration": )" +
+         d + R"(}
   ]})";
 }
 
@@ -181,9 +192,7 @@ long read_proc_number(const char* path) {
   return v;
 }
 
-nlohmann::json to_json(const haptics::Percentiles& p) {
-  return {{"p50", p.p50}, {"p99", p.p99}, {"p999", p.p999}, {"max", p.max}};
-}
+nlohmann::json to_json(const haptics::Percentiles& p) { return {{"p50", p.p50}, {"p99", p.p99}, {"p999", p.p999}, {"max", p.max}}; }
 
 /// The loop figures the baseline comparison needs; overruns also per second of loop time, since a
 /// session waiting for its cuts runs longer than its script (and than the baselines).
@@ -208,20 +217,21 @@ double overruns_per_s(const haptics::LoopStatistics& s) {
 /// forces, model swaps, the simulation side's cuts and field updates on the other core) adds.
 nlohmann::json excess_json(const haptics::LoopStatistics& session, const haptics::LoopStatistics& empty) {
   return {{"overruns_per_s", overruns_per_s(session) - overruns_per_s(empty)},
-          {"jitter_us", {{"p50", session.jitter_us.p50 - empty.jitter_us.p50},
-                         {"p99", session.jitter_us.p99 - empty.jitter_us.p99},
-                         {"p999", session.jitter_us.p999 - empty.jitter_us.p999}}},
-          {"force_us", {{"p50", session.force_us.p50 - empty.force_us.p50},
-                        {"p99", session.force_us.p99 - empty.force_us.p99},
-                        {"p999", session.force_us.p999 - empty.force_us.p999}}}};
+          {"jitter_us",
+           {{"p50", session.jitter_us.p50 - empty.jitter_us.p50},
+            {"p99", session.jitter_us.p99 - empty.jitter_us.p99},
+            {"p999", session.jitter_us.p999 - empty.jitter_us.p999}}},
+          {"force_us",
+           {{"p50", session.force_us.p50 - empty.force_us.p50},
+            {"p99", session.force_us.p99 - empty.force_us.p99},
+            {"p999", session.force_us.p999 - empty.force_us.p999}}}};
 }
 
 void print_loop_row(const char* name, const haptics::LoopStatistics& s) {
   std::printf("  %-28s %6lu %7s %5lu %7s  %7s %7s %8s %8s  %6s %6s %6s\n", name, static_cast<unsigned long>(s.ticks),
               fixed_text(double(s.ticks) / std::max(1.0, s.achieved_rate_hz), 2).c_str(), static_cast<unsigned long>(s.overruns),
-              fixed_text(overruns_per_s(s), 2).c_str(), fixed_text(s.jitter_us.p50, 1).c_str(),
-              fixed_text(s.jitter_us.p99, 1).c_str(), fixed_text(s.jitter_us.p999, 1).c_str(),
-              fixed_text(s.jitter_us.max, 0).c_str(), fixed_text(s.force_us.p50, 1).c_str(),
+              fixed_text(overruns_per_s(s), 2).c_str(), fixed_text(s.jitter_us.p50, 1).c_str(), fixed_text(s.jitter_us.p99, 1).c_str(),
+              fixed_text(s.jitter_us.p999, 1).c_str(), fixed_text(s.jitter_us.max, 0).c_str(), fixed_text(s.force_us.p50, 1).c_str(),
               fixed_text(s.force_us.p99, 1).c_str(), fixed_text(s.force_us.p999, 1).c_str());
 }
 
@@ -250,9 +260,8 @@ int main(int argc, char** argv) {
   options.loop.spin_us = spin_us;
   options.cut_hook = [](const haptics::CutRequest& r) {
     // Stand-in for the cutting module: a new, slightly softer snapshot built here, off the loop.
-    auto t = std::make_shared<const GreensTable>(r.table->key(), r.table->region(), r.table->base_displacement(),
-                                                 r.table->base_traction(), r.table->base_kinds(),
-                                                 Eigen::MatrixXd(1.02 * r.table->columns()));
+    auto t = std::make_shared<const GreensTable>(r.table->key(), r.table->region(), r.table->base_displacement(), r.table->base_traction(),
+                                                 r.table->base_kinds(), Eigen::MatrixXd(1.02 * r.table->columns()));
     return haptics::CutResult{r.mesh, t};
   };
   // "Busy": spin longer than the period, so HapticLoop::run never sleeps (twice the period, so a
@@ -272,8 +281,7 @@ int main(int argc, char** argv) {
     o.loop.spin_us = spin;
     o.graphics_hz = 0.0;
     o.cut_hook = nullptr;
-    haptics::Session session(model.mesh, model.table,
-                             load_action_script_from_string(air_script(rate, script_seconds), ".", "empty"), o);
+    haptics::Session session(model.mesh, model.table, load_action_script_from_string(air_script(rate, script_seconds), ".", "empty"), o);
     return session.run();
   };
 
@@ -306,26 +314,25 @@ int main(int argc, char** argv) {
   const double main_spin_us = report_busy ? busy_us : spin_us;
   const auto& s = main.loop;
 
-  std::printf("haptic thread SCHED_FIFO priority: %d (0: refused, normal priority); bare clock thread: %d\n",
-              s.realtime_priority, bare.realtime_priority);
+  std::printf("haptic thread SCHED_FIFO priority: %d (0: refused, normal priority); bare clock thread: %d\n", s.realtime_priority,
+              bare.realtime_priority);
   const long rt_runtime_us = read_proc_number("/proc/sys/kernel/sched_rt_runtime_us");
   const long rt_period_us = read_proc_number("/proc/sys/kernel/sched_rt_period_us");
-  std::printf("kernel RT bandwidth: sched_rt_runtime_us %ld of sched_rt_period_us %ld (-1: unlimited / unreadable)\n",
-              rt_runtime_us, rt_period_us);
+  std::printf("kernel RT bandwidth: sched_rt_runtime_us %ld of sched_rt_period_us %ld (-1: unlimited / unreadable)\n", rt_runtime_us,
+              rt_period_us);
   std::printf(
       "platform baseline, bare clock (%s s, %s M reads): gaps > 20 us %lu, > 100 us %lu, >= 1 ms %lu "
       "(1 kHz ticks it would have missed; %lu slots lost), largest %s us\n",
-      fixed_text(bare.seconds, 2).c_str(), fixed_text(double(bare.reads) / 1e6, 1).c_str(),
-      static_cast<unsigned long>(bare.gaps_over_20us), static_cast<unsigned long>(bare.gaps_over_100us),
-      static_cast<unsigned long>(bare.gaps_over_1ms), static_cast<unsigned long>(bare.slots_lost_1khz),
-      fixed_text(bare.max_gap_us, 0).c_str());
+      fixed_text(bare.seconds, 2).c_str(), fixed_text(double(bare.reads) / 1e6, 1).c_str(), static_cast<unsigned long>(bare.gaps_over_20us),
+      static_cast<unsigned long>(bare.gaps_over_100us), static_cast<unsigned long>(bare.gaps_over_1ms),
+      static_cast<unsigned long>(bare.slots_lost_1khz), fixed_text(bare.max_gap_us, 0).c_str());
   if (!bare.long_gaps.empty()) {
     std::printf("  gaps >= 1 ms (start s: length ms):");
     for (const auto& g : bare.long_gaps) std::printf(" %s:%s", fixed_text(g.first, 3).c_str(), fixed_text(g.second, 2).c_str());
     std::printf("\n");
   }
-  std::printf("1 kHz, %s s of script      %6s %7s %5s %7s  %-34s  %s\n", fixed_text(script_seconds, 2).c_str(), "ticks", "loop s",
-              "over", "over/s", "jitter p50 / p99 / p99.9 / max us", "force p50 / p99 / p99.9 us");
+  std::printf("1 kHz, %s s of script      %6s %7s %5s %7s  %-34s  %s\n", fixed_text(script_seconds, 2).c_str(), "ticks", "loop s", "over",
+              "over/s", "jitter p50 / p99 / p99.9 / max us", "force p50 / p99 / p99.9 us");
   char label[64];
   std::snprintf(label, sizeof label, "empty loop, spin %s us", fixed_text(spin_us, 0).c_str());
   print_loop_row(label, empty_default.loop);
@@ -372,8 +379,7 @@ int main(int argc, char** argv) {
     const bool holds = r.loop.overruns == 0 && r.loop.jitter_us.p999 <= 100.0;
     std::printf("  %5s Hz: achieved %s Hz, %lu overruns, jitter p99.9 %s us, force p99.9 %s us%s\n", fixed_text(rate, 0).c_str(),
                 fixed_text(r.loop.achieved_rate_hz, 1).c_str(), static_cast<unsigned long>(r.loop.overruns),
-                fixed_text(r.loop.jitter_us.p999, 1).c_str(), fixed_text(r.loop.force_us.p999, 1).c_str(),
-                holds ? " (holds)" : "");
+                fixed_text(r.loop.jitter_us.p999, 1).c_str(), fixed_text(r.loop.force_us.p999, 1).c_str(), holds ? " (holds)" : "");
     if (holds && rate > highest) highest = rate;
     rates.push_back({{"requested_hz", rate},
                      {"rate_hz", r.loop.achieved_rate_hz},
@@ -412,40 +418,39 @@ int main(int argc, char** argv) {
   out["highest_rate_hz_holding"] = highest;
   out["script_seconds"] = script_seconds;
   // Both spin settings, each with its own empty loop and the session's excess over it.
-  out["configurations"] = {
-      {"sleep_spin",
-       {{"session", loop_json(main_default.loop, spin_us)},
-        {"empty_loop", loop_json(empty_default.loop, spin_us)},
-        {"excess_over_empty_loop", excess_json(main_default.loop, empty_default.loop)},
-        {"cuts", main_default.cuts}}},
-      {"busy",
-       {{"session", loop_json(main_busy.loop, busy_us)},
-        {"empty_loop", loop_json(empty_busy.loop, busy_us)},
-        {"excess_over_empty_loop", excess_json(main_busy.loop, empty_busy.loop)},
-        {"cuts", main_busy.cuts}}}};
+  out["configurations"] = {{"sleep_spin",
+                            {{"session", loop_json(main_default.loop, spin_us)},
+                             {"empty_loop", loop_json(empty_default.loop, spin_us)},
+                             {"excess_over_empty_loop", excess_json(main_default.loop, empty_default.loop)},
+                             {"cuts", main_default.cuts}}},
+                           {"busy",
+                            {{"session", loop_json(main_busy.loop, busy_us)},
+                             {"empty_loop", loop_json(empty_busy.loop, busy_us)},
+                             {"excess_over_empty_loop", excess_json(main_busy.loop, empty_busy.loop)},
+                             {"cuts", main_busy.cuts}}}};
   nlohmann::json long_gaps = nlohmann::json::array();
   for (const auto& g : bare.long_gaps) long_gaps.push_back({{"start_s", g.first}, {"length_ms", g.second}});
-  out["platform_baseline"] = {
-      {"bare_clock",
-       {{"seconds", bare.seconds},
-        {"realtime_priority", bare.realtime_priority},
-        {"reads", bare.reads},
-        {"gaps_over_20us", bare.gaps_over_20us},
-        {"gaps_over_100us", bare.gaps_over_100us},
-        {"gaps_over_1ms", bare.gaps_over_1ms},
-        {"max_gap_us", bare.max_gap_us},
-        {"missed_ticks_1khz", bare.gaps_over_1ms},
-        {"slots_lost_1khz", bare.slots_lost_1khz},
-        {"long_gaps", long_gaps},
-        {"sched_rt_runtime_us", rt_runtime_us},
-        {"sched_rt_period_us", rt_period_us}}},
-      {"empty_loop", loop_json(empty_main.loop, main_spin_us)}};
+  out["platform_baseline"] = {{"bare_clock",
+                               {{"seconds", bare.seconds},
+                                {"realtime_priority", bare.realtime_priority},
+                                {"reads", bare.reads},
+                                {"gaps_over_20us", bare.gaps_over_20us},
+                                {"gaps_over_100us", bare.gaps_over_100us},
+                                {"gaps_over_1ms", bare.gaps_over_1ms},
+                                {"max_gap_us", bare.max_gap_us},
+                                {"missed_ticks_1khz", bare.gaps_over_1ms},
+                                {"slots_lost_1khz", bare.slots_lost_1khz},
+                                {"long_gaps", long_gaps},
+                                {"sched_rt_runtime_us", rt_runtime_us},
+                                {"sched_rt_period_us", rt_period_us}}},
+                              {"empty_loop", loop_json(empty_main.loop, main_spin_us)}};
   out["excess_over_empty_loop"] = excess_json(s, empty_main.loop);
   if (!json_path.empty() && !bench::write_json_file(json_path, out, "bench_haptic_loop")) return 1;
-  const bool ok = main_default.loop.ticks > 0 && main_busy.loop.ticks > 0 && main_default.loop.faults == 0 &&
-                  main_busy.loop.faults == 0 && main_default.cuts == 2 && main_busy.cuts == 2;
-  if (!ok) std::fprintf(stderr, "bench_haptic_loop: a session did not run as scripted (faults %lu / %lu, cuts %d / %d)\n",
-                        static_cast<unsigned long>(main_default.loop.faults), static_cast<unsigned long>(main_busy.loop.faults),
-                        main_default.cuts, main_busy.cuts);
+  const bool ok = main_default.loop.ticks > 0 && main_busy.loop.ticks > 0 && main_default.loop.faults == 0 && main_busy.loop.faults == 0 &&
+                  main_default.cuts == 2 && main_busy.cuts == 2;
+  if (!ok)
+    std::fprintf(stderr, "bench_haptic_loop: a session did not run as scripted (faults %lu / %lu, cuts %d / %d)\n",
+                 static_cast<unsigned long>(main_default.loop.faults), static_cast<unsigned long>(main_busy.loop.faults), main_default.cuts,
+                 main_busy.cuts);
   return ok ? 0 : 1;
 }

@@ -105,10 +105,19 @@ struct Result {
 };
 
 json to_json(const Result& r) {
-  return {{"scenario", r.scenario}, {"library", r.library}, {"method", r.method}, {"preconditioner", r.preconditioner},
-          {"restart", r.restart}, {"status", r.status}, {"iterations", r.iterations}, {"median_seconds", r.median_seconds},
-          {"min_seconds", r.min_seconds}, {"setup_seconds", r.setup_seconds}, {"true_residual", r.true_residual},
-          {"error_vs_lu", r.error_vs_lu}, {"ratio_vs_eigen", r.ratio_vs_eigen}};
+  return {{"scenario", r.scenario},
+          {"library", r.library},
+          {"method", r.method},
+          {"preconditioner", r.preconditioner},
+          {"restart", r.restart},
+          {"status", r.status},
+          {"iterations", r.iterations},
+          {"median_seconds", r.median_seconds},
+          {"min_seconds", r.min_seconds},
+          {"setup_seconds", r.setup_seconds},
+          {"true_residual", r.true_residual},
+          {"error_vs_lu", r.error_vs_lu},
+          {"ratio_vs_eigen", r.ratio_vs_eigen}};
 }
 
 struct Options {
@@ -135,8 +144,8 @@ void time_runs(Result& r, const System& s, const Eigen::VectorXd& x0, int repeat
 }
 
 template <template <class, class> class Solver, class Preconditioner>
-Result ours(const std::string& scenario, const std::string& method, const std::string& pname, const System& s,
-            const Preconditioner& M, double setup, const Eigen::VectorXd& x0, const Options& o, int restart = 0) {
+Result ours(const std::string& scenario, const std::string& method, const std::string& pname, const System& s, const Preconditioner& M,
+            double setup, const Eigen::VectorXd& x0, const Options& o, int restart = 0) {
   Result r{scenario, "bemsurg", method, pname, "", restart};
   KrylovOptions ks;
   ks.tolerance = o.tolerance;
@@ -153,8 +162,8 @@ Result ours(const std::string& scenario, const std::string& method, const std::s
 }
 
 template <class EigenSolver>
-Result eigen(const std::string& scenario, const std::string& method, const std::string& pname, const System& s,
-             EigenSolver& solver, const Eigen::VectorXd& x0, const Options& o, int restart = 0) {
+Result eigen(const std::string& scenario, const std::string& method, const std::string& pname, const System& s, EigenSolver& solver,
+             const Eigen::VectorXd& x0, const Options& o, int restart = 0) {
   Result r{scenario, "eigen", method, pname, "", restart};
   solver.setTolerance(o.tolerance);
   solver.setMaxIterations(o.max_iterations);
@@ -180,10 +189,16 @@ std::vector<Result> run_scenario(const std::string& scenario, const System& s, c
   const NearFieldPreconditioner near(s.A, s.mesh, 2.0);
   const NearFieldStatistics& st = near.statistics();
   preconditioner_json = {{"block_jacobi_build_seconds", jacobi_setup},
-                         {"near_field", {{"radius", st.radius}, {"element_pairs", st.element_pairs}, {"nonzeros", st.nonzeros},
-                                         {"density", st.density}, {"factor_nonzeros", st.factor_nonzeros}, {"fill", st.fill},
-                                         {"selection_seconds", st.selection_seconds}, {"factor_seconds", st.factor_seconds},
-                                         {"build_seconds", st.build_seconds}}}};
+                         {"near_field",
+                          {{"radius", st.radius},
+                           {"element_pairs", st.element_pairs},
+                           {"nonzeros", st.nonzeros},
+                           {"density", st.density},
+                           {"factor_nonzeros", st.factor_nonzeros},
+                           {"fill", st.fill},
+                           {"selection_seconds", st.selection_seconds},
+                           {"factor_seconds", st.factor_seconds},
+                           {"build_seconds", st.build_seconds}}}};
   out.push_back(ours<Gmres>(scenario, "gmres", "none", s, none, 0.0, x0, o));
   out.push_back(ours<Gmres>(scenario, "gmres", "block_jacobi", s, jacobi, jacobi_setup, x0, o));
   out.push_back(ours<Gmres>(scenario, "gmres", "near_field", s, near, st.build_seconds, x0, o));
@@ -218,15 +233,14 @@ std::vector<Result> run_scenario(const std::string& scenario, const System& s, c
 
 void print(const System& s, const std::vector<Result>& results) {
   std::printf("\n%s: n = %ld, cond1 ~ %s, assembly %s s, dense LU %s s (median)\n", s.name.c_str(), static_cast<long>(s.A.rows()),
-              scientific_text(s.condition, 2).c_str(), fixed_text(s.assembly_seconds, 2).c_str(),
-              fixed_text(s.lu_seconds, 4).c_str());
-  std::printf("  %-5s %-8s %-9s %-13s %3s %-17s %6s %11s %10s %10s %10s %8s\n", "scen.", "library", "method", "precond.",
-              "m", "status", "iters", "median [s]", "setup [s]", "true res.", "err vs LU", "ours/Eig");
+              scientific_text(s.condition, 2).c_str(), fixed_text(s.assembly_seconds, 2).c_str(), fixed_text(s.lu_seconds, 4).c_str());
+  std::printf("  %-5s %-8s %-9s %-13s %3s %-17s %6s %11s %10s %10s %10s %8s\n", "scen.", "library", "method", "precond.", "m", "status",
+              "iters", "median [s]", "setup [s]", "true res.", "err vs LU", "ours/Eig");
   for (const Result& r : results) {
-    std::printf("  %-5s %-8s %-9s %-13s %3d %-17s %6d %11s %10s %10s %10s", r.scenario.c_str(), r.library.c_str(),
-                r.method.c_str(), r.preconditioner.c_str(), r.restart, r.status.c_str(), r.iterations,
-                fixed_text(r.median_seconds, 5).c_str(), fixed_text(r.setup_seconds, 5).c_str(),
-                scientific_text(r.true_residual, 2).c_str(), scientific_text(r.error_vs_lu, 2).c_str());
+    std::printf("  %-5s %-8s %-9s %-13s %3d %-17s %6d %11s %10s %10s %10s", r.scenario.c_str(), r.library.c_str(), r.method.c_str(),
+                r.preconditioner.c_str(), r.restart, r.status.c_str(), r.iterations, fixed_text(r.median_seconds, 5).c_str(),
+                fixed_text(r.setup_seconds, 5).c_str(), scientific_text(r.true_residual, 2).c_str(),
+                scientific_text(r.error_vs_lu, 2).c_str());
     if (r.ratio_vs_eigen > 0) std::printf(" %8s", fixed_text(r.ratio_vs_eigen, 2).c_str());
     std::printf("\n");
   }
@@ -239,15 +253,14 @@ int main(int argc, char** argv) {
   std::string json_path, csv_path;
   Options o;
   cli::OptionParser parser = bench::command_line(
-      "bench_krylov", "bemsurg's Krylov solvers against Eigen's and the dense LU on BEM systems (docs/solvers.md).\n", quick,
-      json_path);
+      "bench_krylov", "bemsurg's Krylov solvers against Eigen's and the dense LU on BEM systems (docs/solvers.md).\n", quick, json_path);
   parser.value("--csv", "PATH", csv_path, "write one row per solve to PATH as CSV");
   parser.value("--tolerance", "T", o.tolerance, "on ||b - A x|| / ||b||").above(0.0);
   parser.value("--repeats", "R", o.repeats, "solves per figure (median; --quick: at most 3)").at_least(1);
   if (const std::optional<int> status = cli::parse_command_line(parser, argc, argv)) return *status;
   if (quick) o.repeats = std::min(o.repeats, 3);
   // (nx, ny, nz) cells: 4 (nx ny + ny nz + nz nx) elements, 3 unknowns each.
-  std::vector<std::array<int, 3>> sizes = {{3, 3, 3}};                      // n = 324
+  std::vector<std::array<int, 3>> sizes = {{3, 3, 3}};                       // n = 324
   if (!quick) sizes.insert(sizes.end(), {{6, 3, 8}, {2, 8, 9}, {6, 6, 8}});  // n = 1080, 1272, 1584 (Table 1)
   int threads = 1;
 #ifdef _OPENMP
@@ -260,9 +273,14 @@ int main(int argc, char** argv) {
 #endif
   std::printf("bench_krylov: tolerance %s on ||b - A x|| / ||b||, %d repeats (median), %d OpenMP threads, products: %s\n",
               scientific_text(o.tolerance, 1).c_str(), o.repeats, threads, backend);
-  json report = {{"benchmark", "bench_krylov"}, {"mode", quick ? "quick" : "full"}, {"tolerance", o.tolerance},
-                 {"max_iterations", o.max_iterations}, {"repeats", o.repeats}, {"threads", threads},
-                 {"matrix_vector_backend", backend}, {"systems", json::array()}};
+  json report = {{"benchmark", "bench_krylov"},
+                 {"mode", quick ? "quick" : "full"},
+                 {"tolerance", o.tolerance},
+                 {"max_iterations", o.max_iterations},
+                 {"repeats", o.repeats},
+                 {"threads", threads},
+                 {"matrix_vector_backend", backend},
+                 {"systems", json::array()}};
   std::ofstream csv;
   if (!csv_path.empty()) {
     csv.open(csv_path);
@@ -284,10 +302,16 @@ int main(int argc, char** argv) {
           "  warm: start from the solution before the push; ||x_after - x_before|| / ||x_after|| = %s; LU of the pushed system "
           "%s s\n",
           scientific_text(change, 2).c_str(), fixed_text(after.lu_seconds, 4).c_str());
-      json sys = {{"name", before.name}, {"n", before.A.rows()}, {"elements", before.mesh.num_elements()},
-                  {"assembly_seconds", before.assembly_seconds}, {"lu_seconds", before.lu_seconds},
-                  {"lu_seconds_after_change", after.lu_seconds}, {"condition_estimate", before.condition},
-                  {"warm_start_distance", change}, {"preconditioners", pc_cold}, {"runs", json::array()}};
+      json sys = {{"name", before.name},
+                  {"n", before.A.rows()},
+                  {"elements", before.mesh.num_elements()},
+                  {"assembly_seconds", before.assembly_seconds},
+                  {"lu_seconds", before.lu_seconds},
+                  {"lu_seconds_after_change", after.lu_seconds},
+                  {"condition_estimate", before.condition},
+                  {"warm_start_distance", change},
+                  {"preconditioners", pc_cold},
+                  {"runs", json::array()}};
       for (const Result& r : results) {
         sys["runs"].push_back(to_json(r));
         if (csv.is_open())

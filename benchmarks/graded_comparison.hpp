@@ -23,7 +23,7 @@
 namespace bemsurg::graded {
 
 struct PressCase {
-  Vec3 region_center;           // on the surface, top of the left hemisphere
+  Vec3 region_center;  // on the surface, top of the left hemisphere
   double region_radius = 0.025;
   double tool_radius = 0.02;
   double depth = 0.004;
@@ -87,8 +87,8 @@ inline PressResult press(const TriangleMesh& mesh, const PressCase& c) {
 /// at its element's centroid, on the test mesh at the closest point of its surface. (Comparing raw
 /// element values at different centroids would measure the meshes' offset, O(h grad u), not the
 /// models' difference.)
-inline double region_displacement_difference(const TriangleMesh& reference, const PressResult& ref,
-                                             const TriangleMesh& test, const PressResult& res, const PressCase& c) {
+inline double region_displacement_difference(const TriangleMesh& reference, const PressResult& ref, const TriangleMesh& test,
+                                             const PressResult& res, const PressCase& c) {
   const auto vertex_field = [](const TriangleMesh& m, const Eigen::VectorXd& u) {
     RowMatrixX3d per_element(m.num_elements(), 3);
     for (Index e = 0; e < m.num_elements(); ++e) per_element.row(e) = u.segment<3>(3 * e).transpose();

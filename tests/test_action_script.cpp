@@ -35,9 +35,7 @@ const char* kScript = R"({
 std::string error_of(const std::string& text) {
   try {
     load_action_script_from_string(text, ".", "s.json");
-  } catch (const SceneError& e) {
-    return e.what();
-  }
+  } catch (const SceneError& e) { return e.what(); }
   return "(no error)";
 }
 
@@ -56,13 +54,13 @@ TEST_CASE("a full action script parses into tools and time-sorted actions", "[ac
   CHECK(s.capacity_rows == 120);
   REQUIRE(s.tools.size() == 4);
   CHECK(s.tools[0].shape == ScriptToolShape::Sphere);
-  CHECK(s.tools[0].frictionless);      // a sphere's default
-  CHECK(s.tools[0].device == 0);       // default: its index
-  CHECK(!s.tools[1].frictionless);     // a pinch is bonded
+  CHECK(s.tools[0].frictionless);   // a sphere's default
+  CHECK(s.tools[0].device == 0);    // default: its index
+  CHECK(!s.tools[1].frictionless);  // a pinch is bonded
   CHECK(s.tools[2].polygon.size() == 3);
   CHECK(s.tools[2].plate_tolerance == 0.001);
   REQUIRE(s.actions.size() == 7);
-  CHECK(s.actions[0].type == ActionType::Move);  // sorted by time
+  CHECK(s.actions[0].type == ActionType::Move);                 // sorted by time
   CHECK(s.actions[0].end_time() == Approx(0.5).epsilon(kEps));  // 0 + 0.5: measured 0
   const Action& press = s.actions[3];
   CHECK(press.type == ActionType::Press);
@@ -78,31 +76,34 @@ TEST_CASE("a full action script parses into tools and time-sorted actions", "[ac
 }
 
 TEST_CASE("action script mistakes name the file and the key at fault", "[actions]") {
-  CHECK(error_of("{") .find("s.json: not valid JSON") == 0);
+  CHECK(error_of("{").find("s.json: not valid JSON") == 0);
   CHECK(error_of(replace(kScript, "\"bemsurg-actions\"", "\"scene\"")).find("s.json: format: expected \"bemsurg-actions\"") == 0);
   CHECK(error_of(replace(kScript, "\"version\": 1", "\"version\": 2")).find("s.json: version:") == 0);
-  CHECK(error_of(replace(kScript, "\"depth\": 0.002", "\"depth\": \"2\"")) ==
-        "s.json: actions[0].depth: expected a number, got a string");
+  CHECK(error_of(replace(kScript, "\"depth\": 0.002", "\"depth\": \"2\"")) == "s.json: actions[0].depth: expected a number, got a string");
   CHECK(error_of(replace(kScript, "\"tool\": \"grasper\", \"type\": \"pinch\"", "\"tool\": \"gripper\", \"type\": \"pinch\"")) ==
         "s.json: actions[2].tool: no tool named 'gripper' (tools: probe, grasper, retractor, scalpel)");
-  CHECK(error_of(replace(kScript, "\"type\": \"pinch\"", "\"type\": \"squeeze\"")).find("s.json: actions[2].type: unknown action type 'squeeze'") == 0);
-  CHECK(error_of(replace(kScript, "\"tool\": \"grasper\", \"type\": \"pinch\"", "\"tool\": \"probe\", \"type\": \"pinch\"")).find(
-            "s.json: actions[2].type: tool 'probe' is a sphere and cannot pinch") == 0);
+  CHECK(error_of(replace(kScript, "\"type\": \"pinch\"", "\"type\": \"squeeze\""))
+            .find("s.json: actions[2].type: unknown action type 'squeeze'") == 0);
+  CHECK(error_of(replace(kScript, "\"tool\": \"grasper\", \"type\": \"pinch\"", "\"tool\": \"probe\", \"type\": \"pinch\""))
+            .find("s.json: actions[2].type: tool 'probe' is a sphere and cannot pinch") == 0);
   CHECK(error_of(replace(kScript, "\"direction\": [0, 0, -2]", "\"direction\": [0, 0, 0]")) ==
         "s.json: actions[0].direction: must be a non-zero vector");
   CHECK(error_of(replace(kScript, "\"radius\": 0.004", "\"radius\": -1")) == "s.json: tools[0].radius: must be positive, got -1.0");
-  CHECK(error_of(replace(kScript, "\"shape\": \"sphere\", \"radius\": 0.004", "\"shape\": \"sphere\"")).find("s.json: tools[0].radius: missing") == 0);
-  CHECK(error_of(replace(kScript, "\"time\": 0.5, \"tool\": \"probe\"", "\"time\": 0.4, \"tool\": \"probe\"")).find(
-            "s.json: actions[0].time: tool 'probe' is still busy with actions[1] until t = 0.5 s") == 0);
+  CHECK(error_of(replace(kScript, "\"shape\": \"sphere\", \"radius\": 0.004", "\"shape\": \"sphere\""))
+            .find("s.json: tools[0].radius: missing") == 0);
+  CHECK(error_of(replace(kScript, "\"time\": 0.5, \"tool\": \"probe\"", "\"time\": 0.4, \"tool\": \"probe\""))
+            .find("s.json: actions[0].time: tool 'probe' is still busy with actions[1] until t = 0.5 s") == 0);
   CHECK(error_of(replace(kScript, "\"time\": 0.0,", "\"time\": -1,")).find("s.json: actions[1].time: must not be negative") == 0);
   CHECK(error_of(replace(kScript, "\"steps\": 3", "\"steps\": 0")).find("s.json: actions[6].steps: must lie in [1, 1000]") == 0);
-  CHECK(error_of(replace(kScript, "\"device\": 1", "\"device\": 0")).find("s.json: tools[1].device: device channel 0 already drives tool 'probe'") == 0);
+  CHECK(error_of(replace(kScript, "\"device\": 1", "\"device\": 0"))
+            .find("s.json: tools[1].device: device channel 0 already drives tool 'probe'") == 0);
   CHECK(error_of(replace(kScript, "\"rate_hz\": 2000", "\"rate_hz\": 20000")).find("s.json: rate_hz: must lie in [100, 10000]") == 0);
   CHECK(error_of(replace(kScript, "\"polygon\"", "\"poly\"")).find("s.json: tools[2].polygon: missing") == 0);
 }
 
 TEST_CASE("unknown keys in an action script are warnings, not errors", "[actions]") {
-  const ActionScript s = load_action_script_from_string(replace(kScript, "\"depth\": 0.002", "\"depth\": 0.002, \"deep\": 1"), ".", "s.json");
+  const ActionScript s =
+      load_action_script_from_string(replace(kScript, "\"depth\": 0.002", "\"depth\": 0.002, \"deep\": 1"), ".", "s.json");
   REQUIRE(s.warnings.size() == 1);
   CHECK(s.warnings[0].find("s.json: actions[0].deep: unknown key, ignored") == 0);
 }

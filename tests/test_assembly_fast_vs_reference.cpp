@@ -70,9 +70,12 @@ PairMix pair_mix(const TriangleMesh& mesh, const QuadratureOptions& o = {}) {
       const auto c = mesh.corners(e);
       const double h = std::sqrt(std::max({(c[1] - c[0]).squaredNorm(), (c[2] - c[1]).squaredNorm(), (c[0] - c[2]).squaredNorm()}));
       const double d = (mesh.centroid(i) - (c[0] + c[1] + c[2]) / 3.0).norm();
-      if (d >= o.far_ratio * h) ++mix.far;
-      else if (d >= o.mid_ratio * h) ++mix.mid;
-      else ++mix.near;
+      if (d >= o.far_ratio * h)
+        ++mix.far;
+      else if (d >= o.mid_ratio * h)
+        ++mix.mid;
+      else
+        ++mix.near;
     }
   return mix;
 }

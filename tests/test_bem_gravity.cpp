@@ -25,14 +25,14 @@ TEST_CASE("hanging bar: held at the top, sagging under gravity") {
   std::vector<bemsurg_test::SplitErrors> e;
   for (int n : {4, 6}) {
     const TriangleMesh m = bar(n);
-    e.push_back(bemsurg_test::solve_split(m, kMaterial, kBar, [&](Index k) { return m.centroid(k).z() > kL - 1e-9; },
-                                          Eigen::Vector3d(0, 0, -kG)));
+    e.push_back(bemsurg_test::solve_split(
+        m, kMaterial, kBar, [&](Index k) { return m.centroid(k).z() > kL - 1e-9; }, Eigen::Vector3d(0, 0, -kG)));
   }
   auto order = [](double c, double f) { return bemsurg_test::observed_order(c, f, 1.0 / 4, 1.0 / 6); };
-  INFO("u: all " << e[0].all.displacement << " -> " << e[1].all.displacement << ", edge row " << e[0].edge.displacement
-                 << " -> " << e[1].edge.displacement << ", rest " << e[0].rest.displacement << " -> " << e[1].rest.displacement);
-  INFO("t: all " << e[0].all.traction << " -> " << e[1].all.traction << ", edge row " << e[0].edge.traction << " -> "
-                 << e[1].edge.traction << ", rest " << e[0].rest.traction << " -> " << e[1].rest.traction);
+  INFO("u: all " << e[0].all.displacement << " -> " << e[1].all.displacement << ", edge row " << e[0].edge.displacement << " -> "
+                 << e[1].edge.displacement << ", rest " << e[0].rest.displacement << " -> " << e[1].rest.displacement);
+  INFO("t: all " << e[0].all.traction << " -> " << e[1].all.traction << ", edge row " << e[0].edge.traction << " -> " << e[1].edge.traction
+                 << ", rest " << e[0].rest.traction << " -> " << e[1].rest.traction);
   // Measured u: rest 7.29e-3 -> 5.01e-3 (order 0.92), edge row 8.62e-3 -> 5.97e-3 (0.90).
   // t (the held top face): rest 1.19e-2 -> 8.68e-3 (0.77), edge row 3.23e-2 -> 2.95e-2 (0.22:
   // hardly converging).
@@ -59,8 +59,8 @@ TEST_CASE("solid cube under uniform pressure: u = -p (1 - 2 nu) x / E") {
     e.push_back(bemsurg_test::solve_split(m, kMaterial, field, a_few_elements(m)));
   }
   auto order = [](double c, double f) { return bemsurg_test::observed_order(c, f, 1.0 / 4, 1.0 / 6); };
-  INFO("u: all " << e[0].all.displacement << " -> " << e[1].all.displacement << ", edge row " << e[0].edge.displacement
-                 << " -> " << e[1].edge.displacement << ", rest " << e[0].rest.displacement << " -> " << e[1].rest.displacement);
+  INFO("u: all " << e[0].all.displacement << " -> " << e[1].all.displacement << ", edge row " << e[0].edge.displacement << " -> "
+                 << e[1].edge.displacement << ", rest " << e[0].rest.displacement << " -> " << e[1].rest.displacement);
   // Measured: rest 3.98e-2 -> 1.93e-2 (order 1.79), edge row 4.07e-2 -> 2.39e-2 (1.31). (The four
   // elements that fix the rigid motion move with n; at n = 8 the error is 2.1 %, order 0.2 from
   // n = 6, so the order holds for these two meshes, not as a trend.)

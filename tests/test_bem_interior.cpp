@@ -33,7 +33,8 @@ TEST_CASE("interior displacement and stress of the Kelvin field in a box") {
   std::vector<InteriorErrors> e;
   for (int n : {1, 2}) {
     const TriangleMesh box = box_mesh(Eigen::Vector3d(-1, -0.6, -0.6), Eigen::Vector3d(1, 0.6, 0.6), 3 * n, 2 * n, 2 * n);
-    e.push_back(interior_errors(box, m, field, [&](Index k) { return box.centroid(k).z() < 0.0; }, points));
+    e.push_back(interior_errors(
+        box, m, field, [&](Index k) { return box.centroid(k).z() < 0.0; }, points));
   }
   INFO("u: " << e[0].displacement << " -> " << e[1].displacement << ", stress: " << e[0].stress << " -> " << e[1].stress);
   // h halves. Measured: u 2.97e-2 -> 6.26e-3 (order 2.24), stress 0.104 -> 3.38e-2 (1.63).
@@ -52,7 +53,8 @@ TEST_CASE("interior displacement and stress of the Lamé sphere") {
   std::vector<InteriorErrors> e;
   for (int s : {1, 2}) {
     const TriangleMesh shell = hollow_sphere_mesh(Eigen::Vector3d::Zero(), 1.0, 2.0, s, s);
-    e.push_back(interior_errors(shell, m, field, [&](Index k) { return shell.centroid(k).norm() < 1.5; }, points));
+    e.push_back(interior_errors(
+        shell, m, field, [&](Index k) { return shell.centroid(k).norm() < 1.5; }, points));
   }
   INFO("u: " << e[0].displacement << " -> " << e[1].displacement << ", stress: " << e[0].stress << " -> " << e[1].stress);
   // h halves. Measured: u 2.14e-2 -> 1.40e-2 (order 0.61), stress 0.109 -> 2.79e-2 (1.96).
@@ -69,8 +71,8 @@ TEST_CASE("interior points of the hanging bar include the gravity term") {
   RowMatrixX3d points(3, 3);
   points << 0.0, 0.0, 1.5, 0.2, -0.1, 0.8, -0.2, 0.2, 2.2;
   const TriangleMesh bar = box_mesh(Eigen::Vector3d(-0.5, -0.5, 0.0), Eigen::Vector3d(0.5, 0.5, 3.0), 2, 2, 6);
-  const InteriorErrors e = interior_errors(bar, m, field, [&](Index k) { return bar.centroid(k).z() > 3.0 - 1e-9; }, points,
-                                           Eigen::Vector3d(0, 0, -1.0));
+  const InteriorErrors e = interior_errors(
+      bar, m, field, [&](Index k) { return bar.centroid(k).z() > 3.0 - 1e-9; }, points, Eigen::Vector3d(0, 0, -1.0));
   INFO("u: " << e.displacement << ", stress: " << e.stress);
   // Measured: u 1.21e-2, stress 4.84e-2; bounds ~1.3x. (Without the gravity term: see
   // test_bem_gravity.)
@@ -99,8 +101,8 @@ TEST_CASE("interior points too close to the surface are refused, and exact just 
   close.row(0) = (face + 0.3 * h * down).transpose();
   close.row(1) = (face + 1e-4 * h * down).transpose();
   CHECK_THROWS_AS(ev.stress(close, s), InvalidArgumentError);
-  CHECK_THROWS_WITH(ev.displacement(close, s), Catch::Contains("point 1") && Catch::Contains("closer than 0.00293") &&
-                                                   Catch::Contains("max_depth"));
+  CHECK_THROWS_WITH(ev.displacement(close, s),
+                    Catch::Contains("point 1") && Catch::Contains("closer than 0.00293") && Catch::Contains("max_depth"));
   // At 1.05 x the limit. Measured: u 3.1e-9 / 2.2e-9 relative, stress 1.9e-5 / 2.6e-5 E|c| over
   // the face / at the edge; bounds 4.5e-9 and 3.5e-5 (at 1e-4 h: 5e-2 and 4e3).
   RowMatrixX3d near(2, 3);

@@ -35,8 +35,8 @@ double order(double coarse, double fine) { return observed_order(coarse, fine, k
 
 TEST_CASE("Kelvin, Dirichlet: tractions from prescribed displacements") {
   const auto [c, f] = two_levels([](const TriangleMesh&) { return [](Index) { return true; }; });
-  INFO("traction: all " << c.all.traction << " -> " << f.all.traction << ", edge row " << c.edge.traction << " -> "
-                        << f.edge.traction << ", rest " << c.rest.traction << " -> " << f.rest.traction);
+  INFO("traction: all " << c.all.traction << " -> " << f.all.traction << ", edge row " << c.edge.traction << " -> " << f.edge.traction
+                        << ", rest " << c.rest.traction << " -> " << f.rest.traction);
   // Measured: rest 4.24e-2 -> 3.67e-2 (order 0.36); edge row 0.112 -> 0.119 (order -0.16: the
   // edge row's traction does not converge); all 8.42e-2 -> 7.33e-2 (0.34).
   CHECK(order(c.rest.traction, f.rest.traction) > 0.27);
@@ -47,8 +47,8 @@ TEST_CASE("Kelvin, Dirichlet: tractions from prescribed displacements") {
 
 TEST_CASE("Kelvin, Neumann: displacements from prescribed tractions (four elements fix rigid motion)") {
   const auto [c, f] = two_levels([](const TriangleMesh& m) { return a_few_elements(m); });
-  INFO("displacement: all " << c.all.displacement << " -> " << f.all.displacement << ", edge row " << c.edge.displacement
-                            << " -> " << f.edge.displacement << ", rest " << c.rest.displacement << " -> " << f.rest.displacement);
+  INFO("displacement: all " << c.all.displacement << " -> " << f.all.displacement << ", edge row " << c.edge.displacement << " -> "
+                            << f.edge.displacement << ", rest " << c.rest.displacement << " -> " << f.rest.displacement);
   // Measured: all 5.79e-2 -> 5.39e-2 (order 0.18), edge row 6.58e-2 -> 6.36e-2 (0.08), rest
   // 4.09e-2 -> 4.46e-2 (-0.21): on this box the Neumann displacement stagnates at ~5 % from
   // h = 0.3 on (h = 0.15 gives 4.4 %; pinning the six face-centre elements instead gives the same
@@ -64,12 +64,11 @@ TEST_CASE("Kelvin, Neumann: displacements from prescribed tractions (four elemen
 }
 
 TEST_CASE("Kelvin, mixed: lower half held, upper half loaded") {
-  const auto [c, f] =
-      two_levels([](const TriangleMesh& m) { return [&m](Index e) { return m.centroid(e).z() < 0.0; }; });
+  const auto [c, f] = two_levels([](const TriangleMesh& m) { return [&m](Index e) { return m.centroid(e).z() < 0.0; }; });
   INFO("u: all " << c.all.displacement << " -> " << f.all.displacement << ", edge row " << c.edge.displacement << " -> "
                  << f.edge.displacement << ", rest " << c.rest.displacement << " -> " << f.rest.displacement);
-  INFO("t: all " << c.all.traction << " -> " << f.all.traction << ", edge row " << c.edge.traction << " -> "
-                 << f.edge.traction << ", rest " << c.rest.traction << " -> " << f.rest.traction);
+  INFO("t: all " << c.all.traction << " -> " << f.all.traction << ", edge row " << c.edge.traction << " -> " << f.edge.traction << ", rest "
+                 << c.rest.traction << " -> " << f.rest.traction);
   // Measured u: rest 1.56e-2 -> 1.10e-2 (order 0.88), edge row 3.38e-2 -> 2.44e-2 (0.81),
   // all 2.85e-2 -> 1.82e-2 (1.11). t: rest 6.41e-2 -> 4.90e-2 (0.66), edge row 0.108 -> 0.106
   // (0.03: not converging), all 9.22e-2 -> 7.72e-2 (0.44).

@@ -17,9 +17,8 @@ double worst_row_sum_ratio(const TriangleMesh& mesh, const QuadratureOptions& op
 }  // namespace
 
 TEST_CASE("rows of H sum to zero on a sphere and on a box (below 1e-6 of the diagonal)") {
-  CHECK(worst_row_sum_ratio(icosphere_mesh(Eigen::Vector3d::Zero(), 1.0, 2)) < 6e-8);  // measured 1.9e-8
-  CHECK(worst_row_sum_ratio(box_mesh(Eigen::Vector3d(-1, -0.6, -0.6), Eigen::Vector3d(1, 0.6, 0.6), 6, 4, 4)) <
-        3.5e-8);  // measured 1.1e-8
+  CHECK(worst_row_sum_ratio(icosphere_mesh(Eigen::Vector3d::Zero(), 1.0, 2)) < 6e-8);                                     // measured 1.9e-8
+  CHECK(worst_row_sum_ratio(box_mesh(Eigen::Vector3d(-1, -0.6, -0.6), Eigen::Vector3d(1, 0.6, 0.6), 6, 4, 4)) < 3.5e-8);  // measured 1.1e-8
 }
 
 TEST_CASE("rows of H sum to zero on a hollow body (the cavity's shell counts with its own normals)") {

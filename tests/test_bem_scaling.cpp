@@ -73,8 +73,7 @@ TEST_CASE("uniform pressure: steel on a 1 mm cube matches E = 1 on a unit cube (
   for (const Units& u : {kUnit, kSteelMillimetre}) {
     const TriangleMesh m = cube(u.size);
     const Material material{u.young, 0.3, 0.0};
-    REQUIRE_NOTHROW(errors[k] = solve_exact_trace_problem(m, material, uniform_pressure_field(material, u.pressure),
-                                                          a_few_elements(m)));
+    REQUIRE_NOTHROW(errors[k] = solve_exact_trace_problem(m, material, uniform_pressure_field(material, u.pressure), a_few_elements(m)));
     ++k;
   }
   CHECK(errors[0].displacement > 0.0);

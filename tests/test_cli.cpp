@@ -81,10 +81,10 @@ constexpr double kEps = std::numeric_limits<double>::epsilon();
 
 /// Errors of the uniform-pressure solve of the cube [-1/2, 1/2]^3 with `div` divisions per side.
 struct PressureErrors {
-  double displacement = 0.0;  // max |u - u_exact| over elements / max |u_exact|
-  double support_traction = 0.0;  // max |t + p n| on the elements with u prescribed / p
+  double displacement = 0.0;           // max |u - u_exact| over elements / max |u_exact|
+  double support_traction = 0.0;       // max |t + p n| on the elements with u prescribed / p
   double interior_displacement = 0.0;  // max |u - u_exact| at the interior points / max |u_exact| on the surface
-  double interior_stress = 0.0;  // max |sigma + p I| at the interior points / p
+  double interior_stress = 0.0;        // max |sigma + p I| at the interior points / p
 };
 
 /// Every element carries the pressure p except one per face (the one nearest the face's centre),
@@ -111,11 +111,13 @@ PressureErrors solve_cube_under_pressure(int div, const TempDir& dir) {
   dir.write(tag + "_bc.csv", bc.str());
   dir.write(tag + "_points.csv", "x,y,z\n0,0,0\n0.2,-0.1,0.3\n-0.25,0.25,-0.25\n");
   std::ostringstream scene;
-  scene << R"({"mesh": {"generator": "box", "min": [-0.5, -0.5, -0.5], "max": [0.5, 0.5, 0.5], "divisions": [)" << div << ","
-        << div << "," << div << R"(]},
+  scene << R"({"mesh": {"generator": "box", "min": [-0.5, -0.5, -0.5], "max": [0.5, 0.5, 0.5], "divisions": [)" << div << "," << div << ","
+        << div << R"(]},
       "material": {"young_modulus": 3000, "poisson_ratio": 0.3, "density": 0},
-      "boundary_conditions": {"rules": [{"select": {"all": true}, "pressure": 100}], "file": ")" << tag << R"(_bc.csv"},
-      "interior_points": {"file": ")" << tag << R"(_points.csv"}})";
+      "boundary_conditions": {"rules": [{"select": {"all": true}, "pressure": 100}], "file": ")"
+        << tag << R"(_bc.csv"},
+      "interior_points": {"file": ")"
+        << tag << R"(_points.csv"}})";
   const std::string scene_path = dir.write(tag + ".json", scene.str());
   const std::string out = dir.file(tag + "_out");
   const Run r = run_cli("solve '" + scene_path + "' -o '" + out + "'", dir);
@@ -155,8 +157,7 @@ PressureErrors solve_cube_under_pressure(int div, const TempDir& dir) {
     REQUIRE(row.size() == 12);
     const Vec3 x(row[0], row[1], row[2]), u(row[3], row[4], row[5]);
     err.interior_displacement = std::max(err.interior_displacement, (u - k * x).norm() / u_max);
-    for (int i = 0; i < 6; ++i)
-      err.interior_stress = std::max(err.interior_stress, std::abs(row[6 + i] + (i < 3 ? kP : 0.0)) / kP);
+    for (int i = 0; i < 6; ++i) err.interior_stress = std::max(err.interior_stress, std::abs(row[6 + i] + (i < 3 ? kP : 0.0)) / kP);
   }
   return err;
 }
@@ -197,10 +198,9 @@ TEST_CASE("solve: a cube under uniform pressure matches sigma = -p I, u = -p (1 
   // stress 6.41 % -> 1.65 % (1.96). Bounds: orders ~0.75x, errors ~1.3-1.45x the measured.
   const PressureErrors coarse = solve_cube_under_pressure(2, dir);
   const PressureErrors fine = solve_cube_under_pressure(4, dir);
-  INFO("displacement " << coarse.displacement << " -> " << fine.displacement << ", support traction "
-                       << coarse.support_traction << " -> " << fine.support_traction << ", interior u "
-                       << coarse.interior_displacement << " -> " << fine.interior_displacement << ", interior stress "
-                       << coarse.interior_stress << " -> " << fine.interior_stress);
+  INFO("displacement " << coarse.displacement << " -> " << fine.displacement << ", support traction " << coarse.support_traction << " -> "
+                       << fine.support_traction << ", interior u " << coarse.interior_displacement << " -> " << fine.interior_displacement
+                       << ", interior stress " << coarse.interior_stress << " -> " << fine.interior_stress);
   CHECK(coarse.displacement < 0.12);
   CHECK(fine.displacement < 0.05);
   CHECK(fine.support_traction < 0.055);
@@ -326,10 +326,9 @@ TEST_CASE("press: --direction is any finite nonzero vector, however large or sma
   // force equals that of 1,0,-1 (measured: identical; bound 16 eps, the normalisation's 2 eps per
   // component through a bonded point's 3 rows) and differs from straight down (measured
   // |F3 - F0| = 0.51 |F0|).
-  INFO("F(0,0,-1) = " << F[0].transpose() << ", F(1e-200,0,-1e-200) = " << F[3].transpose() << ", F(1,0,-1) = "
-                      << F[4].transpose() << ", F(-1,0,-1) = " << F[5].transpose() << "; |F3 - F4|/|F4| = "
-                      << (F[3] - F[4]).norm() / F[4].norm() << ", |F3 + F5 - sqrt2 F0|/|F0| = "
-                      << (F[3] + F[5] - std::sqrt(2.0) * F[0]).norm() / F[0].norm());
+  INFO("F(0,0,-1) = " << F[0].transpose() << ", F(1e-200,0,-1e-200) = " << F[3].transpose() << ", F(1,0,-1) = " << F[4].transpose()
+                      << ", F(-1,0,-1) = " << F[5].transpose() << "; |F3 - F4|/|F4| = " << (F[3] - F[4]).norm() / F[4].norm()
+                      << ", |F3 + F5 - sqrt2 F0|/|F0| = " << (F[3] + F[5] - std::sqrt(2.0) * F[0]).norm() / F[0].norm());
   CHECK((F[3] - F[4]).norm() <= 16 * kEps * F[4].norm());
   CHECK((F[3] - F[0]).norm() > 0.1 * F[0].norm());
   // A bonded point tool is linear in its displacement, depth x unit direction, and the body (no

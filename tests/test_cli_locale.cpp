@@ -44,9 +44,7 @@ class CommaDecimalLocale {
     if (available) {
       try {
         std::locale::global(std::locale(kCommaLocale));
-      } catch (const std::runtime_error&) {
-        available = false;
-      }
+      } catch (const std::runtime_error&) { available = false; }
     }
     if (!available) std::setlocale(LC_ALL, saved_c_.c_str());
     bemsurg::testing::skip_unless(available, "no de_DE.UTF-8 locale on this machine (Debian: locales, locale-gen de_DE.UTF-8)");
@@ -71,8 +69,7 @@ bool parse(bemsurg::cli::OptionParser& parser, std::vector<const char*> args) {
 
 }  // namespace
 
-TEST_CASE("under a comma-decimal locale the command line reads 0.25 as 0.25 and refuses 0,25 naming the option",
-          "[cli][locale]") {
+TEST_CASE("under a comma-decimal locale the command line reads 0.25 as 0.25 and refuses 0,25 naming the option", "[cli][locale]") {
   const CommaDecimalLocale locale;
   REQUIRE(std::string(std::localeconv()->decimal_point) == ",");  // the hazard is real in this process
 
@@ -109,8 +106,8 @@ TEST_CASE("under a comma-decimal locale --help writes the defaults with a point 
   parser.value("--sizes", "N1,N2", sizes, "sizes");
   const std::string help = parser.help();
   INFO(help);
-  CHECK_THAT(help, Catch::Contains("(default: 1e-08)") && Catch::Contains("(default: 0.25)") &&
-                       Catch::Contains("(default: 10000)") && Catch::Contains("(default: 1584,4752)"));
+  CHECK_THAT(help, Catch::Contains("(default: 1e-08)") && Catch::Contains("(default: 0.25)") && Catch::Contains("(default: 10000)") &&
+                       Catch::Contains("(default: 1584,4752)"));
   CHECK(help.find("0,25") == std::string::npos);
 }
 
@@ -126,8 +123,7 @@ TEST_CASE("bemsurg press run under LC_ALL=de_DE.UTF-8 reads --depth 0.001 and wr
                                        "displacement": [0, 0, 0]}]}})");
   const std::string out = dir.file("out"), log = dir.file("log.txt");
   const std::string command = std::string("LC_ALL=") + kCommaLocale + " '" + BEMSURG_CLI_PATH + "' press '" + scene +
-                              "' --tool point --at 0.01,0.01,0.05 --direction 0,0,-1 --depth 0.001 -o '" + out + "' >'" +
-                              log + "' 2>&1";
+                              "' --tool point --at 0.01,0.01,0.05 --direction 0,0,-1 --depth 0.001 -o '" + out + "' >'" + log + "' 2>&1";
   const int status = std::system(command.c_str());
   std::ifstream log_in(log);
   std::stringstream printed;

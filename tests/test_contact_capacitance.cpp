@@ -4,9 +4,9 @@
 #include <algorithm>
 #include <atomic>
 #include <catch2/catch.hpp>
-#include <memory>
 #include <cstdlib>
 #include <limits>
+#include <memory>
 #include <new>
 
 #include "bemsurg/assembly/influence_assembler.hpp"
@@ -85,9 +85,7 @@ constexpr double kEps = std::numeric_limits<double>::epsilon();
 constexpr double kSolve = 40.0 * 864.0 * kEps;  // 7.7e-12
 constexpr double kContact = 30.0 * kSolve;      // 2.3e-10
 
-double relative_difference(const RowMatrixX3d& a, const RowMatrixX3d& b) {
-  return (a - b).norm() / std::max(1e-300, b.norm());
-}
+double relative_difference(const RowMatrixX3d& a, const RowMatrixX3d& b) { return (a - b).norm() / std::max(1e-300, b.norm()); }
 
 }  // namespace
 
@@ -129,7 +127,7 @@ TEST_CASE("bonded capacitance contact equals a full re-solve for 1, 7 and 50 ele
       tr.row(i) = ref.traction.row(e);
       ref_force -= f.mesh.area(e) * ref.traction.row(e).transpose();
     }
-    CHECK(relative_difference(tc, tr) < kContact);                         // measured 1.1e-14, 2.6e-13, 3.2e-13
+    CHECK(relative_difference(tc, tr) < kContact);                              // measured 1.1e-14, 2.6e-13, 3.2e-13
     CHECK((contact.force() - ref_force).norm() < kContact * ref_force.norm());  // measured 1.1e-14, 1.0e-14, 2.7e-14
     // The O(k) force-only path gives the same force without the tractions: the same 3k terms summed
     // another way, 2 (3k) eps (measured 1.5e-17, 1.6e-16, 1.6e-16).
@@ -262,7 +260,7 @@ TEST_CASE("paper mode (Up/Tp, eq. 10) equals single-element capacitance contact"
     // One element: a 3 x 3 block G_jj of condition number 1.5 solved two ways; c n eps with n = 3
     // and c = 10 (the condition number times the roundings of the 3 x 3 solves): 6.7e-15.
     const double tol = 10.0 * 3.0 * kEps;
-    CHECK((up - uc).norm() < tol * uc.norm());                                // measured 2.4e-18 .. 1.6e-17
+    CHECK((up - uc).norm() < tol * uc.norm());                                  // measured 2.4e-18 .. 1.6e-17
     CHECK((paper.force(j, push) - c.force()).norm() < tol * c.force().norm());  // measured 6.6e-16 .. 9.7e-16
     // The paper's Up column j moves node j by exactly the unit push (measured 1.1e-16 .. 2.7e-16).
     CHECK((paper.up(j).middleRows(3 * j, 3) - Eigen::Matrix3d::Identity()).norm() < tol);

@@ -113,8 +113,8 @@ TEST_CASE("bemsurg press refuses depths beyond the small-strain range and stays 
   const fs::path& dir = temp.path;
   auto write_scene = [&](const std::string& name, double height, int nz) {
     std::ofstream scene(dir / name);
-    scene << R"({"mesh": {"generator": "box", "min": [-0.05, -0.05, 0], "max": [0.05, 0.05, )" << height
-          << R"(], "divisions": [6, 6, )" << nz << R"(]},
+    scene << R"({"mesh": {"generator": "box", "min": [-0.05, -0.05, 0], "max": [0.05, 0.05, )" << height << R"(], "divisions": [6, 6, )"
+          << nz << R"(]},
                  "material": {"young_modulus": 3000, "poisson_ratio": 0.45, "density": 1000},
                  "gravity": [0, 0, -9.81],
                  "boundary_conditions": {"rules": [{"select": {"plane": {"point": [0, 0, 0], "normal": [0, 0, 1]}},
@@ -128,14 +128,11 @@ TEST_CASE("bemsurg press refuses depths beyond the small-strain range and stays 
 
   // Before: a sphere pushed deeper than its radius gave zero force on zero elements with exit 0;
   // a flat tool pushed 1.7e308 gave NaN forces; 1 m into a 5 cm body gave a force without a word.
-  CHECK(run_capture("press " + tall + " --tool sphere:0.02 --at 0,0,0.3 --direction 0,0,-1 --depth 0.025 -o " + out, log,
-                    text) == 1);
+  CHECK(run_capture("press " + tall + " --tool sphere:0.02 --at 0,0,0.3 --direction 0,0,-1 --depth 0.025 -o " + out, log, text) == 1);
   CHECK_THAT(text, Catch::Contains("1.25 times the tool radius 0.02") && Catch::Contains("depth <= 0.01"));
-  CHECK(run_capture("press " + flat_block + " --tool flat:0.02 --at 0,0,0.1 --direction 0,0,-1 --depth 1.7e308 -o " + out,
-                    log, text) == 1);
+  CHECK(run_capture("press " + flat_block + " --tool flat:0.02 --at 0,0,0.1 --direction 0,0,-1 --depth 1.7e308 -o " + out, log, text) == 1);
   CHECK_THAT(text, Catch::Contains("small-strain range") && Catch::Contains("depth <= 0.01"));
-  CHECK(run_capture("press " + flat_block + " --tool point --at 0,0,0.1 --direction 0,0,-1 --depth 1 -o " + out, log,
-                    text) == 1);
+  CHECK(run_capture("press " + flat_block + " --tool point --at 0,0,0.1 --direction 0,0,-1 --depth 1 -o " + out, log, text) == 1);
   CHECK_THAT(text, Catch::Contains("2e+03 % of the body's extent along the push (0.05)"));
   CHECK_FALSE(fs::exists(dir / "out" / "force.json"));  // refused before any work
 

@@ -2,10 +2,10 @@
 // Boussinesq's flat punch and Hertz's sphere on a large graded block (closed-form forces),
 // pinch sign reversal, plate retractor, two tools at once, unilateral release.
 #include <catch2/catch.hpp>
-#include <memory>
 #include <cmath>
 #include <iostream>
 #include <limits>
+#include <memory>
 
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/presolution/contact_tools.hpp"
@@ -66,8 +66,8 @@ struct SmallBox {
     GreensTableOptions options;
     options.gravity = Eigen::Vector3d(0, 0, -9.81);
     // Shared by 11 cases, each its own process under ctest: computed once, then read from its file.
-    table = testing::cached_greens_table("contact-tools-small-box", mesh, material,
-                                         supported_base_conditions(mesh.num_elements(), bottom), options);
+    table = testing::cached_greens_table("contact-tools-small-box", mesh, material, supported_base_conditions(mesh.num_elements(), bottom),
+                                         options);
     mesh_ptr = std::make_shared<const TriangleMesh>(mesh);  // the solvers hold shared snapshots
     table_ptr = std::make_shared<const GreensTable>(table);
   }
@@ -108,8 +108,8 @@ TEST_CASE("frictionless flat punch converges towards Boussinesq 2aEd/(1-nu^2) as
     CHECK(std::abs(F.x()) < 2.0 * solver.contact_elements(punch) * kEps * F.z());
     const double err = F.z() / boussinesq - 1.0;
     errors.push_back(std::abs(err));
-    std::cout << "flat punch: L/a = " << lv.L << ", h/a = " << lv.h << ", " << block.mesh.num_elements()
-              << " elements, " << solver.contact_elements(punch) << " in contact: F/F_Boussinesq = " << 1.0 + err << "\n";
+    std::cout << "flat punch: L/a = " << lv.L << ", h/a = " << lv.h << ", " << block.mesh.num_elements() << " elements, "
+              << solver.contact_elements(punch) << " in contact: F/F_Boussinesq = " << 1.0 + err << "\n";
     const int bonded = solver.add_tool(ToolSpec::flat(a, ContactMode::Bonded));
     solver.release(punch);
     solver.place(bonded, Vec3(0, 0, 0), Vec3(0, 0, -1));
@@ -150,18 +150,18 @@ TEST_CASE("sphere: Hertz force and a contact set that grows as sqrt(R d)", "[con
     const double F = solver.force(sphere).z();
     const double hertz = 4.0 / 3.0 * m.young_modulus / (1.0 - 0.09) * std::sqrt(R) * std::pow(d, 1.5);
     const double area = contact_area(solver, block.mesh, sphere);
-    std::cout << "sphere: d = " << d << ", " << solver.contact_elements(sphere) << " elements in contact (area / pi R d = "
-              << area / (M_PI * R * d) << "), F/F_Hertz = " << F / hertz << ", active-set iterations "
-              << report.active_set_iterations << "\n";
+    std::cout << "sphere: d = " << d << ", " << solver.contact_elements(sphere)
+              << " elements in contact (area / pi R d = " << area / (M_PI * R * d) << "), F/F_Hertz = " << F / hertz
+              << ", active-set iterations " << report.active_set_iterations << "\n";
     CHECK(solver.contact_elements(sphere) > last_count);  // the set grows with depth
     last_count = solver.contact_elements(sphere);
     // The excess over Hertz is positive and grows with the depth (the truncated block's trend).
     CHECK(F / hertz > last_ratio);
     last_ratio = F / hertz;
     if (d >= 0.05) {
-      CHECK(F / hertz - 1.0 > 0.02);                         // measured >= 0.060: a third of it
-      CHECK(std::abs(F / hertz - 1.0) < 0.10);               // measured <= 0.075
-      CHECK(std::abs(area / (M_PI * R * d) - 1.0) < 0.3);    // measured <= 0.25
+      CHECK(F / hertz - 1.0 > 0.02);                       // measured >= 0.060: a third of it
+      CHECK(std::abs(F / hertz - 1.0) < 0.10);             // measured <= 0.075
+      CHECK(std::abs(area / (M_PI * R * d) - 1.0) < 0.3);  // measured <= 0.25
     }
     // Unilateral: no contact element pulls (measured: every one pushes with at least 0.05 |F|; the
     // slack 1e-12 |F| only admits rounding).
@@ -176,7 +176,7 @@ TEST_CASE("pinch: the contact sticks and pulling reverses the force exactly", "[
   ToolContactSolver solver(b.mesh_ptr, b.table_ptr);
   const int pinch = solver.add_tool(ToolSpec::pinch(0.1));
   REQUIRE(solver.engage(pinch, Vec3(0.52, 0.47, 2.0), Vec3(0, 0, -1)));
-  REQUIRE(solver.contact_elements(pinch) == 0);  // not yet updated
+  REQUIRE(solver.contact_elements(pinch) == 0);           // not yet updated
   solver.set_translation(pinch, Vec3(0.001, 0.0, 0.01));  // pull up and a little sideways
   solver.update();
   const Eigen::Vector3d pull = solver.force(pinch);
@@ -263,7 +263,8 @@ Vec3 plate_force_from_table(const SmallBox& b, const std::vector<Index>& list, c
   Eigen::VectorXd rhs(3 * k);
   for (Index i = 0; i < k; ++i) {
     rhs.segment<3>(3 * i) = d[static_cast<std::size_t>(i)];
-    for (Index j = 0; j < k; ++j) G.block<3, 3>(3 * i, 3 * j) = b.table.block(list[static_cast<std::size_t>(i)], list[static_cast<std::size_t>(j)]);
+    for (Index j = 0; j < k; ++j)
+      G.block<3, 3>(3 * i, 3 * j) = b.table.block(list[static_cast<std::size_t>(i)], list[static_cast<std::size_t>(j)]);
   }
   Eigen::VectorXd t;
   if (!frictionless) {
@@ -373,8 +374,7 @@ TEST_CASE("two tools at once interact through the body", "[contact][two-hands]")
   CHECK((solver.force(left) - alone).norm() < 2.0 * kCond * both_rows * kEps * alone.norm());
 }
 
-TEST_CASE("a flat punch narrower than the elements presses the element its axis lands on, like a bonded point",
-          "[contact][punch]") {
+TEST_CASE("a flat punch narrower than the elements presses the element its axis lands on, like a bonded point", "[contact][punch]") {
   SmallBox& b = small_box();  // top elements are about 0.17 wide: a 0.01-radius disc covers no centroid
   ToolContactSolver solver(b.mesh_ptr, b.table_ptr);
   const int narrow = solver.add_tool(ToolSpec::flat(0.01, ContactMode::Bonded));

@@ -9,9 +9,9 @@
 #include <memory>
 #include <random>
 
+#include "bemsurg/assembly/cut_change.hpp"
 #include "bemsurg/assembly/influence_assembler.hpp"
 #include "bemsurg/assembly/linear_system.hpp"
-#include "bemsurg/assembly/cut_change.hpp"
 #include "bemsurg/cutting/cut_system_update.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/presolution/greens_table.hpp"
@@ -118,7 +118,8 @@ TEST_CASE("inversion by partitioning equals the direct inverse of the grown BEM 
   const Eigen::MatrixXd A = build_system_matrix(hg, bc);
   const Index n = 3 * step.delta.elements_before, m = A.rows() - n;
   const Eigen::MatrixXd A0inv = A.topLeftCorner(n, n).partialPivLu().inverse();
-  const Eigen::MatrixXd grown = grow_inverse_by_partitioning(A0inv, A.bottomLeftCorner(m, n), A.topRightCorner(n, m), A.bottomRightCorner(m, m));
+  const Eigen::MatrixXd grown =
+      grow_inverse_by_partitioning(A0inv, A.bottomLeftCorner(m, n), A.topRightCorner(n, m), A.bottomRightCorner(m, m));
   const Eigen::MatrixXd direct = A.partialPivLu().inverse();
   const double err = relative_max(grown, direct);
   INFO("partitioned vs direct inverse: " << err);
@@ -126,7 +127,8 @@ TEST_CASE("inversion by partitioning equals the direct inverse of the grown BEM 
   // The residual of an inverse computed through LU: |X A - I| <= c n eps |X| |A| entry by entry
   // (c = 1: n = 390 terms per entry); measured 1.5e-11, large because the columns' norms differ by 1.3e4.
   const double dim = static_cast<double>(A.rows());
-  CHECK(relative_max(grown * A, Eigen::MatrixXd::Identity(A.rows(), A.cols())) <= dim * kEps * (grown.cwiseAbs() * A.cwiseAbs()).maxCoeff());
+  CHECK(relative_max(grown * A, Eigen::MatrixXd::Identity(A.rows(), A.cols())) <=
+        dim * kEps * (grown.cwiseAbs() * A.cwiseAbs()).maxCoeff());
 }
 
 TEST_CASE("the low-rank-updated factorisation solves grown and reshaped systems", "[cut]") {
@@ -190,8 +192,9 @@ TEST_CASE("a Green's table updated after cut steps equals the table computed fro
   std::vector<Index> candidates = body.top;
   double worst = 0.0;
   for (int step = 0; step < 5; ++step) {
-    SyntheticStep s = step == 3 ? bemsurg::testing::move_vertex(*table->mesh(), table->mesh()->faces()(candidates[2], 0), Vec3(0.0, 0.0, -0.04))
-                                : bemsurg::testing::random_split(*table->mesh(), candidates, 0.1, rng);
+    SyntheticStep s = step == 3
+                          ? bemsurg::testing::move_vertex(*table->mesh(), table->mesh()->faces()(candidates[2], 0), Vec3(0.0, 0.0, -0.04))
+                          : bemsurg::testing::random_split(*table->mesh(), candidates, 0.1, rng);
     for (Index e : s.delta.added) candidates.push_back(e);
     GreensTableUpdateResult report;
     auto next = table->updated(s.mesh, s.delta, {}, &report);

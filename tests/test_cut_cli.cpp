@@ -32,7 +32,8 @@ const char* kRules = R"("material": {"young_modulus": 3000, "poisson_ratio": 0.4
 
 std::string box_scene(const bemsurg_test::TempDir& dir) {
   return dir.write("scene.json", std::string(R"({"mesh": {"generator": "box", "min": [-0.05, -0.05, 0], "max": [0.05, 0.05, 0.05],
-                 "divisions": [6, 6, 3]}, )") + kRules + "}");
+                 "divisions": [6, 6, 3]}, )") +
+                                     kRules + "}");
 }
 
 std::vector<std::vector<double>> read_csv(const fs::path& path) {

@@ -67,8 +67,7 @@ void require_clean_surface(const TriangleMesh& mesh) {
   INFO(report.summary());
   REQUIRE(report.valid());
   const auto pairs = find_self_intersections(mesh);
-  INFO("first intersecting pair: " << (pairs.empty() ? -1 : pairs[0].first) << ", "
-                                   << (pairs.empty() ? -1 : pairs[0].second));
+  INFO("first intersecting pair: " << (pairs.empty() ? -1 : pairs[0].first) << ", " << (pairs.empty() ? -1 : pairs[0].second));
   REQUIRE(pairs.empty());
 }
 
@@ -103,8 +102,8 @@ struct Snapshot {
 };
 
 // Runs one action and checks whatever it did; returns whether it was accepted.
-bool checked_action(SurfaceCutter& cutter, bool deepen, const Vec3& from, const Vec3& direction,
-                    const TriangleMesh& original, const std::vector<char>& original_locks, std::string* reason = nullptr) {
+bool checked_action(SurfaceCutter& cutter, bool deepen, const Vec3& from, const Vec3& direction, const TriangleMesh& original,
+                    const std::vector<char>& original_locks, std::string* reason = nullptr) {
   const Snapshot before(cutter);
   const CutStep step = deepen ? cutter.deepen() : cutter.step(from, direction);
   if (reason) *reason = step.reason;
@@ -161,12 +160,12 @@ TEST_CASE("opening a cut makes a groove of the asked width and depth and removes
     CHECK((m.vertex(s[2].vertex) - Vec3(0.375, 0.5, 1)).norm() < 1e-15);
     const Vec3 left = m.vertex(s[1].left[0]), right = m.vertex(s[1].right[0]);
     const Vec3 left_bottom = m.vertex(s[1].left[1]), right_bottom = m.vertex(s[1].right[1]);
-    CHECK(std::abs((left - right).norm() - 0.1 * h) < 1e-15);                 // width across the rim
-    CHECK(std::abs((left_bottom - right_bottom).norm() - 0.1 * h) < 1e-15);   // and across the bottom
-    CHECK(std::abs((left - right).x()) < 1e-15);                                // across the path (x)
-    CHECK(std::abs((left - right).z()) < 1e-15);                                // in the surface
-    CHECK((left - Vec3(0.3125, 0.5, 1)).norm() == 0.0);  // the left rim is the path vertex, unmoved
-    CHECK(right.y() < left.y());                          // the groove lies right of the path (-y)
+    CHECK(std::abs((left - right).norm() - 0.1 * h) < 1e-15);                // width across the rim
+    CHECK(std::abs((left_bottom - right_bottom).norm() - 0.1 * h) < 1e-15);  // and across the bottom
+    CHECK(std::abs((left - right).x()) < 1e-15);                             // across the path (x)
+    CHECK(std::abs((left - right).z()) < 1e-15);                             // in the surface
+    CHECK((left - Vec3(0.3125, 0.5, 1)).norm() == 0.0);                      // the left rim is the path vertex, unmoved
+    CHECK(right.y() < left.y());                                             // the groove lies right of the path (-y)
     CHECK(std::abs(0.5 * (left + right).z() - 0.5 * (left_bottom + right_bottom).z() - h) < 1e-15);  // depth
     // Two cones from the ends to the rectangle w x d half an edge away: w d h / 3 removed.
     const double w = 0.1 * h, d = h;
@@ -344,7 +343,7 @@ TEST_CASE("steps that cannot be done cleanly are refused with the reason and cha
   SECTION("deepening until the end fans would be slivers") {
     SurfaceCutter cutter(mesh, {});
     REQUIRE(checked_action(cutter, false, Vec3(0.5, 0.5, 1), Vec3(1, 0, 0), box, none));
-    REQUIRE(checked_action(cutter, true, Vec3::Zero(), Vec3::Zero(), box, none));  // two levels: 2.6 degrees
+    REQUIRE(checked_action(cutter, true, Vec3::Zero(), Vec3::Zero(), box, none));               // two levels: 2.6 degrees
     CHECK_FALSE(checked_action(cutter, true, Vec3::Zero(), Vec3::Zero(), box, none, &reason));  // three: 1.8
     CHECK_THAT(reason, Catch::Contains("below the minimum"));
   }

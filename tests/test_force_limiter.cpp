@@ -31,7 +31,7 @@ TEST_CASE("a huge finite request ramps to max_force instead of freezing", "[hapt
       CHECK(f.norm() <= kMaxForce * (1.0 + kSlack));
       last = f;
     }
-    CHECK(last.norm() == Approx(kMaxForce).epsilon(4 * kEps));                                 // measured 1.1e-16
+    CHECK(last.norm() == Approx(kMaxForce).epsilon(4 * kEps));                                     // measured 1.1e-16
     CHECK(last.x() == Approx(std::copysign(kMaxForce / std::sqrt(2.0), huge)).epsilon(4 * kEps));  // measured 0
   }
 }

@@ -46,18 +46,14 @@ BrainModelOptions test_brain() {
 std::string error_of(const std::function<void()>& f) {
   try {
     f();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
+  } catch (const std::exception& e) { return e.what(); }
   return "NO EXCEPTION";
 }
 
 std::string scene_error(const std::string& json) {
   try {
     load_scene_from_string(json, ".", "test.json");
-  } catch (const SceneError& e) {
-    return e.what();
-  } catch (const std::exception& e) {
+  } catch (const SceneError& e) { return e.what(); } catch (const std::exception& e) {
     return std::string("WRONG EXCEPTION TYPE: ") + e.what();
   }
   return "NO EXCEPTION";
@@ -105,7 +101,11 @@ TEST_CASE("The brain model is a valid, deterministic, mirror-symmetric surface w
   const double fissure_top = brain_surface_point(o, Vec3(0, 0, 1)).z();
   const double hemisphere_top = brain_surface_point(o, Vec3(0.1, 0.45, 1.0)).z();
   CHECK(hemisphere_top - fissure_top > 0.008);  // a groove of more than 8 mm (measured 9.7 mm)
-  CHECK_THROWS_WITH(brain_mesh([] { BrainModelOptions x; x.size.y() = -1; return x; }()),
+  CHECK_THROWS_WITH(brain_mesh([] {
+                      BrainModelOptions x;
+                      x.size.y() = -1;
+                      return x;
+                    }()),
                     Catch::Contains("size must be three positive lengths"));
 }
 
@@ -138,13 +138,12 @@ TEST_CASE("A graded remesh of the brain is closed, oriented, well shaped and gra
   for (Index e = 0; e < r.mesh.num_elements(); ++e) {
     const double d = region.distance(r.mesh.centroid(e));
     if (d == 0.0) inside += element_size(r.mesh, e), ++n_inside;
-    if (d > 0.06)
-      far += element_size(r.mesh, e), far_target += graded_target_size(region, o, r.mesh.centroid(e)), ++n_far;
+    if (d > 0.06) far += element_size(r.mesh, e), far_target += graded_target_size(region, o, r.mesh.centroid(e)), ++n_far;
   }
   REQUIRE(n_inside > 10);
   REQUIRE(n_far > 10);
   CHECK(inside / n_inside == Approx(o.inside_edge_length).epsilon(0.03));  // measured 1.0 % below
-  CHECK(far / n_far == Approx(far_target / n_far).epsilon(0.25));            // measured 11 % below
+  CHECK(far / n_far == Approx(far_target / n_far).epsilon(0.25));          // measured 11 % below
   CHECK(far / n_far > 2.0 * o.inside_edge_length);
 }
 
@@ -165,8 +164,7 @@ TEST_CASE("A graded remesh keeps the creases of a box and both shells of a hollo
   CHECK(r.quality.max_neighbour_size_ratio < 1.6);
 
   const TriangleMesh hollow = hollow_sphere_mesh(Vec3::Zero(), 0.02, 0.04, 3, 3);
-  const GradedRemeshResult h =
-      graded_remesh(hollow, OperatingRegion::sphere(Vec3(0, 0, 0.04), 0.01), lengths(0.005, 0.012));
+  const GradedRemeshResult h = graded_remesh(hollow, OperatingRegion::sphere(Vec3(0, 0, 0.04), 0.01), lengths(0.005, 0.012));
   REQUIRE_NOTHROW(require_valid_mesh(h.mesh));  // includes: the cavity's normals point into it
   const MeshTopology topo(h.mesh);
   CHECK(topo.num_shells() == 2);
@@ -208,8 +206,7 @@ TEST_CASE("The remesher refuses bad input with messages that name the problem", 
              Catch::Contains("inside_edge_length must be a positive length"));
   CHECK_THAT(error_of([&] { graded_remesh(box, top, lengths(0.005, -1.0)); }),
              Catch::Contains("outside_edge_length must be a positive length"));
-  CHECK_THAT(error_of([&] { graded_remesh(box, top, lengths(0.02, 0.005)); }),
-             Catch::Contains("is larger than outside_edge_length"));
+  CHECK_THAT(error_of([&] { graded_remesh(box, top, lengths(0.02, 0.005)); }), Catch::Contains("is larger than outside_edge_length"));
   // An open surface: the box without its last face.
   const TriangleMesh open(box.vertices(), box.faces().topRows(box.num_elements() - 1));
   CHECK_THAT(error_of([&] { graded_remesh(open, top, lengths(0.005, 0.02)); }),
@@ -221,18 +218,19 @@ TEST_CASE("The remesher refuses bad input with messages that name the problem", 
     BrainModelOptions coarse;
     coarse.subdivisions = 4;
     const TriangleMesh b = brain_mesh(coarse);
-    CHECK_THROWS_AS(graded_remesh(b, OperatingRegion::sphere(brain_surface_point(coarse, Vec3(0.1, 0.45, 1.0)), 0.025),
-                                  lengths(0.012, 0.03)),
-                    Error);
+    CHECK_THROWS_AS(
+        graded_remesh(b, OperatingRegion::sphere(brain_surface_point(coarse, Vec3(0.1, 0.45, 1.0)), 0.025), lengths(0.012, 0.03)), Error);
   }
 }
 
 TEST_CASE("The scene's operating_region is checked key by key", "[graded][scene][errors]") {
   CHECK_THAT(scene_error(box_scene(R"({"sphere": {"center": [1, 1, 1], "radius": 0.01}})")),
              Catch::StartsWith("operating_region: sphere") && Catch::Contains("does not meet the surface"));
-  CHECK_THAT(scene_error(box_scene(R"({"sphere": {"center": [0, 0, 0.05], "radius": 0.01}, "inside_edge_length": 0, "outside_edge_length": 0.02})")),
+  CHECK_THAT(scene_error(box_scene(
+                 R"({"sphere": {"center": [0, 0, 0.05], "radius": 0.01}, "inside_edge_length": 0, "outside_edge_length": 0.02})")),
              Catch::StartsWith("operating_region.inside_edge_length: must be positive"));
-  CHECK_THAT(scene_error(box_scene(R"({"sphere": {"center": [0, 0, 0.05], "radius": 0.01}, "inside_edge_length": 0.03, "outside_edge_length": 0.01})")),
+  CHECK_THAT(scene_error(box_scene(
+                 R"({"sphere": {"center": [0, 0, 0.05], "radius": 0.01}, "inside_edge_length": 0.03, "outside_edge_length": 0.01})")),
              Catch::StartsWith("operating_region.inside_edge_length: is larger than operating_region.outside_edge_length"));
   CHECK_THAT(scene_error(box_scene(R"({"sphere": {"center": [0, 0, 0.05], "radius": 0.01}, "inside_edge_length": 0.01})")),
              Catch::StartsWith("operating_region.outside_edge_length: missing"));
@@ -242,7 +240,8 @@ TEST_CASE("The scene's operating_region is checked key by key", "[graded][scene]
              Catch::StartsWith("operating_region.elements[1]: element 999 out of range"));
   CHECK_THAT(scene_error(box_scene(R"({"sphere": {"center": [0, 0, 0.05], "radius": 0.01}, "box": {"min": [0, 0, 0], "max": [1, 1, 1]}})")),
              Catch::StartsWith("operating_region: expected exactly one of"));
-  CHECK_THAT(scene_error(box_scene(R"({"sphere": {"center": [0, 0, 0.05], "radius": 0.01}, "inside_edge_length": 1e-5, "outside_edge_length": 0.02})")),
+  CHECK_THAT(scene_error(box_scene(
+                 R"({"sphere": {"center": [0, 0, 0.05], "radius": 0.01}, "inside_edge_length": 1e-5, "outside_edge_length": 0.02})")),
              Catch::StartsWith("operating_region.inside_edge_length: would give about"));
   // Only the held bottom inside the region: nothing for a table.
   CHECK_THAT(scene_error(box_scene(R"({"box": {"min": [-0.01, -0.01, -0.001], "max": [0.01, 0.01, 0.001]}})")),

@@ -11,7 +11,6 @@
 #include <thread>
 
 #include "bemsurg/error.hpp"
-#include "support/half_space_table.hpp"
 #include "bemsurg/haptics/haptic_loop.hpp"
 #include "bemsurg/haptics/recording_device.hpp"
 #include "bemsurg/haptics/scripted_device.hpp"
@@ -20,6 +19,7 @@
 #include "bemsurg/presolution/greens_table.hpp"
 #include "support/allocation_counter.hpp"
 #include "support/cached_greens_table.hpp"
+#include "support/half_space_table.hpp"
 #include "support/temp_dir.hpp"
 
 using namespace bemsurg;
@@ -45,8 +45,8 @@ struct Block {
       if (m->normal(e).z() < -0.99) bottom.push_back(e);
     const Material material{2000.0, 0.3, 1000.0};
     // Shared by 14 cases, each its own process under ctest: computed once, then read from its file.
-    table = std::make_shared<const GreensTable>(testing::cached_greens_table(
-        "haptic-loop-block", *m, material, supported_base_conditions(m->num_elements(), bottom), {}));
+    table = std::make_shared<const GreensTable>(
+        testing::cached_greens_table("haptic-loop-block", *m, material, supported_base_conditions(m->num_elements(), bottom), {}));
     mesh = m;
   }
 };
@@ -165,7 +165,7 @@ TEST_CASE("a force above the device limit is clamped to 3.3 N and ramps at the r
   }
   TickSample sample;
   REQUIRE(loop.latest(sample));
-  CHECK(sample.channel[0].model_force.norm() > 18.0);  // what the model asked for: measured 55.4 N, bound a third
+  CHECK(sample.channel[0].model_force.norm() > 18.0);                  // what the model asked for: measured 55.4 N, bound a third
   CHECK(device.last_force().norm() == Approx(3.3).epsilon(4 * kEps));  // measured 1.1e-16 relative
   CHECK(loop.statistics().clamped_ticks > 0);
 }
@@ -227,7 +227,7 @@ TEST_CASE("the watchdog ramps the force to zero on stale state and on repeated o
       loop.tick(k * 1e-3);
       if (k == 100) at_stale = device.last_force().norm();
     }
-    CHECK(at_stale > 0.0);                      // full force until the state is 0.1 s old
+    CHECK(at_stale > 0.0);                     // full force until the state is 0.1 s old
     CHECK(device.last_force().norm() == 0.0);  // zero 0.05 s later, ramped
     // A fresh heartbeat brings the force back, ramping up.
     for (int k = 201; k <= 300; ++k) {
@@ -345,8 +345,7 @@ TEST_CASE("model swaps under a running loop are whole: every force is the old or
       auto m = point_model(version % 2 ? b.table : soft, version);
       if (loop.offer(m)) ++offered;
     }
-    while (loop.take_retired()) {
-    }
+    while (loop.take_retired()) {}
     TickSample t;
     while (loop.pop_sample(t)) {
       if (t.model_version == 0) continue;
@@ -413,9 +412,12 @@ TEST_CASE("a cut through the session hook swaps the new table in between ticks",
     for (const TickSample& t : c.samples) {
       if (t.time < 0.06) continue;  // still moving
       const Vec3& f = t.channel[0].model_force;
-      if ((f - before).norm() <= tol * before.norm()) ++olds;
-      else if ((f - after).norm() <= tol * after.norm()) ++news;
-      else ++neither;
+      if ((f - before).norm() <= tol * before.norm())
+        ++olds;
+      else if ((f - after).norm() <= tol * after.norm())
+        ++news;
+      else
+        ++neither;
       if (t.time > 0.1 + 0.01) CHECK(t.model_version > first_version);
     }
     CHECK(olds > 0);
@@ -521,7 +523,7 @@ TEST_CASE("an action script becomes keyframes: a press starts at first contact a
   const Session ps(b.mesh, b.table, load_action_script_from_string(pinch), SessionOptions{});
   const ScriptedDevice g(ps.keyframes(0));
   CHECK(g.state_at(0.05).buttons == 0U);
-  CHECK(g.state_at(0.15).buttons == 1U);  // the jaws close: button 0 held
+  CHECK(g.state_at(0.15).buttons == 1U);                       // the jaws close: button 0 held
   CHECK(std::abs(g.state_at(0.15).position.z() - 0.5) < tol);  // measured 8.9e-16
   CHECK(g.state_at(0.25).buttons == 0U);
 }
@@ -543,7 +545,7 @@ TEST_CASE("the workspace maps device positions into the model and forces back", 
   REQUIRE(loop.latest(sample));
   CHECK((sample.channel[0].position - Vec3(0.52, 0.47, 0.499)).norm() < 4 * kEps);  // a scale and an offset: measured 0
   const Vec3 F = direct_point_force(block().table, Vec3(0.52, 0.47, 0.499));
-  CHECK((sample.channel[0].model_force - F).norm() < kCond * 3 * kEps * F.norm());  // bonded point, 3 rows: measured 0
+  CHECK((sample.channel[0].model_force - F).norm() < kCond * 3 * kEps * F.norm());             // bonded point, 3 rows: measured 0
   CHECK((device.last_force() - 0.5 * sample.channel[0].force).norm() <= 4 * kEps * F.norm());  // x 0.5: measured 0
 }
 
@@ -563,10 +565,10 @@ TEST_CASE("a sphere sliding at constant depth does not click at element boundari
   Session session(model.mesh, model.table, load_action_script_from_string(script), options);
   Collect c;
   const SessionResult r = session.run(&c);
-  INFO("largest jump " << 100 * r.max_force_jump_fraction << " % at t = " << r.max_force_jump_time << " s, peak "
-                       << r.peak_force[0] << " N, " << r.models_built << " models");
-  CHECK(r.peak_force[0] > 0.3);         // the sphere is pressing (0.52 N measured)
-  CHECK(r.models_built >= 2);           // it was placed again while sliding
+  INFO("largest jump " << 100 * r.max_force_jump_fraction << " % at t = " << r.max_force_jump_time << " s, peak " << r.peak_force[0]
+                       << " N, " << r.models_built << " models");
+  CHECK(r.peak_force[0] > 0.3);  // the sphere is pressing (0.52 N measured)
+  CHECK(r.models_built >= 2);    // it was placed again while sliding
   CHECK(r.max_force_jump_fraction < 0.028);
   // While sliding (t > 0.35 s) the force stays within 20 % of its mean: constant depth, constant force.
   double lo = 1e300, hi = 0.0;

@@ -78,8 +78,8 @@ void check_method(const char* name, double error_bound, int restart = 0) {
   const auto fine = solve_all<Solver>(s, tight);
   static const char* preconditioners[3] = {"none", "block_jacobi", "near_field"};
   for (int p = 0; p < 3; ++p) {
-    INFO(name << " with preconditioner " << preconditioners[p] << ": " << coarse[p].iterations << " and "
-              << fine[p].iterations << " iterations, errors " << coarse[p].error << " and " << fine[p].error);
+    INFO(name << " with preconditioner " << preconditioners[p] << ": " << coarse[p].iterations << " and " << fine[p].iterations
+              << " iterations, errors " << coarse[p].error << " and " << fine[p].error);
     REQUIRE(fine[p].status == KrylovStatus::Converged);
     REQUIRE(coarse[p].status == KrylovStatus::Converged);
     CHECK(fine[p].residual <= tight.tolerance);
@@ -114,12 +114,8 @@ TEST_CASE("the BEM test system is what the tests assume", "[krylov][bem]") {
 //   BiCGStab    6.0e-10 (2506), 1.8e-10 (26), 1.1e-10 (10)
 //   BiCG        1.5e-10 (415), 1.2e-10 (40), 5.6e-11 (18)
 TEST_CASE("full GMRES reaches the LU solution with each preconditioner", "[krylov][bem]") { check_method<Gmres>("GMRES", 1.4e-9); }
-TEST_CASE("GMRES(40) reaches the LU solution with each preconditioner", "[krylov][bem]") {
-  check_method<Gmres>("GMRES(40)", 3.3e-9, 40);
-}
-TEST_CASE("BiCGStab reaches the LU solution with each preconditioner", "[krylov][bem]") {
-  check_method<BiCgStab>("BiCGStab", 1.8e-9);
-}
+TEST_CASE("GMRES(40) reaches the LU solution with each preconditioner", "[krylov][bem]") { check_method<Gmres>("GMRES(40)", 3.3e-9, 40); }
+TEST_CASE("BiCGStab reaches the LU solution with each preconditioner", "[krylov][bem]") { check_method<BiCgStab>("BiCGStab", 1.8e-9); }
 TEST_CASE("BiCG reaches the LU solution with each preconditioner", "[krylov][bem]") { check_method<BiCg>("BiCG", 4.5e-10); }
 
 TEST_CASE("a warm start from the solution before a local change takes fewer iterations", "[krylov][bem][warm]") {
@@ -165,8 +161,8 @@ TEST_CASE("the near-field preconditioner keeps what it says and becomes exact at
   CHECK(st.density == Approx(9.0 * pairs / double(s.A.size())));
   CHECK(st.fill >= 1.0 - 1e-12);
   // Timings: selection and factorisation are the build, which the constructor's wall time bounds.
-  INFO("selection " << st.selection_seconds << " s, factor " << st.factor_seconds << " s, build " << st.build_seconds
-                    << " s, constructor " << build_wall << " s");
+  INFO("selection " << st.selection_seconds << " s, factor " << st.factor_seconds << " s, build " << st.build_seconds << " s, constructor "
+                    << build_wall << " s");
   CHECK(st.selection_seconds > 0.0);
   CHECK(st.factor_seconds > 0.0);
   CHECK(st.build_seconds >= st.selection_seconds + st.factor_seconds - 1e-9);
@@ -203,8 +199,7 @@ TEST_CASE("block-Jacobi inverts the 3x3 diagonal blocks and names a singular one
   for (Index e = 0; e < s.mesh.num_elements(); e += 17) {
     const Eigen::Matrix3d block = s.A.block<3, 3>(3 * e, 3 * e);
     CHECK((block * z.segment<3>(3 * e) - s.b.segment<3>(3 * e)).norm() <= 32.0 * kEps * s.b.segment<3>(3 * e).norm() + 1e-300);
-    CHECK((block.transpose() * zt.segment<3>(3 * e) - s.b.segment<3>(3 * e)).norm() <=
-          32.0 * kEps * s.b.segment<3>(3 * e).norm() + 1e-300);
+    CHECK((block.transpose() * zt.segment<3>(3 * e) - s.b.segment<3>(3 * e)).norm() <= 32.0 * kEps * s.b.segment<3>(3 * e).norm() + 1e-300);
   }
   Eigen::MatrixXd broken = s.A;
   broken.block<3, 3>(15, 15).setZero();
@@ -225,7 +220,8 @@ TEST_CASE("solve_linear_system dispatches to every method and reports", "[krylov
       const auto started = std::chrono::steady_clock::now();
       const Eigen::VectorXd x = solve_linear_system(s.A, s.b, settings, summary, &s.mesh);
       const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-      INFO(to_string(method) << " / " << to_string(preconditioner) << ": " << to_string(summary.status) << ", " << summary.iterations << " iterations");
+      INFO(to_string(method) << " / " << to_string(preconditioner) << ": " << to_string(summary.status) << ", " << summary.iterations
+                             << " iterations");
       CHECK(summary.method == method);
       // Setup (factorisation or preconditioner) and solve follow each other inside the call.
       CHECK(summary.solve_seconds > 0.0);

@@ -16,7 +16,7 @@ using namespace bemsurg;
 namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kEps = std::numeric_limits<double>::epsilon();
-}
+}  // namespace
 
 TEST_CASE("box_mesh has exact area, volume, counts and outward normals", "[mesh][generators]") {
   const Vec3 lo(-1.0, 0.5, 2.0), hi(2.0, 1.5, 4.5);
@@ -81,7 +81,7 @@ TEST_CASE("graded_coordinates respect h_min, h_max and growth", "[mesh][generato
   };
   const std::vector<Case> cases{{0.0, 10.0, 3.0, 0.1, 1.0, 1.2, 0.0},   {-5.0, 5.0, 0.0, 0.05, 0.8, 1.3, 0.5},
                                 {0.0, 1.0, 0.0, 0.01, 0.2, 1.1, 0.0},   {0.0, 1.0, 1.0, 0.02, 0.1, 1.5, 0.1},
-                                {-1.0, 1.0, 0.25, 0.1, 0.15, 1.2, 0.0},  {0.0, 100.0, 37.0, 0.5, 10.0, 1.15, 2.0}};
+                                {-1.0, 1.0, 0.25, 0.1, 0.15, 1.2, 0.0}, {0.0, 100.0, 37.0, 0.5, 10.0, 1.15, 2.0}};
   for (const Case& c : cases) {
     const std::vector<double> x = graded_coordinates(c.lo, c.hi, c.focus, c.h_min, c.h_max, c.growth, c.plateau);
     INFO("lo " << c.lo << " hi " << c.hi << " focus " << c.focus << " h_min " << c.h_min << " growth " << c.growth);
@@ -115,8 +115,8 @@ TEST_CASE("graded_coordinates respect h_min, h_max and growth", "[mesh][generato
   CHECK(graded_coordinates(0.0, 100.0, 50.0, 0.1, 5.0, 1.2).size() < 120);  // measured 55 (uniform: 1001)
   // growth = 1 gives a uniform grid; a huge fine zone covers the whole interval.
   const auto uniform = graded_coordinates(0.0, 1.0, 0.5, 0.1, 1.0, 1.0);
-  CHECK(uniform.size() == 11);  // [0, 1] in steps of 0.1: 10 steps, 11 lines
-  CHECK(uniform[3] == Approx(0.3).epsilon(4.0 * kEps));  // 0.5 - 0.5 x 2 / 5, three roundings: measured 0
+  CHECK(uniform.size() == 11);                                                   // [0, 1] in steps of 0.1: 10 steps, 11 lines
+  CHECK(uniform[3] == Approx(0.3).epsilon(4.0 * kEps));                          // 0.5 - 0.5 x 2 / 5, three roundings: measured 0
   CHECK(graded_coordinates(-1.0, 1.0, 0.0, 0.1, 1.0, 1.2, 1e300).size() == 21);  // 20 steps of 0.1
   CHECK_THROWS_WITH(graded_coordinates(0.0, 1.0, 0.5, 1e-12, 1.0, 1.0), Catch::Contains("grid lines"));
   CHECK_THROWS_AS(graded_coordinates(0.0, 1.0, 0.5, 0.0, 1.0, 1.2), InvalidMeshError);
@@ -154,8 +154,7 @@ TEST_CASE("icosphere area and volume converge to the sphere's at second order", 
     CHECK(sphere.num_vertices() == 10 * (1 << (2 * s)) + 2);
     // A unit vertex (normalised: 2 eps), scaled by r (1), shifted by c (|c| = 1.35 r) and back
     // (2 x 1.35 eps), then its norm (2 eps): <= ~8 eps. Measured 1.8 eps; bound 16 eps.
-    for (Index v = 0; v < sphere.num_vertices(); ++v)
-      CHECK((sphere.vertex(v) - c).norm() == Approx(r).epsilon(16.0 * kEps));
+    for (Index v = 0; v < sphere.num_vertices(); ++v) CHECK((sphere.vertex(v) - c).norm() == Approx(r).epsilon(16.0 * kEps));
     const double area_err = (exact_area - sphere.total_area()) / exact_area;
     const double vol_err = (exact_volume - sphere.enclosed_volume()) / exact_volume;
     CHECK(area_err > 0.0);  // inscribed: converges from below

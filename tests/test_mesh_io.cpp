@@ -103,16 +103,13 @@ enum class PlyFormat { Ascii, LittleEndian, BigEndian };
 /// PLY with distracting extras: per-vertex normal and colour, a per-face flag after the list,
 /// and an extra element before and after the faces. Coordinates as float or double; list counts
 /// as uchar or int; indices as int or uint.
-void write_ply(const std::string& path, const TriangleMesh& mesh, PlyFormat format, bool doubles, bool int_counts,
-               bool uint_indices) {
-  const char* fmt = format == PlyFormat::Ascii ? "ascii" : format == PlyFormat::LittleEndian ? "binary_little_endian"
-                                                                                              : "binary_big_endian";
+void write_ply(const std::string& path, const TriangleMesh& mesh, PlyFormat format, bool doubles, bool int_counts, bool uint_indices) {
+  const char* fmt = format == PlyFormat::Ascii ? "ascii" : format == PlyFormat::LittleEndian ? "binary_little_endian" : "binary_big_endian";
   const std::string coord = doubles ? "double" : "float";
   std::string out = std::string("ply\nformat ") + fmt + " 1.0\ncomment written by test_mesh_io\n";
   out += "element material 1\nproperty uchar shininess\nproperty list uchar float tint\n";
   out += "element vertex " + std::to_string(mesh.num_vertices()) + "\n";
-  out += "property " + coord + " x\nproperty float nx\nproperty " + coord + " y\nproperty " + coord +
-         " z\nproperty uchar red\n";
+  out += "property " + coord + " x\nproperty float nx\nproperty " + coord + " y\nproperty " + coord + " z\nproperty uchar red\n";
   out += "element face " + std::to_string(mesh.num_elements()) + "\n";
   out += std::string("property list ") + (int_counts ? "int" : "uchar") + " " + (uint_indices ? "uint" : "int") +
          " vertex_indices\nproperty uchar flag\n";
@@ -175,7 +172,8 @@ void check_same_surface(const TriangleMesh& a, const TriangleMesh& b, double tol
   REQUIRE(a.num_elements() == b.num_elements());
   CHECK(a.num_vertices() == b.num_vertices());
   for (Index f = 0; f < a.num_elements(); ++f)
-    for (int k = 0; k < 3; ++k) CHECK((a.corners(f)[static_cast<std::size_t>(k)] - b.corners(f)[static_cast<std::size_t>(k)]).norm() <= tol);
+    for (int k = 0; k < 3; ++k)
+      CHECK((a.corners(f)[static_cast<std::size_t>(k)] - b.corners(f)[static_cast<std::size_t>(k)]).norm() <= tol);
   // Corners moved by <= tol change the volume by <= tol x area = tol x 3 V / r: 1.5 tol for the
   // r = 2 sphere this is used on (measured 2.4e-8 relative from float storage, 0 from text).
   CHECK(b.enclosed_volume() == Approx(a.enclosed_volume()).epsilon(2 * tol));
@@ -209,8 +207,8 @@ f -4 -3 -2 -1
 
 TEST_CASE("OBJ round trip is exact", "[mesh][io]") {
   TempDir dir;
-  for (const TriangleMesh& mesh : {icosphere_mesh(Vec3(0.1, -0.2, 1.0 / 3.0), 1.7, 2),
-                                   box_mesh(Vec3(-1, -1, -1), Vec3(1e-3, 2, 3), 2, 3, 1)}) {
+  for (const TriangleMesh& mesh :
+       {icosphere_mesh(Vec3(0.1, -0.2, 1.0 / 3.0), 1.7, 2), box_mesh(Vec3(-1, -1, -1), Vec3(1e-3, 2, 3), 2, 3, 1)}) {
     write_obj(dir.file("m.obj"), mesh);
     check_same(mesh, read_obj(dir.file("m.obj")), 0.0);
     check_same(mesh, read_mesh(dir.file("m.obj")), 0.0);
@@ -238,8 +236,7 @@ TEST_CASE("OBJ errors name the file and line", "[mesh][io]") {
   const std::string path = dir.file("bad.obj");
   write_text(path, "v 0 0 0\nv 1 0 0\nv 0 1 0\n\nf 1 2 9\n");
   CHECK_THROWS_AS(read_obj(path), InvalidMeshError);
-  CHECK_THROWS_WITH(read_obj(path), Catch::Contains("bad.obj:5") && Catch::Contains("vertex 8") &&
-                                        Catch::Contains("3 vertices"));
+  CHECK_THROWS_WITH(read_obj(path), Catch::Contains("bad.obj:5") && Catch::Contains("vertex 8") && Catch::Contains("3 vertices"));
   write_text(path, "v 0 0 0\nv 1 oops 0\n");
   CHECK_THROWS_WITH(read_obj(path), Catch::Contains("bad.obj:2") && Catch::Contains("'oops'"));
   write_text(path, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n");
@@ -281,14 +278,14 @@ TEST_CASE("STL errors: non-triangles, garbage, truncation", "[mesh][io]") {
              "solid quad\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 1 1 0\nvertex 0 1 0\n"
              "endloop\nendfacet\nendsolid\n");
   CHECK_THROWS_AS(read_stl(path), InvalidMeshError);
-  CHECK_THROWS_WITH(read_stl(path), Catch::Contains("bad.stl:3") && Catch::Contains("4 vertices") &&
-                                        Catch::Contains("triangles only"));
+  CHECK_THROWS_WITH(read_stl(path), Catch::Contains("bad.stl:3") && Catch::Contains("4 vertices") && Catch::Contains("triangles only"));
   write_text(path, "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 zero\n");
   CHECK_THROWS_WITH(read_stl(path), Catch::Contains("bad.stl:4") && Catch::Contains("'zero'"));
 
   // Windows line ends and upper-case keywords are fine; a vertex outside a loop is not.
-  write_text(path, "SOLID a\r\nFACET NORMAL 0 0 1\r\nOUTER LOOP\r\nVERTEX 0 0 0\r\nVERTEX 1 0 0\r\nVERTEX 0 1 0\r\n"
-                   "ENDLOOP\r\nENDFACET\r\nENDSOLID a\r\n");
+  write_text(path,
+             "SOLID a\r\nFACET NORMAL 0 0 1\r\nOUTER LOOP\r\nVERTEX 0 0 0\r\nVERTEX 1 0 0\r\nVERTEX 0 1 0\r\n"
+             "ENDLOOP\r\nENDFACET\r\nENDSOLID a\r\n");
   CHECK(read_stl(path).num_elements() == 1);
   CHECK(read_stl(path).area(0) == Approx(0.5));
   write_text(path, "solid a\nfacet normal 0 0 1\nvertex 0 0 0\n");
@@ -337,11 +334,10 @@ TEST_CASE("PLY round trips: ASCII, little and big endian, several types", "[mesh
   // Floats: each coordinate rounds by <= 2^-24 of itself, 2.1e-7 for coordinates up to 3.5
   // (measured 1.1e-7); doubles are exact.
   const double float_tol = std::ldexp(sphere.vertices().cwiseAbs().maxCoeff(), -24);
-  for (const Variant& v : {Variant{PlyFormat::Ascii, true, false, false, 0.0},
-                           Variant{PlyFormat::LittleEndian, false, false, false, float_tol},
-                           Variant{PlyFormat::LittleEndian, true, true, true, 0.0},
-                           Variant{PlyFormat::BigEndian, false, true, false, float_tol},
-                           Variant{PlyFormat::BigEndian, true, false, true, 0.0}}) {
+  for (const Variant& v :
+       {Variant{PlyFormat::Ascii, true, false, false, 0.0}, Variant{PlyFormat::LittleEndian, false, false, false, float_tol},
+        Variant{PlyFormat::LittleEndian, true, true, true, 0.0}, Variant{PlyFormat::BigEndian, false, true, false, float_tol},
+        Variant{PlyFormat::BigEndian, true, false, true, 0.0}}) {
     INFO("format " << static_cast<int>(v.format) << " doubles " << v.doubles << " int counts " << v.int_counts);
     write_ply(dir.file("s.ply"), sphere, v.format, v.doubles, v.int_counts, v.uint_indices);
     const TriangleMesh read = read_mesh(dir.file("s.ply"));
@@ -356,8 +352,7 @@ TEST_CASE("PLY polygons are fan-triangulated, and errors are reported", "[mesh][
       "ply\nformat ascii 1.0\nelement vertex 8\nproperty float x\nproperty float y\nproperty float z\n"
       "element face 6\nproperty list uchar int vertex_index\nend_header\n";
   const std::string vertices = "0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n";
-  write_text(dir.file("cube.ply"),
-             header + vertices + "4 0 3 2 1\n4 0 1 5 4\n4 1 2 6 5\n4 2 3 7 6\n4 3 0 4 7\n4 4 5 6 7\n");
+  write_text(dir.file("cube.ply"), header + vertices + "4 0 3 2 1\n4 0 1 5 4\n4 1 2 6 5\n4 2 3 7 6\n4 3 0 4 7\n4 4 5 6 7\n");
   const TriangleMesh cube = read_ply(dir.file("cube.ply"));
   CHECK(cube.num_elements() == 12);
   CHECK(cube.enclosed_volume() == Approx(1.0).epsilon(1e-14));
@@ -369,8 +364,10 @@ TEST_CASE("PLY polygons are fan-triangulated, and errors are reported", "[mesh][
   CHECK_THROWS_WITH(read_ply(dir.file("bad.ply")), Catch::Contains("unexpected end of file"));
   write_text(dir.file("bad.ply"), "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\n");
   CHECK_THROWS_WITH(read_ply(dir.file("bad.ply")), Catch::Contains("end_header"));
-  write_text(dir.file("bad.ply"), "ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty float x\n"
-                                  "property float y\nproperty float z\nend_header\n" + std::string(12, '\0'));
+  write_text(dir.file("bad.ply"),
+             "ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty float x\n"
+             "property float y\nproperty float z\nend_header\n" +
+                 std::string(12, '\0'));
   CHECK_THROWS_WITH(read_ply(dir.file("bad.ply")), Catch::Contains("unexpected end of binary data"));
   write_text(dir.file("bad.ply"), "ply\nformat ascii 1.0\nelement vertex 1\nproperty quad x\nend_header\n");
   CHECK_THROWS_WITH(read_ply(dir.file("bad.ply")), Catch::Contains("bad.ply:4") && Catch::Contains("'quad'"));
@@ -404,10 +401,10 @@ TEST_CASE("counts smaller than the content are refused in binary STL, OFF and PL
   lying.replace(80, 4, count);  // the header announces the first sphere only
   write_text(dir.file("lying.stl"), lying);
   CHECK_THROWS_AS(read_stl(dir.file("lying.stl")), InvalidMeshError);
-  CHECK_THROWS_WITH(read_stl(dir.file("lying.stl")),
-                    Catch::Contains("lying.stl") && Catch::Contains("announces " + std::to_string(half) + " triangles") &&
-                        Catch::Contains(std::to_string(nf - half) + " triangles and 0 bytes") &&
-                        Catch::Contains("follow the declared triangles"));
+  CHECK_THROWS_WITH(read_stl(dir.file("lying.stl")), Catch::Contains("lying.stl") &&
+                                                         Catch::Contains("announces " + std::to_string(half) + " triangles") &&
+                                                         Catch::Contains(std::to_string(nf - half) + " triangles and 0 bytes") &&
+                                                         Catch::Contains("follow the declared triangles"));
   write_text(dir.file("padded.stl"), stl + std::string(7, '\0'));
   CHECK_THROWS_WITH(read_stl(dir.file("padded.stl")), Catch::Contains("0 triangles and 7 bytes"));
 
@@ -430,8 +427,8 @@ TEST_CASE("counts smaller than the content are refused in binary STL, OFF and PL
   CHECK(read_ply(dir.file("tet.ply")).num_elements() == 4);
   write_text(dir.file("lying.ply"), ply_head + "element face 3\n" + face_decl + off_vertices + ply_faces);
   CHECK_THROWS_AS(read_ply(dir.file("lying.ply")), InvalidMeshError);
-  CHECK_THROWS_WITH(read_ply(dir.file("lying.ply")), Catch::Contains("lying.ply:17") && Catch::Contains("unexpected value '3'") &&
-                                                         Catch::Contains("4 vertex, 3 face"));
+  CHECK_THROWS_WITH(read_ply(dir.file("lying.ply")),
+                    Catch::Contains("lying.ply:17") && Catch::Contains("unexpected value '3'") && Catch::Contains("4 vertex, 3 face"));
   // ... also when the extra values sit on the last declared line.
   write_text(dir.file("lying.ply"), ply_head + "element face 4\n" + face_decl + off_vertices + "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3 7\n");
   CHECK_THROWS_WITH(read_ply(dir.file("lying.ply")), Catch::Contains("lying.ply:17") && Catch::Contains("unexpected value '7'"));
@@ -451,7 +448,8 @@ TEST_CASE("counts smaller than the content are refused in binary STL, OFF and PL
   write_text(dir.file("lying_bin.ply"), ply);
   CHECK_THROWS_AS(read_ply(dir.file("lying_bin.ply")), InvalidMeshError);
   CHECK_THROWS_WITH(read_ply(dir.file("lying_bin.ply")),
-                    Catch::Contains("lying_bin.ply") && Catch::Contains(std::to_string((nf - half) * 14) + " bytes of binary data follow") &&
+                    Catch::Contains("lying_bin.ply") &&
+                        Catch::Contains(std::to_string((nf - half) * 14) + " bytes of binary data follow") &&
                         Catch::Contains(std::to_string(half) + " face"));
 }
 
@@ -469,23 +467,25 @@ TEST_CASE("PLY element counts that cannot fit are refused at once", "[mesh][io]"
     CHECK(std::chrono::steady_clock::now() - start < std::chrono::seconds(2));
   };
   for (const char* fmt : {"ascii", "binary_little_endian", "binary_big_endian"})
-    timed_throw(std::string("ply\nformat ") + fmt + " 1.0\n" + vertex_header +
-                    "element junk 9000000000000000000\nend_header\n" + ascii_body,
-                "no properties");
+    timed_throw(
+        std::string("ply\nformat ") + fmt + " 1.0\n" + vertex_header + "element junk 9000000000000000000\nend_header\n" + ascii_body,
+        "no properties");
   CHECK_THROWS_WITH(read_ply(dir.file("huge.ply")), Catch::Contains("huge.ply:9") && Catch::Contains("'junk'"));
 
   // Binary: a record of at least 4 bytes times the count must fit in what is left.
-  timed_throw("ply\nformat binary_little_endian 1.0\n" + vertex_header +
-                  "element junk 9000000000000000000\nproperty int a\nend_header\n" + std::string(64, '\0'),
+  timed_throw("ply\nformat binary_little_endian 1.0\n" + vertex_header + "element junk 9000000000000000000\nproperty int a\nend_header\n" +
+                  std::string(64, '\0'),
               "unexpected end of binary data");
   CHECK_THROWS_WITH(read_ply(dir.file("huge.ply")), Catch::Contains("'junk'") && Catch::Contains("9000000000000000000"));
-  timed_throw("ply\nformat binary_big_endian 1.0\nelement vertex 4611686018427387904\nproperty double x\n"
-                  "property double y\nproperty double z\nend_header\n" + std::string(24, '\0'),
-              "unexpected end of binary data");
+  timed_throw(
+      "ply\nformat binary_big_endian 1.0\nelement vertex 4611686018427387904\nproperty double x\n"
+      "property double y\nproperty double z\nend_header\n" +
+          std::string(24, '\0'),
+      "unexpected end of binary data");
   // ASCII with properties runs out of tokens and stops with a clear message.
-  timed_throw("ply\nformat ascii 1.0\n" + vertex_header + "element junk 9000000000000000000\nproperty int a\nend_header\n" +
-                  ascii_body + "1 2 3\n",
-              "unexpected end of file");
+  timed_throw(
+      "ply\nformat ascii 1.0\n" + vertex_header + "element junk 9000000000000000000\nproperty int a\nend_header\n" + ascii_body + "1 2 3\n",
+      "unexpected end of file");
   // A zero count needs no properties, and an empty trailing element is still fine.
   write_text(dir.file("ok.ply"), "ply\nformat ascii 1.0\n" + vertex_header + "element junk 0\nend_header\n" + ascii_body);
   CHECK(read_ply(dir.file("ok.ply")).num_elements() == 1);
@@ -523,8 +523,7 @@ TEST_CASE("VTK output carries named cell and point fields and reads back", "[mes
   CHECK_THROWS_AS(write_vtk(path, sphere, {{"short", RowMatrixX3d::Zero(3, 3)}}), Error);
   CHECK_THROWS_WITH(write_vtk(path, sphere, {{"short", RowMatrixX3d::Zero(3, 3)}}),
                     Catch::Contains("cell field 'short' is 3 x 3, expected 80 x 3"));
-  CHECK_THROWS_WITH(write_vtk(path, sphere, {}, {{"two words", Eigen::VectorXd::Zero(42)}}),
-                    Catch::Contains("'two words'"));
+  CHECK_THROWS_WITH(write_vtk(path, sphere, {}, {{"two words", Eigen::VectorXd::Zero(42)}}), Catch::Contains("'two words'"));
   CHECK_THROWS_WITH(write_vtk(path, sphere, {{"m", Eigen::MatrixXd::Zero(80, 2)}}), Catch::Contains("80 x 2"));
   CHECK_THROWS_AS(write_vtk(dir.file("no/such/dir/x.vtk"), sphere), Error);
 }

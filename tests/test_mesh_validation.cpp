@@ -185,7 +185,7 @@ TEST_CASE("an open mesh names the boundary edge", "[mesh][validation]") {
   const RowMatrixX3i F = sphere.faces().bottomRows(sphere.num_elements() - 1);  // drop face 0
   const TriangleMesh open = with_faces(sphere, F);
   const MeshValidationResult report = validate_mesh(open);
-  CHECK(report.count(MeshIssueKind::BoundaryEdge) == 3);  // the dropped face's three edges
+  CHECK(report.count(MeshIssueKind::BoundaryEdge) == 3);      // the dropped face's three edges
   CHECK_FALSE(has_kind(report, MeshIssueKind::InwardShell));  // an open shell has no inside to judge
   const int a = sphere.faces()(0, 0), b = sphere.faces()(0, 1);
   const std::string edge = "edge (" + std::to_string(std::min(a, b)) + ", " + std::to_string(std::max(a, b)) + ")";
@@ -207,8 +207,7 @@ TEST_CASE("a non-manifold edge is named with its face count", "[mesh][validation
   const MeshValidationResult report = validate_mesh(fin);
   CHECK(report.count(MeshIssueKind::NonManifoldEdge) == 1);
   const std::string edge = "edge (" + std::to_string(std::min(a, b)) + ", " + std::to_string(std::max(a, b)) + ")";
-  CHECK_THROWS_WITH(require_valid_mesh(fin),
-                    Catch::Contains(edge + " is shared by 3 faces: the mesh is not 2-manifold"));
+  CHECK_THROWS_WITH(require_valid_mesh(fin), Catch::Contains(edge + " is shared by 3 faces: the mesh is not 2-manifold"));
   CHECK(MeshTopology(fin).neighbour(4, 0) == -1);  // no single neighbour across a non-manifold edge
 }
 
@@ -229,8 +228,7 @@ TEST_CASE("inside-out shells are errors, cavities are not", "[mesh][validation]"
     const MeshValidationResult report = validate_mesh(flip_orientation(sphere));
     CHECK(report.count(MeshIssueKind::InwardShell) == 1);
     CHECK(report.num_errors() == 1);
-    CHECK_THROWS_WITH(require_valid_mesh(flip_orientation(sphere)),
-                      Catch::Contains("shell 0") && Catch::Contains("inward-facing"));
+    CHECK_THROWS_WITH(require_valid_mesh(flip_orientation(sphere)), Catch::Contains("shell 0") && Catch::Contains("inward-facing"));
   }
   const TriangleMesh outer = icosphere_mesh(Vec3::Zero(), 2.0, 2);
   const TriangleMesh inner = icosphere_mesh(Vec3(0.2, 0.1, 0.0), 1.0, 1);
@@ -330,8 +328,8 @@ TEST_CASE("self-intersecting surfaces and overlapping shells are refused naming 
   const MeshValidationResult rf = validate_mesh(folded);
   INFO(rf.summary());
   REQUIRE(has_kind(rf, MeshIssueKind::SelfIntersection));
-  const MeshIssue& first = *std::find_if(rf.issues.begin(), rf.issues.end(),
-                                         [](const MeshIssue& i) { return i.kind == MeshIssueKind::SelfIntersection; });
+  const MeshIssue& first =
+      *std::find_if(rf.issues.begin(), rf.issues.end(), [](const MeshIssue& i) { return i.kind == MeshIssueKind::SelfIntersection; });
   CHECK_THAT(first.message, Catch::StartsWith("faces ") && Catch::Contains(" and ") && Catch::Contains("cuts through itself"));
 
   // The check can be switched off (a cutter that checked its own faces).

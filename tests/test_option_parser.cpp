@@ -90,8 +90,7 @@ TEST_CASE("the option parser refuses a missing value, a missing required option 
   CHECK_THROWS_WITH(parse(parser, {"s.json", "-o", "out", "--gap"}), "toy: --gap needs a value (--gap W)");
   CHECK_THROWS_WITH(parse(parser, {"s.json"}), "toy: missing -o OUTDIR");
   CHECK_THROWS_WITH(parse(parser, {"-o", "out"}), "toy: missing SCENE.json");
-  CHECK_THROWS_WITH(parse(parser, {"a.json", "b.json", "-o", "out"}),
-                    "toy: unexpected argument 'b.json' (one scene file per run)");
+  CHECK_THROWS_WITH(parse(parser, {"a.json", "b.json", "-o", "out"}), "toy: unexpected argument 'b.json' (one scene file per run)");
   CHECK_THROWS_WITH(parse(parser, {"s.json", "-o", "out", "--quiet=yes"}), "toy: --quiet takes no value, got '--quiet=yes'");
 }
 
@@ -103,9 +102,7 @@ TEST_CASE("the option parser refuses a bad number naming the option and the text
     args.insert(args.end(), extra.begin(), extra.end());
     try {
       parse(parser, args);
-    } catch (const UsageError& e) {
-      return std::string(e.what());
-    }
+    } catch (const UsageError& e) { return std::string(e.what()); }
     return std::string("accepted");
   };
   CHECK(refused({"--gap", "0,1"}) == "toy: --gap: expected a number > 0, got '0,1'");

@@ -13,13 +13,10 @@ namespace {
 constexpr double kEps = std::numeric_limits<double>::epsilon();
 
 // int over the reference triangle of xi^a eta^b = a! b! / (a + b + 2)!
-double monomial_integral(int a, int b) {
-  return std::tgamma(a + 1.0) * std::tgamma(b + 1.0) / std::tgamma(a + b + 3.0);
-}
+double monomial_integral(int a, int b) { return std::tgamma(a + 1.0) * std::tgamma(b + 1.0) / std::tgamma(a + b + 3.0); }
 double apply(const TriangleRule& r, int a, int b) {
   double s = 0.0;
-  for (std::size_t k = 0; k < r.weights.size(); ++k)
-    s += 0.5 * r.weights[k] * std::pow(r.points[k].x(), a) * std::pow(r.points[k].y(), b);
+  for (std::size_t k = 0; k < r.weights.size(); ++k) s += 0.5 * r.weights[k] * std::pow(r.points[k].x(), a) * std::pow(r.points[k].y(), b);
   return s;
 }
 
@@ -86,8 +83,8 @@ double integral_of_inverse_distance(const std::array<Eigen::Vector3d, 3>& v, con
     const Eigen::Vector3d rho = p - (p - v[0]).dot(n) * n;
     const double R02 = e.R0 * e.R0;
     s += e.P0 * e.line_integral;
-    s -= ad * (std::atan2(e.P0 * (b - rho).dot(l), R02 + ad * (b - p).norm()) -
-               std::atan2(e.P0 * (a - rho).dot(l), R02 + ad * (a - p).norm()));
+    s -= ad *
+         (std::atan2(e.P0 * (b - rho).dot(l), R02 + ad * (b - p).norm()) - std::atan2(e.P0 * (a - rho).dot(l), R02 + ad * (a - p).norm()));
   }
   return s;
 }
@@ -114,8 +111,14 @@ Eigen::Vector3d principal_value_about_centroid(const std::array<Eigen::Vector3d,
     const Eigen::Vector3d l = (b - a).normalized(), f = a + (p - a).dot(l) * l;
     const double h = (f - p).norm();
     const Eigen::Vector3d e1 = (f - p) / h;
-    auto F = [h](double s) { const double r = std::hypot(h, s); return s / r * (std::log(r) + 1.0) - std::asinh(s / h); };
-    auto G = [h](double s) { const double r = std::hypot(h, s); return -(std::log(r) + 1.0) / r; };
+    auto F = [h](double s) {
+      const double r = std::hypot(h, s);
+      return s / r * (std::log(r) + 1.0) - std::asinh(s / h);
+    };
+    auto G = [h](double s) {
+      const double r = std::hypot(h, s);
+      return -(std::log(r) + 1.0) / r;
+    };
     const double sa = (a - f).dot(l), sb = (b - f).dot(l);
     A += e1 * (F(sb) - F(sa)) + l * h * (G(sb) - G(sa));
   }
@@ -141,7 +144,7 @@ Eigen::Vector3d principal_value_by_midpoint_rule(const std::array<Eigen::Vector3
 }
 
 const std::array<Eigen::Vector3d, 3> kTriangle = {Eigen::Vector3d(0.1, 0.0, 0.2), Eigen::Vector3d(1.3, 0.2, 0.1),
-                                                 Eigen::Vector3d(0.4, 0.9, 0.5)};
+                                                  Eigen::Vector3d(0.4, 0.9, 0.5)};
 }  // namespace
 
 TEST_CASE("triangle rules integrate polynomials of their degree exactly") {
@@ -281,8 +284,7 @@ TEST_CASE("the closed forms used as references agree with brute-force sums") {
       }
   const double exact_inverse = integral_of_inverse_distance(kTriangle, p);
   const Eigen::Vector3d exact_vector = integral_of_r_over_r_cubed(kTriangle, p);
-  INFO("1/r " << std::abs(inverse - exact_inverse) / exact_inverse << ", r/r^3 "
-              << (vector - exact_vector).norm() / exact_vector.norm());
+  INFO("1/r " << std::abs(inverse - exact_inverse) / exact_inverse << ", r/r^3 " << (vector - exact_vector).norm() / exact_vector.norm());
   // Measured: 1/r 1.9e-7, r/r^3 1.0e-7 (the centroid rule's error); bounds 2.8e-7, 1.5e-7.
   CHECK(std::abs(inverse - exact_inverse) < 2.8e-7 * exact_inverse);
   CHECK((vector - exact_vector).norm() < 1.5e-7 * exact_vector.norm());

@@ -148,8 +148,8 @@ TEST_CASE("Kelvin reference: the traction over a closed surface around the sourc
   for (double R : {0.05, 1.0, 7.0}) {
     INFO("sphere of radius " << R);
     const Vec resultant = sphere_integral(kSource, R, 6, traction), turning = sphere_integral(kSource, R, 6, moment);
-    INFO("|resultant + f| / |f| = " << (resultant + kForce).norm() / kForce.norm() << ", |moment| / (|f| R) = "
-                                    << turning.norm() / (kForce.norm() * R));
+    INFO("|resultant + f| / |f| = " << (resultant + kForce).norm() / kForce.norm()
+                                    << ", |moment| / (|f| R) = " << turning.norm() / (kForce.norm() * R));
     CHECK((resultant + kForce).norm() < 1e-14 * kForce.norm());
     CHECK(turning.norm() < 1e-15 * kForce.norm() * R);
   }
@@ -174,7 +174,9 @@ TEST_CASE("Lame, uniform pressure and hanging bar references: Hooke of the gradi
     std::vector<Vec> points;
   };
   const Case cases[] = {
-      {"Lame sphere", lame_field(m, Vec(0.1, 0, 0), 1.0, 2.0, 1.0, 0.4), Vec::Zero(),
+      {"Lame sphere",
+       lame_field(m, Vec(0.1, 0, 0), 1.0, 2.0, 1.0, 0.4),
+       Vec::Zero(),
        {Vec(1.5, 0, 0), Vec(0.1, -1.2, 0.9), Vec(0.9, 0.8, 0.8)}},
       {"uniform pressure", uniform_pressure_field(m, 2.0), Vec::Zero(), {Vec(0.3, -0.2, 0.1), Vec(-0.4, 0.4, -0.4)}},
       // sigma_zz = rho g z with gravity g along -z: b = (0, 0, -rho g)

@@ -30,9 +30,7 @@ struct TempDir : bemsurg_test::TempDir {
 std::string scene_error(const std::string& json, const std::string& dir = ".") {
   try {
     load_scene_from_string(json, dir, "test.json");
-  } catch (const SceneError& e) {
-    return e.what();
-  } catch (const std::exception& e) {
+  } catch (const SceneError& e) { return e.what(); } catch (const std::exception& e) {
     return std::string("WRONG EXCEPTION TYPE: ") + e.what();
   }
   return "NO EXCEPTION";
@@ -65,12 +63,12 @@ std::set<Index> face_elements(const TriangleMesh& mesh, int c, double sign) {
 }  // namespace
 
 TEST_CASE("a well-formed scene loads with the values it states", "[scene]") {
-  const Scene s = load_scene_from_string(
-      scene(kCube, kMaterial, kFixBottom,
-            R"("gravity": [0, 0, -9.81], "solver": {"method": "gmres", "tolerance": 1e-8, "max_iterations": 77,
+  const Scene s =
+      load_scene_from_string(scene(kCube, kMaterial, kFixBottom,
+                                   R"("gravity": [0, 0, -9.81], "solver": {"method": "gmres", "tolerance": 1e-8, "max_iterations": 77,
                 "restart": 30, "preconditioner": "block_jacobi"},
                 "interior_points": {"points": [[0.5, 0.5, 0.5], [0.25, 0.5, 0.75]]})"),
-      ".");
+                             ".");
   CHECK(s.problem.mesh.num_elements() == 48);
   CHECK(s.problem.material.young_modulus == 1000.0);
   CHECK(s.problem.material.poisson_ratio == 0.3);
@@ -116,9 +114,9 @@ TEST_CASE("missing keys are named with their path", "[scene][errors]") {
              Catch::Contains("material.young_modulus: missing"));
   CHECK_THAT(scene_error(scene(R"("mesh": {"generator": "box", "max": [1,1,1], "divisions": [2,2,2]})", kMaterial, kFixBottom)),
              Catch::Contains("mesh.min: missing"));
-  CHECK_THAT(scene_error(scene(kCube, R"("material": {"young_modulus": 1, "poisson_ratio": 0.3})", kFixBottom,
-                               R"("gravity": [0, 0, -9.81])")),
-             Catch::Contains("material.density: missing"));
+  CHECK_THAT(
+      scene_error(scene(kCube, R"("material": {"young_modulus": 1, "poisson_ratio": 0.3})", kFixBottom, R"("gravity": [0, 0, -9.81])")),
+      Catch::Contains("material.density: missing"));
   CHECK_THAT(scene_error(scene(R"("mesh": {})", kMaterial, kFixBottom)), Catch::Contains("mesh: expected a \"file\" or a \"generator\""));
   CHECK_THAT(scene_error(scene(kCube, kMaterial, R"("boundary_conditions": {"rules": [{"displacement": [0,0,0]}]})")),
              Catch::Contains("boundary_conditions.rules[0].select: missing"));
@@ -129,14 +127,14 @@ TEST_CASE("values of the wrong type are named with their path", "[scene][errors]
              Catch::Contains("material.poisson_ratio: expected a number, got a string"));
   CHECK_THAT(scene_error(scene(kCube, kMaterial, kFixBottom, R"("gravity": [0, -9.81])")),
              Catch::Contains("gravity: expected an array of 3 numbers"));
-  CHECK_THAT(scene_error(scene(R"("mesh": {"generator": "box", "min": [0,0,0], "max": [1,1,1], "divisions": [2, 2.5, 2]})",
-                               kMaterial, kFixBottom)),
+  CHECK_THAT(scene_error(
+                 scene(R"("mesh": {"generator": "box", "min": [0,0,0], "max": [1,1,1], "divisions": [2, 2.5, 2]})", kMaterial, kFixBottom)),
              Catch::Contains("mesh.divisions[1]: expected an integer"));
   CHECK_THAT(scene_error(scene(kCube, kMaterial, R"("boundary_conditions": {"rules": {"select": {}}})")),
              Catch::Contains("boundary_conditions.rules: expected an array"));
-  CHECK_THAT(scene_error(scene(kCube, kMaterial,
-                               R"("boundary_conditions": {"rules": [{"select": {"all": true}, "displacement": [0, "x", 0]}]})")),
-             Catch::Contains("boundary_conditions.rules[0].displacement[1]: expected a number"));
+  CHECK_THAT(
+      scene_error(scene(kCube, kMaterial, R"("boundary_conditions": {"rules": [{"select": {"all": true}, "displacement": [0, "x", 0]}]})")),
+      Catch::Contains("boundary_conditions.rules[0].displacement[1]: expected a number"));
   CHECK_THAT(scene_error(scene(kCube, kMaterial, kFixBottom, R"("solver": {"max_iterations": "many"})")),
              Catch::Contains("solver.max_iterations: expected an integer"));
   CHECK_THAT(scene_error("[1, 2]"), Catch::Contains("expected a JSON object"));
@@ -163,9 +161,10 @@ TEST_CASE("unknown kinds, methods and generators are named", "[scene][errors]") 
   dir.write("bc.csv", "element,kind_x,kind_y,kind_z,value_x,value_y,value_z\n0,u,u,u,0,0,0\n1,u,q,t,0,0,0\n");
   CHECK_THAT(scene_error(scene(kCube, kMaterial, R"("boundary_conditions": {"file": "bc.csv"})"), dir.path.string()),
              Catch::Contains("boundary_conditions.file line 3: kind_y: unknown kind 'q'"));
-  CHECK_THAT(scene_error(scene(kCube, kMaterial,
-                               R"("boundary_conditions": {"rules": [{"select": {"all": true}, "kind": ["u", "x", "t"], "value": [0,0,0]}]})")),
-             Catch::Contains("boundary_conditions.rules[0].kind[1]: unknown kind 'x'"));
+  CHECK_THAT(
+      scene_error(scene(kCube, kMaterial,
+                        R"("boundary_conditions": {"rules": [{"select": {"all": true}, "kind": ["u", "x", "t"], "value": [0,0,0]}]})")),
+      Catch::Contains("boundary_conditions.rules[0].kind[1]: unknown kind 'x'"));
   CHECK_THAT(scene_error(scene(kCube, kMaterial, kFixBottom, R"("solver": {"method": "cg"})")),
              Catch::Contains("solver.method: unknown method 'cg'"));
   CHECK_THAT(scene_error(scene(kCube, kMaterial, kFixBottom, R"("solver": {"preconditioner": "ilu"})")),
@@ -191,9 +190,9 @@ TEST_CASE("element indices out of range are named with the element and the line"
   CHECK_THAT(scene_error(scene(kCube, kMaterial,
                                R"("boundary_conditions": {"rules": [{"select": {"elements": [0, 48]}, "displacement": [0,0,0]}]})")),
              Catch::Contains("boundary_conditions.rules[0].select.elements[1]: element 48 out of range (mesh has 48 elements)"));
-  CHECK_THAT(scene_error(scene(kCube, kMaterial,
-                               R"("boundary_conditions": {"rules": [{"select": {"shell": 1}, "displacement": [0,0,0]}]})")),
-             Catch::Contains("boundary_conditions.rules[0].select: shell: index 1 out of range (mesh has 1 shells)"));
+  CHECK_THAT(
+      scene_error(scene(kCube, kMaterial, R"("boundary_conditions": {"rules": [{"select": {"shell": 1}, "displacement": [0,0,0]}]})")),
+      Catch::Contains("boundary_conditions.rules[0].select: shell: index 1 out of range (mesh has 1 shells)"));
 }
 
 TEST_CASE("malformed CSV rows are named by line and column", "[scene][errors]") {
@@ -240,9 +239,9 @@ TEST_CASE("an invalid mesh is reported with the validator's finding", "[scene][e
              Catch::Contains("mesh.file: invalid mesh"));
   // Closed and outward: loads.
   dir.write("tet.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n");
-  const Scene s = load_scene_from_string(
-      scene(R"("mesh": {"file": "tet.obj"})", kMaterial, R"("boundary_conditions": {"rules": [{"select": {"all": true}, "displacement": [0,0,0]}]})"),
-      dir.path.string());
+  const Scene s = load_scene_from_string(scene(R"("mesh": {"file": "tet.obj"})", kMaterial,
+                                               R"("boundary_conditions": {"rules": [{"select": {"all": true}, "displacement": [0,0,0]}]})"),
+                                         dir.path.string());
   CHECK(s.problem.mesh.num_elements() == 4);
 }
 
@@ -275,9 +274,9 @@ TEST_CASE("interior points outside the body or on its surface are refused", "[sc
   // Closer to the surface than the quadrature resolves (2.9e-3 x the 0.707 edge = 2.1e-3): refused
   // at load, naming the point, the element and the distance; max_depth 12 lets it through.
   const std::string close = R"("interior_points": [[0.5, 0.5, 0.5], [0.3, 0.4, 0.999]])";
-  CHECK_THAT(scene_error(scene(kCube, kMaterial, kFixBottom, close)),
-             Catch::Contains("interior_points[1]: point (0.3, 0.4, 0.999) is 0.001 from element") &&
-                 Catch::Contains("closer than 0.00293"));
+  CHECK_THAT(
+      scene_error(scene(kCube, kMaterial, kFixBottom, close)),
+      Catch::Contains("interior_points[1]: point (0.3, 0.4, 0.999) is 0.001 from element") && Catch::Contains("closer than 0.00293"));
   CHECK(load_scene_from_string(scene(kCube, kMaterial, kFixBottom, close + R"(, "quadrature": {"max_depth": 12})"), ".")
             .interior_points.rows() == 2);
 }
@@ -357,9 +356,11 @@ TEST_CASE("scene rules: selectors combine by intersection, rules apply in order,
 }
 
 TEST_CASE("a rule that selects nothing is an error, an unknown key a warning", "[scene][selectors]") {
-  CHECK_THAT(scene_error(scene(kCube, kMaterial,
-                               R"("boundary_conditions": {"rules": [{"select": {"plane": {"point": [0,0,2], "normal": [0,0,1]}}, "displacement": [0,0,0]}]})")),
-             Catch::Contains("boundary_conditions.rules[0].select: selects no elements"));
+  CHECK_THAT(
+      scene_error(scene(
+          kCube, kMaterial,
+          R"("boundary_conditions": {"rules": [{"select": {"plane": {"point": [0,0,2], "normal": [0,0,1]}}, "displacement": [0,0,0]}]})")),
+      Catch::Contains("boundary_conditions.rules[0].select: selects no elements"));
   const Scene s = load_scene_from_string(scene(kCube, kMaterial, kFixBottom, R"("gravty": [0,0,-1], "description": "x")"), ".");
   REQUIRE(s.warnings.size() == 1);
   CHECK_THAT(s.warnings[0], Catch::Contains("gravty: unknown key"));
@@ -374,8 +375,10 @@ TEST_CASE("generator scenes load with the element counts of their generators", "
   CHECK(count(R"("mesh": {"generator": "icosphere", "radius": 2, "subdivisions": 1})") == 80);
   CHECK(count(R"("mesh": {"generator": "icosphere", "center": [1,2,3], "radius": 0.5})") == 320);
   CHECK(count(R"("mesh": {"generator": "ellipsoid", "semi_axes": [1, 2, 0.5], "subdivisions": 1})") == 80);
-  CHECK(count(R"("mesh": {"generator": "hollow_sphere", "inner_radius": 0.5, "outer_radius": 1, "subdivisions_inner": 1, "subdivisions_outer": 2})") ==
-        80 + 320);
+  CHECK(
+      count(
+          R"("mesh": {"generator": "hollow_sphere", "inner_radius": 0.5, "outer_radius": 1, "subdivisions_inner": 1, "subdivisions_outer": 2})") ==
+      80 + 320);
 
   const Scene e = load_scene_from_string(
       scene(R"("mesh": {"generator": "ellipsoid", "center": [0, 0, 1], "semi_axes": [1, 2, 0.5], "subdivisions": 2})", kMaterial,
@@ -389,8 +392,9 @@ TEST_CASE("generator scenes load with the element counts of their generators", "
              Catch::Contains("mesh.outer_radius: must exceed mesh.inner_radius"));
   CHECK_THAT(scene_error(scene(R"("mesh": {"generator": "icosphere", "radius": 1, "subdivisions": 12})", kMaterial, kFixBottom)),
              Catch::Contains("mesh.subdivisions: must lie in [0, 7]"));
-  CHECK_THAT(scene_error(scene(R"("mesh": {"generator": "box", "min": [0,0,0], "max": [1,0,1], "divisions": [1,1,1]})", kMaterial, kFixBottom)),
-             Catch::Contains("mesh.max: must exceed mesh.min"));
+  CHECK_THAT(
+      scene_error(scene(R"("mesh": {"generator": "box", "min": [0,0,0], "max": [1,0,1], "divisions": [1,1,1]})", kMaterial, kFixBottom)),
+      Catch::Contains("mesh.max: must exceed mesh.min"));
 }
 
 TEST_CASE("mesh files resolve against the scene's directory and can be scaled", "[scene]") {
@@ -403,7 +407,7 @@ TEST_CASE("mesh files resolve against the scene's directory and can be scaled", 
   CHECK(s.problem.mesh.num_elements() == 12);
   CHECK(s.problem.mesh.bounding_box()(0, 0) == Approx(1.0).epsilon(4 * kEps));  // 10 x 0.1 + 1: measured 0
   CHECK(s.problem.mesh.bounding_box()(0, 1) == Approx(2.0).epsilon(4 * kEps));  // measured 0
-  CHECK(s.problem.mesh.enclosed_volume() == Approx(1.0).epsilon(12 * kEps));     // a sum over 12 faces: measured 2.2e-16
+  CHECK(s.problem.mesh.enclosed_volume() == Approx(1.0).epsilon(12 * kEps));    // a sum over 12 faces: measured 2.2e-16
   CHECK_THAT(s.mesh_source, Catch::Contains("cube.obj"));
 }
 
@@ -413,21 +417,21 @@ TEST_CASE("generators too large for the dense solve are refused with the estimat
   const auto resource_error = [](const std::string& mesh) -> std::string {
     try {
       load_scene_from_string(scene(mesh, kMaterial, kFixBottom), ".");
-    } catch (const ResourceError& e) {
-      return e.what();
-    } catch (const std::exception& e) {
+    } catch (const ResourceError& e) { return e.what(); } catch (const std::exception& e) {
       return std::string("WRONG EXCEPTION TYPE: ") + e.what();
     }
     return "NO EXCEPTION";
   };
   CHECK_THAT(resource_error(R"("mesh": {"generator": "box", "min": [0,0,0], "max": [1,1,1], "divisions": [1000,1000,1000]})"),
-             Catch::Contains("mesh.divisions: a 1000x1000x1000 box has 12000000 elements") &&
-                 Catch::Contains("GiB") && Catch::Contains("refused before generating it"));
+             Catch::Contains("mesh.divisions: a 1000x1000x1000 box has 12000000 elements") && Catch::Contains("GiB") &&
+                 Catch::Contains("refused before generating it"));
   // 20 x 4^7 = 327680 elements: about 14 TB for H and G, beyond any machine this runs on.
   CHECK_THAT(resource_error(R"("mesh": {"generator": "icosphere", "radius": 1, "subdivisions": 7})"),
              Catch::Contains("mesh.subdivisions: the icosphere has 327680 elements"));
-  CHECK_THAT(resource_error(R"("mesh": {"generator": "hollow_sphere", "inner_radius": 0.5, "outer_radius": 1, "subdivisions_inner": 1, "subdivisions_outer": 7})"),
-             Catch::Contains("the hollow sphere has 327760 elements"));
+  CHECK_THAT(
+      resource_error(
+          R"("mesh": {"generator": "hollow_sphere", "inner_radius": 0.5, "outer_radius": 1, "subdivisions_inner": 1, "subdivisions_outer": 7})"),
+      Catch::Contains("the hollow sphere has 327760 elements"));
 }
 
 TEST_CASE("overlapping shells are refused at load, a body thinner than its elements is warned about", "[scene][errors]") {

@@ -18,8 +18,8 @@ namespace fs = std::filesystem;
 
 namespace {
 int run(const std::string& args, std::string* err = nullptr, const fs::path& errfile = {}) {
-  const std::string cmd = std::string(BEMSURG_CLI_PATH) + " " + args + " > /dev/null 2> " +
-                          (errfile.empty() ? std::string("/dev/null") : errfile.string());
+  const std::string cmd =
+      std::string(BEMSURG_CLI_PATH) + " " + args + " > /dev/null 2> " + (errfile.empty() ? std::string("/dev/null") : errfile.string());
   const int status = std::system(cmd.c_str());
   if (err && !errfile.empty()) {
     std::ifstream in(errfile);
@@ -57,7 +57,8 @@ TEST_CASE("bemsurg session writes the force trace and report.json with the loop 
     for (const char* p : {"p50", "p99", "p999"}) CHECK(j.at(group).contains(p));
   const long ticks = j.at("ticks").get<long>();
   CHECK(ticks == 251);  // 0 .. 0.25 s (release at 0.15 s + 0.1 s) at 1 kHz
-  CHECK(j.at("rate_hz").get<double>() == Approx(1000.0).epsilon(4 * std::numeric_limits<double>::epsilon()));  // virtual clock: measured exact
+  CHECK(j.at("rate_hz").get<double>() ==
+        Approx(1000.0).epsilon(4 * std::numeric_limits<double>::epsilon()));  // virtual clock: measured exact
   CHECK(j.at("faults").get<long>() == 0);
   // The trace: a header and one row per tool per tick.
   std::ifstream trace(fs::path(out) / "force_trace.csv");
@@ -102,7 +103,9 @@ TEST_CASE("bemsurg session cuts through the cutting module and writes each cut s
   std::string err;
   std::string text = kScript;
   text.replace(text.find("\"shape\": \"pinch\"}"), 17, "\"shape\": \"pinch\"}, {\"name\": \"scalpel\", \"shape\": \"blade\"}");
-  text.replace(text.rfind(']'), 1, ", {\"time\": 0.2, \"tool\": \"scalpel\", \"type\": \"cut\", \"from\": [0.035, 0.05, 0.05], \"direction\": [1, 0, 0], \"steps\": 2}]");
+  text.replace(
+      text.rfind(']'), 1,
+      ", {\"time\": 0.2, \"tool\": \"scalpel\", \"type\": \"cut\", \"from\": [0.035, 0.05, 0.05], \"direction\": [1, 0, 0], \"steps\": 2}]");
   const std::string cut = temp.write("cut.json", text);
   REQUIRE(run("session " + scene + " --script " + cut + " --virtual-clock -o " + temp.file("o1"), &err, temp.path / "e1.txt") == 0);
   std::ifstream fj(temp.path / "o1" / "report.json");
@@ -138,8 +141,8 @@ TEST_CASE("bemsurg session computes its table on the scene's operating region an
   CHECK(err.find("outside the table's region") != std::string::npos);
   // A table file saved for every free element is stale for the whole top: recomputed with a
   // warning that names the reason, and saved again; the next run loads it silently.
-  REQUIRE(run("session " + temp.write("plain.json", kScene) + " --script " + script + " -o " + temp.file("o2") + " --virtual-clock --table " +
-                  table,
+  REQUIRE(run("session " + temp.write("plain.json", kScene) + " --script " + script + " -o " + temp.file("o2") +
+                  " --virtual-clock --table " + table,
               &err, temp.path / "e2.txt") == 0);
   const std::string top_scene = temp.write("top.json", whole_top);
   REQUIRE(run("session " + top_scene + " --script " + script + " -o " + temp.file("o3") + " --virtual-clock --table " + table, &err,

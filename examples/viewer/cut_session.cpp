@@ -101,8 +101,8 @@ void CutSession::end_drag() {
   segments_.clear();
 }
 
-void CutSession::scripted_step(int action, const Eigen::Vector3d& from, const Eigen::Vector3d& direction,
-                               ModelWorker& worker, double gap_width) {
+void CutSession::scripted_step(int action, const Eigen::Vector3d& from, const Eigen::Vector3d& direction, ModelWorker& worker,
+                               double gap_width) {
   if (action != action_) {
     action_ = action;
     std::string why;
@@ -117,11 +117,12 @@ void CutSession::scripted_step(int action, const Eigen::Vector3d& from, const Ei
 
 std::string CutSession::status_line() const {
   char buf[160];
-  std::snprintf(buf, sizeof buf, "cut steps: %d accepted, %d refused; last step %.0f ms", accepted_, refused_,
-                1000.0 * last_seconds_);
+  std::snprintf(buf, sizeof buf, "cut steps: %d accepted, %d refused; last step %.0f ms", accepted_, refused_, 1000.0 * last_seconds_);
   std::string s = buf;
-  if (!available()) s += "\n" + std::string(kNoCutter);
-  else if (!last_reason_.empty()) s += "\nlast refusal: " + last_reason_;
+  if (!available())
+    s += "\n" + std::string(kNoCutter);
+  else if (!last_reason_.empty())
+    s += "\nlast refusal: " + last_reason_;
   return s;
 }
 

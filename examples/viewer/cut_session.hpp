@@ -38,8 +38,7 @@ class CutSession {
 
   /// Scripted: one increment of the cut started by script action `action` (a new action opens a
   /// new cut). Waits for the tables (headless playback is deterministic).
-  void scripted_step(int action, const Eigen::Vector3d& from, const Eigen::Vector3d& direction, ModelWorker& worker,
-                     double gap_width);
+  void scripted_step(int action, const Eigen::Vector3d& from, const Eigen::Vector3d& direction, ModelWorker& worker, double gap_width);
 
   /// Segments of the current drag (drawn as a line while cutting).
   const std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& path_segments() const { return segments_; }

@@ -21,9 +21,12 @@ void update_field(App& app, const std::shared_ptr<const PhysicsState>& ph, const
     f.physics = ph;
     f.version = ph->version;
     f.u = Eigen::VectorXd::Zero(3 * E);
-    if (ph->table) f.base_vertices = deformed_vertices(mesh, ph->table->base_displacement());
-    else if (ph->provisional_displacement.size() == 3 * E) f.base_vertices = deformed_vertices(mesh, ph->provisional_displacement);
-    else f.base_vertices = mesh.vertices();
+    if (ph->table)
+      f.base_vertices = deformed_vertices(mesh, ph->table->base_displacement());
+    else if (ph->provisional_displacement.size() == 3 * E)
+      f.base_vertices = deformed_vertices(mesh, ph->provisional_displacement);
+    else
+      f.base_vertices = mesh.vertices();
     f.base_bvh = std::make_unique<TriangleBvh>(f.base_vertices, mesh.faces());
   }
   f.traction_magnitude.assign(static_cast<std::size_t>(E), 0.0);
@@ -77,9 +80,12 @@ void build_surface(const App& app, SurfaceBuffers& b, float& u_max, float& t_max
       const float umag = float((f.vertices.row(v) - mesh.vertices().row(v)).norm());
       u_max = std::max(u_max, umag);
       float s = 0.0f;
-      if (app.colour_by == 1) s = umag;
-      else if (app.colour_by == 2) s = tmag;
-      else s = f.physics->supported[static_cast<std::size_t>(e)] ? 1.0f : 0.0f;
+      if (app.colour_by == 1)
+        s = umag;
+      else if (app.colour_by == 2)
+        s = tmag;
+      else
+        s = f.physics->supported[static_cast<std::size_t>(e)] ? 1.0f : 0.0f;
       b.scalars.push_back(s);
       const bool wall = f.physics->original_elements > 0 && e >= f.physics->original_elements;
       b.highlight.push_back(wall ? 2.0f : f.in_contact[static_cast<std::size_t>(e)] ? 1.0f : 0.0f);

@@ -23,8 +23,8 @@ void colour_bar(App& app, int width, int height) {
   ImGui::SetNextWindowPos(ImVec2(float(width) - 120.0f, 60.0f), ImGuiCond_Always);
   ImGui::SetNextWindowSize(ImVec2(110.0f, 300.0f), ImGuiCond_Always);
   ImGui::Begin("colour bar", nullptr,
-               ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoMove |
-                   ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoInputs);
+               ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoScrollbar |
+                   ImGuiWindowFlags_NoInputs);
   ImGui::TextUnformatted(app.colour_by == 1 ? "|u| (mm)" : "|t| (Pa)");
   const float shown = app.colour_by == 1 ? 1000.0f * hi : hi;
   ImGui::Text("%.3g", shown);
@@ -36,8 +36,8 @@ void colour_bar(App& app, int width, int height) {
     const float s0 = 1.0f - float(i) / steps, s1 = 1.0f - float(i + 1) / steps;
     const Eigen::Vector3f c0 = colour_map(s0), c1 = colour_map(s1);
     dl->AddRectFilledMultiColor(ImVec2(p.x, p.y + h * i / steps), ImVec2(p.x + w, p.y + h * (i + 1) / steps),
-                                ImColor(c0.x(), c0.y(), c0.z()), ImColor(c0.x(), c0.y(), c0.z()),
-                                ImColor(c1.x(), c1.y(), c1.z()), ImColor(c1.x(), c1.y(), c1.z()));
+                                ImColor(c0.x(), c0.y(), c0.z()), ImColor(c0.x(), c0.y(), c0.z()), ImColor(c1.x(), c1.y(), c1.z()),
+                                ImColor(c1.x(), c1.y(), c1.z()));
   }
   dl->AddRect(p, ImVec2(p.x + w, p.y + h), IM_COL32(40, 40, 40, 255));
   for (int i = 1; i < 4; ++i) {
@@ -107,8 +107,8 @@ void forces_panel(App& app, const std::shared_ptr<const PhysicsState>& ph) {
                        ImVec2(ImGui::GetContentRegionAvail().x, 55.0f));
     }
   }
-  ImGui::Text("arrow: %.0f mm = %.3g N", 0.3 * 1000.0 * (ph ? (ph->mesh->bounding_box().col(1) - ph->mesh->bounding_box().col(0)).norm() : 0.0),
-              app.max_force_seen);
+  ImGui::Text("arrow: %.0f mm = %.3g N",
+              0.3 * 1000.0 * (ph ? (ph->mesh->bounding_box().col(1) - ph->mesh->bounding_box().col(0)).norm() : 0.0), app.max_force_seen);
   if (app.options.headless)
     ImGui::Text("headless: t = %.2f s of script, one contact update per frame", app.script_time);
   else
@@ -129,11 +129,9 @@ void tool_panel(App& app, const std::shared_ptr<const PhysicsState>& ph) {
     ImGui::RadioButton(kToolNames[i], &t, i);
   }
   app.tool = static_cast<ToolKind>(t);
-  if (app.tool == ToolKind::Sphere || app.tool == ToolKind::Flat || app.tool == ToolKind::Pinch ||
-      app.tool == ToolKind::Plate) {
-    const double def = ph ? (app.tool == ToolKind::Plate ? default_plate_size(ph->mean_edge)
-                                                         : default_tool_radius(app.tool, ph->mean_edge))
-                          : 0.0;
+  if (app.tool == ToolKind::Sphere || app.tool == ToolKind::Flat || app.tool == ToolKind::Pinch || app.tool == ToolKind::Plate) {
+    const double def =
+        ph ? (app.tool == ToolKind::Plate ? default_plate_size(ph->mean_edge) : default_tool_radius(app.tool, ph->mean_edge)) : 0.0;
     if (app.tool_radius_mm <= 0.0f) app.tool_radius_mm = float(1000.0 * def);
     ImGui::SliderFloat(app.tool == ToolKind::Plate ? "half-width (mm)" : "radius (mm)", &app.tool_radius_mm, 1.0f, 40.0f, "%.1f");
   }
@@ -201,9 +199,8 @@ void record_panel(App& app) {
   } else if (ImGui::Button("Stop and save")) {
     app.recorder.on = false;
     std::string err;
-    app.record_message = app.recorder.save(app.record_path, app.scene_input, err)
-                             ? "saved " + app.record_path + ": replay with --script"
-                             : err;
+    app.record_message =
+        app.recorder.save(app.record_path, app.scene_input, err) ? "saved " + app.record_path + ": replay with --script" : err;
   }
   ImGui::TextWrapped("%s", app.record_message.c_str());
 }

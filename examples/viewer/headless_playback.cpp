@@ -104,9 +104,9 @@ void print_summary(App& app, const ViewerOptions& o, const double* peak, int cod
             << std::setprecision(4) << peak[0] << " N, tool 2 " << peak[1] << " N; " << app.cuts.summary() << "\n";
   if (app.cuts.accepted() > 0) {
     const WorkerStatus st = app.worker.status();
-    std::cerr << "bemsurg-viewer: tables after the last cut step: " << (st.last_cut_exact_update ? "delta update" : "recomputed")
-              << " in " << std::setprecision(1) << 1000.0 * st.last_cut_update_seconds << " ms ("
-              << app.worker.state()->mesh->num_elements() << " elements)\n";
+    std::cerr << "bemsurg-viewer: tables after the last cut step: " << (st.last_cut_exact_update ? "delta update" : "recomputed") << " in "
+              << std::setprecision(1) << 1000.0 * st.last_cut_update_seconds << " ms (" << app.worker.state()->mesh->num_elements()
+              << " elements)\n";
   }
   if (app.contact.message[0]) std::cerr << "bemsurg-viewer: note: " << app.contact.message.data() << "\n";
   if (code == 0) std::cerr << "bemsurg-viewer: wrote " << o.screenshot << "\n";
@@ -140,9 +140,8 @@ int prepare_headless(App& app, const ViewerOptions& o, std::unique_ptr<ScriptPla
     std::cerr << "bemsurg-viewer: " << e.what() << "\n";
     return 1;
   }
-  std::cerr << "bemsurg-viewer: " << app.worker.state()->model_name << ": "
-            << app.worker.state()->mesh->num_elements() << " elements, precomputed in " << std::fixed
-            << std::setprecision(2) << seconds_since(t0) << " s\n";
+  std::cerr << "bemsurg-viewer: " << app.worker.state()->model_name << ": " << app.worker.state()->mesh->num_elements()
+            << " elements, precomputed in " << std::fixed << std::setprecision(2) << seconds_since(t0) << " s\n";
   return 0;
 }
 
@@ -158,7 +157,8 @@ int play_headless(App& app, ScriptPlayer& player, const ViewerOptions& o) {
     const double t = f / o.fps;
     glfwPollEvents();
     apply_slot_settings(app, player);
-    for (const ScriptCut& c : player.cuts_between(t_prev, t)) app.cuts.scripted_step(c.action, c.from, c.direction, app.worker, gap_width(app));
+    for (const ScriptCut& c : player.cuts_between(t_prev, t))
+      app.cuts.scripted_step(c.action, c.from, c.direction, app.worker, gap_width(app));
     t_prev = t;
     app.stepper.tick(app.worker.state(), devices, app.settings, t, dt, app.contact);
     app.script_time = t;

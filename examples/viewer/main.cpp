@@ -32,8 +32,7 @@ constexpr const char* kUsage =
 void read_size(const std::string& text, bemsurg::viewer::ViewerOptions& o) {
   const std::size_t x = text.find('x');
   const std::optional<int> w = bemsurg::parse_number<int>(std::string_view(text).substr(0, x));
-  const std::optional<int> h =
-      x == std::string::npos ? std::nullopt : bemsurg::parse_number<int>(std::string_view(text).substr(x + 1));
+  const std::optional<int> h = x == std::string::npos ? std::nullopt : bemsurg::parse_number<int>(std::string_view(text).substr(x + 1));
   if (!w || !h || *w < 320 || *w > 8192 || *h < 240 || *h > 8192)
     throw std::invalid_argument("WxH, W from 320 to 8192 and H from 240 to 8192");
   o.width = *w;

@@ -155,8 +155,8 @@ void ModelWorker::do_cut(const CutRequest& cut) {
   const double t0 = now_seconds();
   bool exact_update = false;
   if (reference_ && reference_->has_factorization() && reference_->num_elements() == cut.delta.elements_before) {
-    set_status(WorkerPhase::Precomputing, "updating the tables for the cut (" + std::to_string(cut.delta.added.size()) +
-                                              " new, " + std::to_string(cut.delta.modified.size()) + " modified elements)");
+    set_status(WorkerPhase::Precomputing, "updating the tables for the cut (" + std::to_string(cut.delta.added.size()) + " new, " +
+                                              std::to_string(cut.delta.modified.size()) + " modified elements)");
     try {
       reference_ = reference_->updated(mesh, cut.delta);
       exact_update = true;
@@ -185,8 +185,10 @@ void ModelWorker::set_young_modulus(double e) {
     std::lock_guard<std::mutex> lock(mutex_);
     if (!(e > 0.0) || !std::isfinite(e)) return;
     young_ = e;
-    if (status_.rescale_exact) pending_.rescale = true;
-    else pending_.recompute = true;
+    if (status_.rescale_exact)
+      pending_.rescale = true;
+    else
+      pending_.recompute = true;
     busy_ = true;
   }
   wake_.notify_all();
@@ -207,8 +209,10 @@ void ModelWorker::set_gravity(bool on) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     gravity_on_ = on;
-    if (status_.rescale_exact) pending_.rescale = true;
-    else pending_.recompute = true;
+    if (status_.rescale_exact)
+      pending_.rescale = true;
+    else
+      pending_.recompute = true;
     busy_ = true;
   }
   wake_.notify_all();
@@ -285,8 +289,10 @@ void ModelWorker::run() {
       }
       for (const CutRequest& c : cuts) do_cut(c);
       if (!r.load) {
-        if (r.recompute) do_precompute();
-        else if (r.rescale) do_rescale();
+        if (r.recompute)
+          do_precompute();
+        else if (r.rescale)
+          do_rescale();
       }
     } catch (const std::exception& e) {
       std::lock_guard<std::mutex> lock(mutex_);
@@ -383,9 +389,8 @@ void ModelWorker::do_precompute() {
   Index region = static_cast<Index>(operating.size());
   if (operating.empty())
     for (Index e = 0; e < p.mesh.num_elements(); ++e) region += p.boundary_conditions.is_free(e) ? 1 : 0;
-  set_status(WorkerPhase::Precomputing,
-             "precomputing the compliance table (" + std::to_string(p.mesh.num_elements()) + " elements, " +
-                 std::to_string(3 * p.mesh.num_elements()) + " equations)");
+  set_status(WorkerPhase::Precomputing, "precomputing the compliance table (" + std::to_string(p.mesh.num_elements()) + " elements, " +
+                                            std::to_string(3 * p.mesh.num_elements()) + " equations)");
   {
     std::lock_guard<std::mutex> lock(mutex_);
     phase_predicted_ = predict_seconds(p.mesh.num_elements(), region);
@@ -449,11 +454,9 @@ void ModelWorker::do_rescale() {
     GreensTableKey key = reference_->key();
     key.material.young_modulus = young;
     key.gravity = g * reference_->key().gravity;
-    auto table = std::make_shared<const GreensTable>(key, reference_->region(),
-                                                     Eigen::VectorXd((scale * g) * reference_->base_displacement()),
-                                                     Eigen::VectorXd(g * reference_->base_traction()),
-                                                     reference_->base_kinds(),
-                                                     Eigen::MatrixXd(scale * reference_->columns()));
+    auto table = std::make_shared<const GreensTable>(
+        key, reference_->region(), Eigen::VectorXd((scale * g) * reference_->base_displacement()),
+        Eigen::VectorXd(g * reference_->base_traction()), reference_->base_kinds(), Eigen::MatrixXd(scale * reference_->columns()));
     s->material.young_modulus = young;
     s->gravity = key.gravity;
     s->table = table;

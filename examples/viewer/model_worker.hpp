@@ -20,8 +20,8 @@
 #include <thread>
 #include <vector>
 
-#include "bemsurg/mesh/mesh_delta.hpp"
 #include "bemsurg/material.hpp"
+#include "bemsurg/mesh/mesh_delta.hpp"
 #include "bemsurg/mesh/triangle_mesh.hpp"
 #include "bemsurg/presolution/greens_table.hpp"
 
@@ -30,18 +30,18 @@ namespace bemsurg::viewer {
 /// What the graphics and haptic threads read: never modified after publication.
 struct PhysicsState {
   std::uint64_t version = 0;
-  std::string model_name;                     // "default cuboid", the scene path, ...
-  std::shared_ptr<const TriangleMesh> mesh;   // undeformed surface
-  std::shared_ptr<const GreensTable> table;   // null until the precomputation is done
-  Material material;                          // E, nu, rho as used by `table`
+  std::string model_name;                             // "default cuboid", the scene path, ...
+  std::shared_ptr<const TriangleMesh> mesh;           // undeformed surface
+  std::shared_ptr<const GreensTable> table;           // null until the precomputation is done
+  Material material;                                  // E, nu, rho as used by `table`
   Eigen::Vector3d gravity = Eigen::Vector3d::Zero();  // as used by `table` (zero when switched off)
-  std::vector<char> supported;                // per element: some displacement component prescribed
-  double mean_edge = 0.0;                     // mean element diameter (tool sizes, glyphs)
+  std::vector<char> supported;                        // per element: some displacement component prescribed
+  double mean_edge = 0.0;                             // mean element diameter (tool sizes, glyphs)
   /// While `table` is null after a cut: the displacement to draw (the previous self-weight sag,
   /// zero on the new cut walls), so the new surfaces appear at once. Empty otherwise.
   Eigen::VectorXd provisional_displacement;
-  int cuts = 0;                               // accepted cut steps in this model
-  Index original_elements = 0;                // elements of the model as loaded; later ids are cut walls
+  int cuts = 0;                 // accepted cut steps in this model
+  Index original_elements = 0;  // elements of the model as loaded; later ids are cut walls
 };
 
 enum class WorkerPhase { Idle, Loading, Precomputing, Rescaling, Ready, Failed };
@@ -58,8 +58,8 @@ struct WorkerStatus {
   double last_rescale_seconds = 0.0;
   double last_cut_update_seconds = 0.0;  // GreensTable::updated (or the recomputation) after the last cut
   bool last_cut_exact_update = false;    // the last cut's tables came from the delta update
-  bool tables_exact = false;  // the table in use was computed for the current mesh
-  int cuts = 0;               // accepted cut steps whose mesh is in use
+  bool tables_exact = false;             // the table in use was computed for the current mesh
+  int cuts = 0;                          // accepted cut steps whose mesh is in use
 };
 
 class ModelWorker {

@@ -5,8 +5,8 @@
 // pans, the wheel zooms. A recording session turns presses, moves and releases into actions.
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
-#include <imgui.h>
 #include <backends/imgui_impl_glfw.h>
+#include <imgui.h>
 
 #include <algorithm>
 #include <cmath>
@@ -72,8 +72,8 @@ bool pick(App& app, double x, double y, Eigen::Vector3d& point, Eigen::Vector3d&
 /// A recorded press or pinch where the tool met the body at `p` (surface normal `n`).
 void record_press(App& app, const SlotOptions& s, const Eigen::Vector3d& p, const Eigen::Vector3d& n) {
   const double radius = app.tool == ToolKind::Point ? 0.0
-                        : s.radius > 0.0 ? s.radius
-                        : default_tool_radius(app.tool, app.field.physics->mean_edge);
+                        : s.radius > 0.0            ? s.radius
+                                                    : default_tool_radius(app.tool, app.field.physics->mean_edge);
   app.recorder.last_move = app.recorder.now();  // the next move starts after the press
   if (app.tool == ToolKind::Plate) {
     app.record_message = "a retractor plate is not recorded (scripts give a plate its own polygon)";
@@ -81,8 +81,8 @@ void record_press(App& app, const SlotOptions& s, const Eigen::Vector3d& p, cons
   }
   app.recorded_tool = app.recorder.tool_name(app.active_slot, app.tool, radius);
   const char* type = app.tool == ToolKind::Pinch ? "pinch" : "press";
-  nlohmann::json a = {{"time", app.recorder.now()}, {"tool", app.recorded_tool}, {"type", type},
-                      {"at", vec_json(p)}, {"direction", vec_json(-n)}};
+  nlohmann::json a = {
+      {"time", app.recorder.now()}, {"tool", app.recorded_tool}, {"type", type}, {"at", vec_json(p)}, {"direction", vec_json(-n)}};
   if (app.tool != ToolKind::Pinch) a["depth"] = 0.0;
   app.recorder.actions.push_back(a);
 }
@@ -119,8 +119,8 @@ void end_press(App& app, double x, double y) {
   }
   mouse_to_device(app, x, y, false);
   if (app.recorder.on && !app.recorded_tool.empty() && app.tool != ToolKind::Plate)
-    app.recorder.actions.push_back({{"time", std::max(app.recorder.now(), app.recorder.last_move + 0.1001)},
-                                    {"tool", app.recorded_tool}, {"type", "release"}});
+    app.recorder.actions.push_back(
+        {{"time", std::max(app.recorder.now(), app.recorder.last_move + 0.1001)}, {"tool", app.recorded_tool}, {"type", "release"}});
 }
 
 /// Pan (middle, or shift + right) and orbit (right) while no tool is pressed.

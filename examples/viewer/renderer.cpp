@@ -96,8 +96,8 @@ unsigned compile(unsigned kind, const char* src, std::string& error) {
 
 Eigen::Vector3f colour_map(float s) {
   s = std::clamp(s, 0.0f, 1.0f);
-  const Eigen::Vector3f c[5] = {{0.10f, 0.15f, 0.60f}, {0.10f, 0.65f, 0.90f}, {0.20f, 0.80f, 0.30f},
-                                {0.95f, 0.85f, 0.15f}, {0.85f, 0.12f, 0.10f}};
+  const Eigen::Vector3f c[5] = {
+      {0.10f, 0.15f, 0.60f}, {0.10f, 0.65f, 0.90f}, {0.20f, 0.80f, 0.30f}, {0.95f, 0.85f, 0.15f}, {0.85f, 0.12f, 0.10f}};
   const float t = s * 4.0f;
   const int i = std::min(3, static_cast<int>(t));
   return c[i] + (t - float(i)) * (c[i + 1] - c[i]);
@@ -123,9 +123,7 @@ Eigen::Vector3f OrbitCamera::eye() const {
   return target + distance * d;
 }
 
-Eigen::Vector3f OrbitCamera::right() const {
-  return Eigen::Vector3f(-std::sin(yaw), std::cos(yaw), 0.0f);
-}
+Eigen::Vector3f OrbitCamera::right() const { return Eigen::Vector3f(-std::sin(yaw), std::cos(yaw), 0.0f); }
 
 Eigen::Vector3f OrbitCamera::up() const {
   const Eigen::Vector3f f = (target - eye()).normalized();
@@ -250,8 +248,10 @@ void Renderer::upload(const SurfaceBuffers& b) {
     } else {
       glDisableVertexAttribArray(GLuint(i));
       const float zero[3] = {0.0f, 0.0f, 1.0f};
-      if (width[i] == 3) glVertexAttrib3fv(GLuint(i), zero);
-      else glVertexAttrib1f(GLuint(i), 0.0f);
+      if (width[i] == 3)
+        glVertexAttrib3fv(GLuint(i), zero);
+      else
+        glVertexAttrib1f(GLuint(i), 0.0f);
     }
   }
 }
@@ -270,9 +270,7 @@ void Renderer::draw_surface(const SurfaceBuffers& b, RenderMode mode, bool colou
   upload(b);
   const GLsizei n = GLsizei(b.positions.size() / 3);
   switch (mode) {
-    case RenderMode::Solid:
-      glDrawArrays(GL_TRIANGLES, 0, n);
-      break;
+    case RenderMode::Solid: glDrawArrays(GL_TRIANGLES, 0, n); break;
     case RenderMode::Wireframe:
       glUniform1i(u_lit_, 0);
       glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);

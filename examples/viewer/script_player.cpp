@@ -25,9 +25,8 @@ ScriptPlayer::ScriptPlayer(ActionScript script) : script_(std::move(script)) {
     const ScriptTool& t = script_.tools[i];
     if (t.shape == ScriptToolShape::Blade) continue;
     if (t.device < 0 || t.device >= kMaxTools)
-      throw SceneError(script_.path + ": tools[" + std::to_string(i) + "].device: the viewer drives " +
-                       std::to_string(kMaxTools) + " tools at once (channels 0 and 1); tool '" + t.name +
-                       "' is on channel " + std::to_string(t.device));
+      throw SceneError(script_.path + ": tools[" + std::to_string(i) + "].device: the viewer drives " + std::to_string(kMaxTools) +
+                       " tools at once (channels 0 and 1); tool '" + t.name + "' is on channel " + std::to_string(t.device));
     int& slot = tool_of_slot_[static_cast<std::size_t>(t.device)];
     if (slot >= 0)
       throw SceneError(script_.path + ": tools[" + std::to_string(i) + "].device: channel " + std::to_string(t.device) +
@@ -128,8 +127,7 @@ std::vector<haptics::Keyframe> ScriptPlayer::keyframes(int tool, const TriangleB
         key(a.time + a.duration);
         break;
       }
-      case ActionType::Cut:
-        break;
+      case ActionType::Cut: break;
     }
   }
   if (k.empty()) key(0.0);

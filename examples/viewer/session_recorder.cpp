@@ -9,8 +9,8 @@
 namespace bemsurg::viewer {
 
 std::string SessionRecorder::tool_name(int slot, ToolKind k, double radius) {
-  const std::string name = "tool" + std::to_string(slot + 1) + "-" + tool_kind_name(k) + "-" +
-                           std::to_string(static_cast<long>(std::lround(radius * 1e5)));
+  const std::string name =
+      "tool" + std::to_string(slot + 1) + "-" + tool_kind_name(k) + "-" + std::to_string(static_cast<long>(std::lround(radius * 1e5)));
   for (const auto& t : tools)
     if (t["name"] == name) return name;
   nlohmann::json t = {{"name", name}, {"shape", tool_kind_name(k)}, {"device", slot}};

@@ -9,16 +9,16 @@
 #include <limits>
 #include <string>
 
-#include "script_player.hpp"
-#include "bemsurg/io/action_script.hpp"
-#include "bemsurg/mesh/mesh_generators.hpp"
-#include "bemsurg/haptics/scripted_device.hpp"
 #include "bemsurg/error.hpp"
 #include "bemsurg/haptics/haptic_device.hpp"
+#include "bemsurg/haptics/scripted_device.hpp"
+#include "bemsurg/io/action_script.hpp"
 #include "bemsurg/io/scene.hpp"
+#include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/presolution/contact_tools.hpp"
 #include "bemsurg/presolution/greens_table.hpp"
 #include "model_worker.hpp"
+#include "script_player.hpp"
 #include "tool_stepper.hpp"
 
 using namespace bemsurg;
@@ -43,9 +43,7 @@ std::string write_temp(const std::string& name, const std::string& text) {
 
 constexpr double kEps = std::numeric_limits<double>::epsilon();
 
-double max_relative(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
-  return (a - b).cwiseAbs().maxCoeff() / b.cwiseAbs().maxCoeff();
-}
+double max_relative(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) { return (a - b).cwiseAbs().maxCoeff() / b.cwiseAbs().maxCoeff(); }
 
 }  // namespace
 
@@ -80,7 +78,7 @@ TEST_CASE("a script press becomes device keyframes from the first contact, pushe
   CHECK((device.state_at(4.5).position - Eigen::Vector3d(0.006, 0.003, 0.046)).norm() < ray);
   CHECK_FALSE(device.state_at(6.5).button(0));
   const auto cuts = player.cuts_between(1.9, 2.6);
-  REQUIRE(cuts.size() == 2);  // increments at 2.0 and 2.5 (the third is at 3.0)
+  REQUIRE(cuts.size() == 2);                             // increments at 2.0 and 2.5 (the third is at 3.0)
   CHECK(cuts[0].time == Approx(2.0).epsilon(4 * kEps));  // measured 0
   CHECK(cuts[1].time == Approx(2.5).epsilon(4 * kEps));  // measured 0
 }
@@ -96,9 +94,7 @@ TEST_CASE("a press whose approach line misses the body is refused naming the act
   try {
     player.keyframes(0, base);
     FAIL("no error");
-  } catch (const SceneError& e) {
-    CHECK(std::string(e.what()).find("s.json: actions[0] (press of 'p')") == 0);
-  }
+  } catch (const SceneError& e) { CHECK(std::string(e.what()).find("s.json: actions[0] (press of 'p')") == 0); }
 }
 
 TEST_CASE("the viewer's table holds the scene's operating region only, as press and session do", "[viewer]") {
@@ -189,7 +185,7 @@ TEST_CASE("the haptic tick presses a sphere through a device as the contact solv
   device.set_state(d);
   stepper.tick(ph, devices, settings, 0.0, 1e-3, snap);  // engages
   const Eigen::Vector3d sent_first = device.last_force();
-  d.position.z() -= 0.008;                   // 8 mm in
+  d.position.z() -= 0.008;  // 8 mm in
   device.set_state(d);
   stepper.tick(ph, devices, settings, 1e-3, 1e-3, snap);
   const Eigen::Vector3d f = snap.slots[0].force;
@@ -220,6 +216,6 @@ TEST_CASE("the haptic tick presses a sphere through a device as the contact solv
   settings.force_rate = 1e6;
   stepper.tick(ph, devices, settings, 2e-3, 1e-3, snap);
   CHECK(std::abs(device.last_force().norm() - 0.5 * expected.norm()) <= 4 * kEps * expected.norm());  // a clip: measured 0
-  CHECK((snap.slots[0].force - expected).norm() <= pose * expected.norm());                          // measured 4.5e-14
+  CHECK((snap.slots[0].force - expected).norm() <= pose * expected.norm());                           // measured 4.5e-14
   std::remove(path.c_str());
 }

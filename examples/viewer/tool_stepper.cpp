@@ -13,7 +13,7 @@ double default_tool_radius(ToolKind k, double edge) {
   switch (k) {
     case ToolKind::Sphere: return 1.5 * edge;  // covers a few centroids: a resolved Hertz-like contact
     case ToolKind::Flat: return 1.0 * edge;
-    case ToolKind::Pinch: return 0.6 * edge;   // the element hit and its nearest neighbours
+    case ToolKind::Pinch: return 0.6 * edge;  // the element hit and its nearest neighbours
     default: return 0.0;
   }
 }
@@ -54,8 +54,7 @@ bool ToolStepper::engage(Slot& s, const SlotOptions& want, const haptics::Device
   }
   ToolSpec spec;
   Eigen::Vector3d origin = hit.point;
-  const bool frictionless = want.frictionless_given ? want.frictionless
-                                                    : (want.kind == ToolKind::Sphere || want.kind == ToolKind::Flat);
+  const bool frictionless = want.frictionless_given ? want.frictionless : (want.kind == ToolKind::Sphere || want.kind == ToolKind::Flat);
   const ContactMode mode = frictionless ? ContactMode::Frictionless : ContactMode::Bonded;
   switch (want.kind) {
     case ToolKind::Point: spec = ToolSpec::point(mode); break;
@@ -76,16 +75,15 @@ bool ToolStepper::engage(Slot& s, const SlotOptions& want, const haptics::Device
       }
       // A square retractor plate across the approach direction, gripping what it touches.
       Eigen::Vector3d a = dir.unitOrthogonal(), b = dir.cross(a);
-      std::vector<Eigen::Vector3d> poly = {hit.point + plate * (a + b), hit.point + plate * (-a + b),
-                                           hit.point + plate * (-a - b), hit.point + plate * (a - b)};
+      std::vector<Eigen::Vector3d> poly = {hit.point + plate * (a + b), hit.point + plate * (-a + b), hit.point + plate * (-a - b),
+                                           hit.point + plate * (a - b)};
       spec = ToolSpec::plate(std::move(poly), 0.5 * edge);
       break;
     }
     case ToolKind::Cut: why = "the cut tool does not press"; return false;
   }
   // Reuse the slot's tool while its shape is unchanged (a plate carries its polygon: new each time).
-  if (s.tool < 0 || s.kind != want.kind || s.radius != radius || s.frictionless != frictionless ||
-      want.kind == ToolKind::Plate)
+  if (s.tool < 0 || s.kind != want.kind || s.radius != radius || s.frictionless != frictionless || want.kind == ToolKind::Plate)
     s.tool = solver_->add_tool(spec);
   s.kind = want.kind;
   s.radius = radius;
@@ -138,9 +136,7 @@ void ToolStepper::follow_model(const std::shared_ptr<const PhysicsState>& physic
     if (solver_) {
       try {
         ok = reengage(s);
-      } catch (const std::exception& e) {
-        message_ = std::string("re-engaging after the model changed: ") + e.what();
-      }
+      } catch (const std::exception& e) { message_ = std::string("re-engaging after the model changed: ") + e.what(); }
     }
     s.engaged = ok;
     s.missed = !ok && s.button;  // a tool that could not follow waits for its button's release

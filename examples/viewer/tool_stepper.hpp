@@ -18,12 +18,12 @@
 #include <string>
 #include <vector>
 
-#include "tool_kind.hpp"
 #include "bemsurg/haptics/force_limiter.hpp"
 #include "bemsurg/haptics/haptic_device.hpp"
 #include "bemsurg/haptics/triple_buffer.hpp"
 #include "bemsurg/presolution/contact_tools.hpp"
 #include "model_worker.hpp"
+#include "tool_kind.hpp"
 
 namespace bemsurg::viewer {
 
@@ -78,16 +78,16 @@ struct SlotOptions {
 
 struct StepperOptions {
   std::array<SlotOptions, kMaxTools> slots;
-  bool haptic_force = true;  // write the force to the device (off: zero)
-  double force_limit = 3.3;  // newtons (a Touch-class desktop device)
-  double force_rate = 300.0; // newtons per second: the largest change of the sent force
+  bool haptic_force = true;   // write the force to the device (off: zero)
+  double force_limit = 3.3;   // newtons (a Touch-class desktop device)
+  double force_rate = 300.0;  // newtons per second: the largest change of the sent force
 };
 
 struct SlotSnapshot {
   bool engaged = false;
   bool missed = false;  // the button is down but the tool met nothing
   ToolKind kind = ToolKind::Sphere;
-  Eigen::Vector3d tip = Eigen::Vector3d::Zero();       // contact point / sphere centre / disc or plate centre, moved
+  Eigen::Vector3d tip = Eigen::Vector3d::Zero();  // contact point / sphere centre / disc or plate centre, moved
   Eigen::Vector3d direction = -Eigen::Vector3d::UnitZ();
   double radius = 0.0;
   double plate_size = 0.0;
@@ -99,10 +99,10 @@ struct SlotSnapshot {
 struct ContactSnapshot {
   std::uint64_t physics_version = 0;
   std::array<SlotSnapshot, kMaxTools> slots;
-  std::vector<Index> elements;   // contact elements (capacity reserved)
-  std::vector<double> tractions; // 3 per contact element: contact traction added to the base state
+  std::vector<Index> elements;    // contact elements (capacity reserved)
+  std::vector<double> tractions;  // 3 per contact element: contact traction added to the base state
   Index count = 0;
-  double force_seconds = 0.0;    // time of this tick's contact update
+  double force_seconds = 0.0;       // time of this tick's contact update
   std::array<char, 200> message{};  // last problem ("contact set full", ...) or empty
 };
 
@@ -111,8 +111,8 @@ class ToolStepper {
   ToolStepper();
   /// One tick at session time `time`, `dt` seconds after the previous one. `physics` may be null
   /// or without a table (nothing happens but the snapshot).
-  void tick(const std::shared_ptr<const PhysicsState>& physics, haptics::HapticDevice* const* devices,
-            const StepperOptions& settings, double time, double dt, ContactSnapshot& out);
+  void tick(const std::shared_ptr<const PhysicsState>& physics, haptics::HapticDevice* const* devices, const StepperOptions& settings,
+            double time, double dt, ContactSnapshot& out);
 
  private:
   struct Slot {

@@ -8,9 +8,9 @@
 #include <GLFW/glfw3.h>
 #define GL_GLEXT_PROTOTYPES 1
 #include <GL/glcorearb.h>
-#include <imgui.h>
 #include <backends/imgui_impl_glfw.h>
 #include <backends/imgui_impl_opengl3.h>
+#include <imgui.h>
 
 #include <algorithm>
 #include <chrono>
@@ -33,8 +33,7 @@ void haptic_loop(App* app) {
   while (app->haptic_run.load(std::memory_order_relaxed)) {
     app->settings_buffer.acquire();
     const auto physics = app->worker.state();
-    app->stepper.tick(physics, devices, app->settings_buffer.front(), seconds_since(app->started), 1e-3,
-                      app->snapshots.back());
+    app->stepper.tick(physics, devices, app->settings_buffer.front(), seconds_since(app->started), 1e-3, app->snapshots.back());
     app->force_us.store(1e6 * app->snapshots.back().force_seconds, std::memory_order_relaxed);
     app->snapshots.publish();
     app->haptic_rate.tick();
@@ -50,8 +49,7 @@ void haptic_loop(App* app) {
 GLFWwindow* open_window(const ViewerOptions& o, std::string& error) {
   glfwSetErrorCallback([](int, const char* text) { std::cerr << "bemsurg-viewer: GLFW: " << text << "\n"; });
   if (!glfwInit()) {
-    error = "no display: GLFW could not open one (DISPLAY is " +
-            std::string(std::getenv("DISPLAY") ? std::getenv("DISPLAY") : "not set") +
+    error = "no display: GLFW could not open one (DISPLAY is " + std::string(std::getenv("DISPLAY") ? std::getenv("DISPLAY") : "not set") +
             "). On a machine without a screen run the viewer under a virtual X server:\n"
             "  xvfb-run -a -s \"-screen 0 1280x800x24\" bemsurg-viewer --script examples/viewer-prod.json --frames 90 "
             "--screenshot out.png\n(Debian package xvfb)";
@@ -63,8 +61,9 @@ GLFWwindow* open_window(const ViewerOptions& o, std::string& error) {
   glfwWindowHint(GLFW_SAMPLES, o.headless ? 0 : 4);
   GLFWwindow* w = glfwCreateWindow(o.width, o.height, "bemsurg viewer", nullptr, nullptr);
   if (!w) {
-    error = "could not create an OpenGL 3.3 core window on this display; without a GPU or screen run under "
-            "xvfb-run -a -s \"-screen 0 1280x800x24\" (Mesa's llvmpipe provides OpenGL 3.3)";
+    error =
+        "could not create an OpenGL 3.3 core window on this display; without a GPU or screen run under "
+        "xvfb-run -a -s \"-screen 0 1280x800x24\" (Mesa's llvmpipe provides OpenGL 3.3)";
     glfwTerminate();
     return nullptr;
   }
@@ -131,8 +130,8 @@ void take_contact_snapshot(App& app) {
 void print_rates(App& app, double graphics_sum, double haptic_sum, int rate_samples) {
   if (rate_samples > 0)
     std::cerr << "bemsurg-viewer: mean rates over the second half: graphics " << std::fixed << std::setprecision(1)
-              << graphics_sum / rate_samples << " Hz, haptic " << haptic_sum / rate_samples << " Hz; largest |F| "
-              << std::setprecision(4) << app.max_force_seen << " N\n";
+              << graphics_sum / rate_samples << " Hz, haptic " << haptic_sum / rate_samples << " Hz; largest |F| " << std::setprecision(4)
+              << app.max_force_seen << " N\n";
   else
     std::cerr << "bemsurg-viewer: the table was not ready within --quit-after; no rates measured\n";
   const WorkerStatus st = app.worker.status();

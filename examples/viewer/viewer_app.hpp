@@ -16,9 +16,9 @@ struct ViewerOptions {
   std::vector<int> shots;  // --shots F1,F2,...: also write OUT-fNNNN.png at these frames
   double fps = 30.0;       // --fps: script seconds per frame = 1/fps (headless)
   int width = 1280, height = 800;
-  bool headless = false;   // any of --script/--frames/--screenshot given
-  std::string record;      // --record FILE: write the mouse session as an action script (interactive)
-  double quit_after = 0.0; // --quit-after S: close the window after S seconds and print the rates (interactive)
+  bool headless = false;    // any of --script/--frames/--screenshot given
+  std::string record;       // --record FILE: write the mouse session as an action script (interactive)
+  double quit_after = 0.0;  // --quit-after S: close the window after S seconds and print the rates (interactive)
 };
 
 /// Runs the viewer; returns the process exit code. Errors in headless mode are printed and give

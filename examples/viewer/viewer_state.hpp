@@ -57,9 +57,9 @@ class RateCounter {
 struct FrameField {
   std::uint64_t version = 0;
   std::shared_ptr<const PhysicsState> physics;
-  Eigen::VectorXd u;                // element displacements (3E)
-  RowMatrixX3d vertices;            // deformed vertices
-  RowMatrixX3d base_vertices;       // base state (gravity) vertices, for picking
+  Eigen::VectorXd u;           // element displacements (3E)
+  RowMatrixX3d vertices;       // deformed vertices
+  RowMatrixX3d base_vertices;  // base state (gravity) vertices, for picking
   std::unique_ptr<TriangleBvh> base_bvh;
   std::vector<double> traction_magnitude;  // per element
   std::vector<char> in_contact;            // per element

@@ -50,8 +50,7 @@ double estimate_elastostatic_bytes(Index num_elements);
 /// solves. Throws InvalidMaterialError, BoundaryConditionError, ResourceError (before allocating
 /// anything large) or SolverError with a message.
 /// The mesh is not validated here (callers that read files run require_valid_mesh first).
-ElastostaticSolution solve_elastostatic(const ElastostaticProblem& problem,
-                                        const LinearSolverOptions& solver = LinearSolverOptions());
+ElastostaticSolution solve_elastostatic(const ElastostaticProblem& problem, const LinearSolverOptions& solver = LinearSolverOptions());
 
 }  // namespace bemsurg
 

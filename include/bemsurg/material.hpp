@@ -23,14 +23,11 @@ struct Material {
   /// quantities downstream) and rho >= 0, all finite.
   void validate() const {
     if (!std::isfinite(young_modulus) || young_modulus <= 0.0)
-      throw InvalidMaterialError("material: young_modulus must be a finite positive number, got " +
-                                 number_text(young_modulus));
+      throw InvalidMaterialError("material: young_modulus must be a finite positive number, got " + number_text(young_modulus));
     if (!std::isfinite(poisson_ratio) || poisson_ratio <= -1.0 || poisson_ratio >= 0.5)
-      throw InvalidMaterialError("material: poisson_ratio must lie in the open interval (-1, 0.5), got " +
-                                 number_text(poisson_ratio));
+      throw InvalidMaterialError("material: poisson_ratio must lie in the open interval (-1, 0.5), got " + number_text(poisson_ratio));
     if (!std::isfinite(density) || density < 0.0)
-      throw InvalidMaterialError("material: density must be finite and non-negative, got " +
-                                 number_text(density));
+      throw InvalidMaterialError("material: density must be finite and non-negative, got " + number_text(density));
   }
 
   /// This material after validate(): for constructors that must check it before a member that
@@ -41,9 +38,7 @@ struct Material {
   }
 
   double shear_modulus() const { return young_modulus / (2.0 * (1.0 + poisson_ratio)); }
-  double lame_lambda() const {
-    return young_modulus * poisson_ratio / ((1.0 + poisson_ratio) * (1.0 - 2.0 * poisson_ratio));
-  }
+  double lame_lambda() const { return young_modulus * poisson_ratio / ((1.0 + poisson_ratio) * (1.0 - 2.0 * poisson_ratio)); }
 
   /// Hooke's law from the displacement gradient du(a, b) = d u_a / d x_b:
   /// sigma = 2 mu eps + lambda tr(eps) I with eps = (du + du^T) / 2 (small strain).

@@ -66,7 +66,10 @@ inline std::string number_text(double x) {
 /// x with `digits` digits after the point ("%.*f" without the locale), for tables read by people.
 inline std::string fixed_text(double x, int digits) {
   char buffer[352];  // DBL_MAX in fixed notation has 309 digits before the point
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, x, std::chars_format::fixed, digits < 0 ? 0 : digits > 17 ? 17 : digits);
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, x, std::chars_format::fixed,
+                                    digits < 0    ? 0
+                                    : digits > 17 ? 17
+                                                  : digits);
   if (result.ec != std::errc()) return number_text(x);
   return std::string(buffer, result.ptr);
 }
@@ -74,7 +77,10 @@ inline std::string fixed_text(double x, int digits) {
 /// x with `digits` significant digits ("%.*g" without the locale).
 inline std::string general_text(double x, int digits) {
   char buffer[64];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, x, std::chars_format::general, digits < 1 ? 1 : digits > 17 ? 17 : digits);
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, x, std::chars_format::general,
+                                    digits < 1    ? 1
+                                    : digits > 17 ? 17
+                                                  : digits);
   if (result.ec != std::errc()) return number_text(x);
   return std::string(buffer, result.ptr);
 }
@@ -83,7 +89,10 @@ inline std::string general_text(double x, int digits) {
 /// "1.234e-05"), for residuals and tolerances in messages and printed tables.
 inline std::string scientific_text(double x, int digits) {
   char buffer[64];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, x, std::chars_format::scientific, digits < 0 ? 0 : digits > 17 ? 17 : digits);
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, x, std::chars_format::scientific,
+                                    digits < 0    ? 0
+                                    : digits > 17 ? 17
+                                                  : digits);
   if (result.ec != std::errc()) return number_text(x);
   return std::string(buffer, result.ptr);
 }

@@ -14,8 +14,6 @@ inline double seconds_between(SteadyClock::time_point start, SteadyClock::time_p
 }
 
 /// Seconds elapsed since `start` on the steady clock.
-inline double seconds_since(SteadyClock::time_point start) {
-  return std::chrono::duration<double>(SteadyClock::now() - start).count();
-}
+inline double seconds_since(SteadyClock::time_point start) { return std::chrono::duration<double>(SteadyClock::now() - start).count(); }
 
 }  // namespace bemsurg

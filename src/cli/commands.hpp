@@ -28,10 +28,9 @@ inline Eigen::Vector3d parse_vector3(const std::string& command, const std::stri
 /// Declares an "X,Y,Z" option of `parser` read into `target` by parse_vector3.
 inline OptionParser& vector3_value(OptionParser& parser, const std::string& name, std::string value_name, Eigen::Vector3d& target,
                                    std::string help) {
-  return parser.custom_value(name, std::move(value_name), std::move(help),
-                             [&target, program = parser.program(), name](const std::string& text) {
-                               target = parse_vector3(program, name, text);
-                             });
+  return parser.custom_value(
+      name, std::move(value_name), std::move(help),
+      [&target, program = parser.program(), name](const std::string& text) { target = parse_vector3(program, name, text); });
 }
 
 }  // namespace bemsurg::cli

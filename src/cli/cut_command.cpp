@@ -9,8 +9,8 @@
 #include <iomanip>
 #include <iostream>
 #include <memory>
-#include <optional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -65,14 +65,13 @@ std::optional<CutCommandOptions> parse_cut_options(int argc, char** argv) {
   bemsurg::cli::vector3_value(parser, "--from", "X,Y,Z", o.from, "where the cut starts (the nearest surface vertex)").required();
   bemsurg::cli::vector3_value(parser, "--direction", "DX,DY,DZ", o.direction, "the direction it runs along").required();
   parser.value("--steps", "K", o.steps, "cut steps, one mesh edge each").required().at_least(1);
-  parser.custom_value("--update", "METHOD", "exact, gmres, bicgstab, bicg or refactor (see above)",
-                      [&o](const std::string& text) {
-                        try {
-                          o.update = bemsurg::parse_cut_update_method(text);
-                        } catch (const bemsurg::Error&) {
-                          throw std::invalid_argument("exact, gmres, bicgstab, bicg or refactor");
-                        }
-                      })
+  parser
+      .custom_value("--update", "METHOD", "exact, gmres, bicgstab, bicg or refactor (see above)",
+                    [&o](const std::string& text) {
+                      try {
+                        o.update = bemsurg::parse_cut_update_method(text);
+                      } catch (const bemsurg::Error&) { throw std::invalid_argument("exact, gmres, bicgstab, bicg or refactor"); }
+                    })
       .default_text("exact");
   parser.value("--gap", "W", o.gap, "gap width").above(0.0).default_text("0.1 x the local edge length");
   parser.value("-o, --output", "OUTDIR", o.output, "output directory").required();
@@ -144,7 +143,8 @@ int run_cut(int argc, char** argv) {
   std::error_code ec;
   fs::create_directories(o.output, ec);
   if (ec || !fs::is_directory(o.output))
-    throw IoError("cannot create the output directory '" + o.output + "': " + (ec ? ec.message() : std::string("a file of that name exists")));
+    throw IoError("cannot create the output directory '" + o.output +
+                  "': " + (ec ? ec.message() : std::string("a file of that name exists")));
   const fs::path out(o.output);
 
   const ElastostaticProblem& p = scene.problem;
@@ -185,27 +185,39 @@ int run_cut(int argc, char** argv) {
     if (reason.empty()) {
       try {
         r = system.apply(cutter.mesh(), st.delta, o.update);
-      } catch (const Error& e) {
-        reason = e.what();
-      }
+      } catch (const Error& e) { reason = e.what(); }
     }
     if (!reason.empty()) {
       refused = "step " + std::to_string(i + 1) + " refused: " + reason;
-      steps.push_back({{"accepted", false}, {"reason", reason}, {"added", 0}, {"modified", 0}, {"removed", 0},
-                       {"equations", system.table()->num_dofs()}, {"update", to_string(o.update)}, {"iterations", 0},
-                       {"seconds", seconds_since(t0)}, {"integration_seconds", 0.0}});
+      steps.push_back({{"accepted", false},
+                       {"reason", reason},
+                       {"added", 0},
+                       {"modified", 0},
+                       {"removed", 0},
+                       {"equations", system.table()->num_dofs()},
+                       {"update", to_string(o.update)},
+                       {"iterations", 0},
+                       {"seconds", seconds_since(t0)},
+                       {"integration_seconds", 0.0}});
       break;
     }
     const double seconds = seconds_since(t0);
-    steps.push_back({{"accepted", true}, {"added", st.delta.added.size()}, {"modified", st.delta.modified.size()},
-                     {"removed", st.delta.removed.size()}, {"equations", 3 * st.delta.elements_after},
-                     {"update", to_string(o.update)}, {"iterations", r.iterations}, {"seconds", seconds},
-                     {"integration_seconds", r.integration_seconds}, {"rank", r.rank}, {"refactor_started", r.refactor_started}});
+    steps.push_back({{"accepted", true},
+                     {"added", st.delta.added.size()},
+                     {"modified", st.delta.modified.size()},
+                     {"removed", st.delta.removed.size()},
+                     {"equations", 3 * st.delta.elements_after},
+                     {"update", to_string(o.update)},
+                     {"iterations", r.iterations},
+                     {"seconds", seconds},
+                     {"integration_seconds", r.integration_seconds},
+                     {"rank", r.rank},
+                     {"refactor_started", r.refactor_started}});
     if (!o.quiet)
       std::cout << "  step " << i + 1 << ": +" << st.delta.added.size() << " elements, " << st.delta.modified.size() << " modified, "
                 << 3 * st.delta.elements_after << " equations, " << std::setprecision(3) << seconds << " s (integration "
-                << r.integration_seconds << " s" << (r.iterations > 0 ? ", " + std::to_string(r.iterations) + " iterations" : "")
-                << ")" << std::endl;
+                << r.integration_seconds << " s" << (r.iterations > 0 ? ", " + std::to_string(r.iterations) + " iterations" : "") << ")"
+                << std::endl;
   }
   system.wait_for_refactor();
   const std::shared_ptr<const GreensTable> final_table = system.table();
@@ -213,11 +225,15 @@ int run_cut(int argc, char** argv) {
   const std::string obj = (out / "mesh.obj").string();
   write_obj(obj, cut_mesh);
   write_elements_csv((out / "elements.csv").string(), cut_mesh, system.boundary_solution());
-  nlohmann::json report = {{"scene", o.scene}, {"elements", cut_mesh.num_elements()}, {"equations", cut_mesh.num_dofs()},
-                           {"update", to_string(o.update)}, {"table_region_elements", final_table->region().size()},
-                           {"precompute_seconds", table->timings().assembly_seconds + table->timings().factorization_seconds +
-                                                      table->timings().table_seconds},
-                           {"steps", steps}, {"total_seconds", seconds_since(t_start)}};
+  nlohmann::json report = {
+      {"scene", o.scene},
+      {"elements", cut_mesh.num_elements()},
+      {"equations", cut_mesh.num_dofs()},
+      {"update", to_string(o.update)},
+      {"table_region_elements", final_table->region().size()},
+      {"precompute_seconds", table->timings().assembly_seconds + table->timings().factorization_seconds + table->timings().table_seconds},
+      {"steps", steps},
+      {"total_seconds", seconds_since(t_start)}};
   if (!refused.empty()) report["refused"] = refused;
   write_json((out / "report.json").string(), report);
   const Index mismatch = first_condition_mismatch(o.scene, obj, final_table->base_conditions());

@@ -28,7 +28,8 @@ constexpr const char* kUsage =
     "Run 'bemsurg <command> --help' for a command's options. Scene format: docs/scene-format.md.\n";
 
 int usage_error(const std::string& message) {
-  std::cerr << "bemsurg: error: " << message << "\n" << "Run 'bemsurg --help' for usage.\n";
+  std::cerr << "bemsurg: error: " << message << "\n"
+            << "Run 'bemsurg --help' for usage.\n";
   return 2;
 }
 
@@ -58,9 +59,7 @@ int main(int argc, char** argv) {
     if (command == "session") return run_session(argc - 1, argv + 1);
     if (command == "cut") return run_cut(argc - 1, argv + 1);
     return usage_error("unknown command '" + command + "'");
-  } catch (const bemsurg::cli::UsageError& e) {
-    return usage_error(e.what());
-  } catch (const std::bad_alloc&) {
+  } catch (const bemsurg::cli::UsageError& e) { return usage_error(e.what()); } catch (const std::bad_alloc&) {
     std::cerr << "bemsurg: error: out of memory (the dense BEM system grows as the square of the number of elements: use a coarser mesh)\n";
     return 1;
   } catch (const std::exception& e) {

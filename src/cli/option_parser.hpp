@@ -307,9 +307,7 @@ class OptionParser {
     if (text.empty()) fail(name + " needs a value (" + name + " " + o.value_name + ")");
     try {
       o.read(text, o.range);
-    } catch (const std::invalid_argument& e) {
-      fail(name + ": expected " + e.what() + ", got '" + std::string(text) + "'");
-    }
+    } catch (const std::invalid_argument& e) { fail(name + ": expected " + e.what() + ", got '" + std::string(text) + "'"); }
   }
 
   void read_positional(std::string_view arg) {

@@ -4,15 +4,15 @@
 // down along the direction onto the self-weight surface near X,Y,Z and pushes D beyond first
 // contact. Writes OUTDIR/elements.csv (as `bemsurg solve`) and OUTDIR/force.json.
 #include <algorithm>
-#include <cmath>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <memory>
-#include <optional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -28,8 +28,8 @@
 
 namespace {
 
-using bemsurg::cli::UsageError;
 using bemsurg::SteadyClock;
+using bemsurg::cli::UsageError;
 
 constexpr const char* kPressUsage =
     "usage: bemsurg press SCENE.json --tool point|flat:RADIUS|sphere:RADIUS --at X,Y,Z\n"
@@ -63,8 +63,7 @@ std::optional<PressOptions> parse(int argc, char** argv) {
   parser.positional("SCENE.json", o.scene, "one scene file only").required();
   parser.value("--tool", "point|flat:RADIUS|sphere:RADIUS", o.tool_text, "the tool's shape").required();
   bemsurg::cli::vector3_value(parser, "--at", "X,Y,Z", o.at, "a point on the line the tool comes down along").required();
-  bemsurg::cli::vector3_value(parser, "--direction", "DX,DY,DZ", o.direction, "the direction it comes down along (any length)")
-      .required();
+  bemsurg::cli::vector3_value(parser, "--direction", "DX,DY,DZ", o.direction, "the direction it comes down along (any length)").required();
   parser.value("--depth", "D", o.depth, "how far it pushes beyond first contact").required().at_least(0.0);
   parser.flag("--frictionless", o.frictionless, "normal contact only (default: bonded)");
   parser.value("-o, --output", "OUTDIR", o.output, "output directory").required();
@@ -78,8 +77,7 @@ std::optional<PressOptions> parse(int argc, char** argv) {
   }
   // stableNorm: 1e-200,0,0 and 1e200,0,0 are directions too (norm() under- or overflows there).
   const double direction_norm = o.direction.stableNorm();
-  if (!(direction_norm > 0.0) || !std::isfinite(direction_norm))
-    throw UsageError("press: --direction must be a finite, nonzero vector");
+  if (!(direction_norm > 0.0) || !std::isfinite(direction_norm)) throw UsageError("press: --direction must be a finite, nonzero vector");
   o.direction /= direction_norm;
   const auto mode = o.frictionless ? bemsurg::ContactMode::Frictionless : bemsurg::ContactMode::Bonded;
   const std::string& t = o.tool_text;
@@ -153,7 +151,7 @@ int run_press(int argc, char** argv) {
     throw bemsurg::ContactError("press: a tool coming along (" + bemsurg::fixed_text(o.direction.x(), 6) + ", " +
                                 bemsurg::fixed_text(o.direction.y(), 6) + ", " + bemsurg::fixed_text(o.direction.z(), 6) +
                                 ") through the given point does not meet the body (or only outside the table's region, or the "
-                         "sphere is narrower than the elements where it lands and covers no element centroid)");
+                                "sphere is narrower than the elements where it lands and covers no element centroid)");
   solver.set_depth(tool, o.depth);
   const bemsurg::ContactUpdateResult report = solver.update();
   const Eigen::Vector3d force = solver.force(tool);
@@ -203,8 +201,7 @@ int run_press(int argc, char** argv) {
   js << std::setw(2) << j << "\n";
   if (!js) throw bemsurg::IoError("writing " + json_path + " failed");
   if (!o.quiet)
-    std::cout << "press: " << o.tool_text << " depth " << o.depth << ": force (" << force.x() << ", " << force.y() << ", "
-              << force.z() << ") N on " << solver.contact_elements(tool) << " elements; one force update "
-              << force_update_us << " us\n";
+    std::cout << "press: " << o.tool_text << " depth " << o.depth << ": force (" << force.x() << ", " << force.y() << ", " << force.z()
+              << ") N on " << solver.contact_elements(tool) << " elements; one force update " << force_update_us << " us\n";
   return 0;
 }

@@ -78,10 +78,10 @@ class TraceWriter : public bemsurg::haptics::SessionObserver {
   void on_sample(const bemsurg::haptics::TickSample& s) override {
     for (const auto& tool : script_.tools) {
       const auto& c = s.channel[static_cast<std::size_t>(tool.device)];
-      out_ << s.time << ',' << tool.name << ',' << c.force.x() << ',' << c.force.y() << ',' << c.force.z() << ','
-           << c.force.norm() << ',' << c.contact_elements << ',' << c.position.x() << ',' << c.position.y() << ','
-           << c.position.z() << ',' << c.model_force.x() << ',' << c.model_force.y() << ',' << c.model_force.z() << ','
-           << bemsurg::to_string(c.status) << ',' << s.watchdog_gain << ',' << s.model_version << '\n';
+      out_ << s.time << ',' << tool.name << ',' << c.force.x() << ',' << c.force.y() << ',' << c.force.z() << ',' << c.force.norm() << ','
+           << c.contact_elements << ',' << c.position.x() << ',' << c.position.y() << ',' << c.position.z() << ',' << c.model_force.x()
+           << ',' << c.model_force.y() << ',' << c.model_force.z() << ',' << bemsurg::to_string(c.status) << ',' << s.watchdog_gain << ','
+           << s.model_version << '\n';
     }
   }
   void on_cut(int index, const bemsurg::TriangleMesh& mesh) override {
@@ -122,9 +122,10 @@ int run_session(int argc, char** argv) {
   parser.flag("--virtual-clock", virtual_clock,
               "run the ticks back to back in session time (deterministic, as fast as the\n"
               "machine goes) instead of in real time on the haptic thread");
-  parser.value("--realtime-priority", "N", realtime_priority,
-               "ask for SCHED_FIFO priority N for the haptic thread; refused quietly\n"
-               "without the privilege (report.json says what it got)")
+  parser
+      .value("--realtime-priority", "N", realtime_priority,
+             "ask for SCHED_FIFO priority N for the haptic thread; refused quietly\n"
+             "without the privilege (report.json says what it got)")
       .between(1, 99)
       .default_text("none, normal priority");
   parser.flag("-q, --quiet", quiet, "print nothing but errors");
@@ -191,8 +192,10 @@ int run_session(int argc, char** argv) {
   j["table_loaded_from_file"] = loaded;
   nlohmann::json tools = nlohmann::json::array();
   for (std::size_t t = 0; t < script.tools.size(); ++t)
-    tools.push_back({{"name", script.tools[t].name}, {"shape", bemsurg::to_string(script.tools[t].shape)},
-                     {"device", script.tools[t].device}, {"peak_model_force", r.peak_force[t]}});
+    tools.push_back({{"name", script.tools[t].name},
+                     {"shape", bemsurg::to_string(script.tools[t].shape)},
+                     {"device", script.tools[t].device},
+                     {"peak_model_force", r.peak_force[t]}});
   j["tools"] = tools;
   const std::string json_path = (std::filesystem::path(output) / "report.json").string();
   std::ofstream js(json_path);
@@ -201,8 +204,7 @@ int run_session(int argc, char** argv) {
   if (!js) throw bemsurg::IoError("writing " + json_path + " failed");
   if (!quiet)
     std::cout << "session: " << s.ticks << " ticks at " << s.achieved_rate_hz << " Hz (" << (virtual_clock ? "virtual" : "real")
-              << " clock), " << s.overruns << " overruns, jitter p99.9 " << s.jitter_us.p999 << " us, force p99.9 "
-              << s.force_us.p999 << " us, largest force jump " << 100.0 * r.max_force_jump_fraction << " %; wrote "
-              << output << "\n";
+              << " clock), " << s.overruns << " overruns, jitter p99.9 " << s.jitter_us.p999 << " us, force p99.9 " << s.force_us.p999
+              << " us, largest force jump " << 100.0 * r.max_force_jump_fraction << " %; wrote " << output << "\n";
   return 0;
 }

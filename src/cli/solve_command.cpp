@@ -57,21 +57,19 @@ int run_solve(int argc, char** argv) {
   std::error_code ec;
   fs::create_directories(options.output, ec);
   if (ec || !fs::is_directory(options.output))
-    throw IoError("cannot create the output directory '" + options.output + "': " +
-                (ec ? ec.message() : std::string("a file of that name exists")));
+    throw IoError("cannot create the output directory '" + options.output +
+                  "': " + (ec ? ec.message() : std::string("a file of that name exists")));
 
   if (!options.quiet)
-    std::cout << "bemsurg solve: " << scene.problem.mesh.num_elements() << " elements, "
-              << scene.problem.mesh.num_dofs() << " equations, mesh " << scene.mesh_source << ", solver "
-              << to_string(scene.solver.method) << std::endl;
+    std::cout << "bemsurg solve: " << scene.problem.mesh.num_elements() << " elements, " << scene.problem.mesh.num_dofs()
+              << " equations, mesh " << scene.mesh_source << ", solver " << to_string(scene.solver.method) << std::endl;
 
   const ElastostaticSolution solution = solve_elastostatic(scene.problem, scene.solver);
   const SteadyClock::time_point solved = SteadyClock::now();
 
   const fs::path out(options.output);
   if (scene.has_interior_points) {
-    const InteriorEvaluator evaluator(scene.problem.mesh, scene.problem.material, scene.problem.gravity,
-                                      scene.problem.quadrature);
+    const InteriorEvaluator evaluator(scene.problem.mesh, scene.problem.material, scene.problem.gravity, scene.problem.quadrature);
     const RowMatrixX3d u = evaluator.displacement(scene.interior_points, solution.boundary);
     const StressRows s = evaluator.stress(scene.interior_points, solution.boundary);
     write_interior_csv((out / "interior.csv").string(), scene.interior_points, u, s);
@@ -98,11 +96,11 @@ int run_solve(int argc, char** argv) {
 
   if (!options.quiet) {
     const LinearSolveResult& s = solution.report.solver;
-    std::cout << std::setprecision(3) << "  solver " << to_string(s.method) << " (" << to_string(s.preconditioner) << "): " << to_string(s.status) << ", "
-              << s.iterations << " iterations, relative residual " << s.relative_residual << "\n"
+    std::cout << std::setprecision(3) << "  solver " << to_string(s.method) << " (" << to_string(s.preconditioner)
+              << "): " << to_string(s.status) << ", " << s.iterations << " iterations, relative residual " << s.relative_residual << "\n"
               << "  time: load " << report.timings.load << " s, assembly " << report.timings.assembly << " s, system "
-              << report.timings.system << " s, solve " << report.timings.solve << " s, post " << report.timings.post
-              << " s, total " << report.timings.total << " s; peak memory " << report.peak_memory_mb << " MiB\n"
+              << report.timings.system << " s, solve " << report.timings.solve << " s, post " << report.timings.post << " s, total "
+              << report.timings.total << " s; peak memory " << report.peak_memory_mb << " MiB\n"
               << "  wrote " << (out / "elements.csv").string()
               << (scene.has_interior_points ? ", " + (out / "interior.csv").string() : std::string()) << ", "
               << (out / "surface.vtk").string() << ", " << (out / "report.json").string() << "\n";

@@ -3,6 +3,6 @@
 // programs (bemsurg::core) get the same definitions inline from the headers.
 #include "bemsurg/cutting/surface_cutter.hpp"
 
-#include "bemsurg/cutting/impl/surface_cutter_impl.hpp"
-#include "bemsurg/cutting/impl/cut_groove_impl.hpp"
 #include "bemsurg/cutting/impl/cut_checks_impl.hpp"
+#include "bemsurg/cutting/impl/cut_groove_impl.hpp"
+#include "bemsurg/cutting/impl/surface_cutter_impl.hpp"

@@ -5,8 +5,9 @@
 namespace bemsurg::haptics {
 
 std::unique_ptr<HapticDevice> open_default_device(std::string& reason) {
-  reason = "bemsurg was built without a haptic device driver (no OpenHaptics / CHAI3D / libnifalcon); "
-           "using the null device, whose pose the program sets";
+  reason =
+      "bemsurg was built without a haptic device driver (no OpenHaptics / CHAI3D / libnifalcon); "
+      "using the null device, whose pose the program sets";
   return std::make_unique<NullDevice>();
 }
 

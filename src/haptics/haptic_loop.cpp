@@ -22,8 +22,7 @@ PublishedContact contact_prototype(Index capacity) {
 }
 }  // namespace
 
-HapticLoop::HapticLoop(const HapticLoopOptions& settings, std::vector<HapticDevice*> devices,
-                       std::vector<Workspace> workspaces)
+HapticLoop::HapticLoop(const HapticLoopOptions& settings, std::vector<HapticDevice*> devices, std::vector<Workspace> workspaces)
     : settings_(settings),
       devices_(std::move(devices)),
       workspaces_(std::move(workspaces)),
@@ -40,8 +39,7 @@ HapticLoop::HapticLoop(const HapticLoopOptions& settings, std::vector<HapticDevi
   for (std::size_t c = 0; c < devices_.size(); ++c)
     if (!devices_[c]) throw InvalidArgumentError("HapticLoop: device " + std::to_string(c) + " is null");
   if (workspaces_.empty()) workspaces_.assign(devices_.size(), Workspace{});
-  if (workspaces_.size() != devices_.size())
-    throw InvalidArgumentError("HapticLoop: one workspace per device, or none");
+  if (workspaces_.size() != devices_.size()) throw InvalidArgumentError("HapticLoop: one workspace per device, or none");
   for (HapticDevice* d : devices_)
     limiters_.emplace_back(std::min(settings.max_force, d->max_force()), settings.max_force_rate);  // throws when <= 0
   held_.fill(Eigen::Vector3d::Zero());
@@ -210,8 +208,7 @@ void HapticLoop::write_channel_force(int channel, const ToolContactSolver* solve
   devices_[cu]->write_force(workspaces_[cu].to_device_force(out));
 }
 
-void HapticLoop::record_tick(TickSample& sample, double now, double dt, bool late,
-                             std::chrono::steady_clock::time_point t_start) noexcept {
+void HapticLoop::record_tick(TickSample& sample, double now, double dt, bool late, std::chrono::steady_clock::time_point t_start) noexcept {
   const double nominal = 1.0 / settings_.rate_hz;
   sample.tick = tick_count_;
   sample.time = now;
@@ -241,7 +238,7 @@ void HapticLoop::tick(double now, bool late) noexcept {
   now_.store(now, std::memory_order_relaxed);
   TickSample& sample = newest_.back();
   try {
-    take_offered_model();           // 1. a new model, between ticks
+    take_offered_model();            // 1. a new model, between ticks
     update_watchdog(now, dt, late);  // 2. the gain the forces are scaled by
     // 3. Devices -> poses (model frame) -> the contact model, published for graphics.
     ToolContactSolver* solver = current_ ? current_->solver.get() : nullptr;
@@ -285,8 +282,7 @@ void HapticLoop::run() {
     // Sleep until shortly before the deadline, then spin: sleeping alone wakes up to ~60 us late,
     // spinning alone would take a whole core from the simulation side.
     if (next - Clock::now() > spin) std::this_thread::sleep_until(next - spin);
-    while (Clock::now() < next) {
-    }
+    while (Clock::now() < next) {}
     const auto now = Clock::now();
     const bool late = now - next >= period;  // this tick's slot was missed entirely
     tick(std::chrono::duration<double>(now - t0).count(), late);

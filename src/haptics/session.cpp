@@ -110,8 +110,9 @@ class ToolTrack {
       throw ContactError(describe(c_.script, a) + ": " + e.what());
     }
     if (!met)
-      throw ContactError(describe(c_.script, a) + ": a tool coming along the direction through `at` does not meet the body "
-                                                  "(or only outside the table's region, or the sphere covers no element centroid)");
+      throw ContactError(describe(c_.script, a) +
+                         ": a tool coming along the direction through `at` does not meet the body "
+                         "(or only outside the table's region, or the sphere covers no element centroid)");
     const Eigen::Vector3d o = c_.probe.origin(c_.probe_tool);
     c_.probe.release(c_.probe_tool);
     return o;
@@ -124,9 +125,7 @@ class ToolTrack {
     try {
       const ContactDepthCheck range = check_contact_depth(c_.mesh, a.direction, a.depth, has_radius ? tool_.radius : 0.0);
       if (!range.warning.empty()) c_.warnings.push_back(describe(c_.script, a) + ": " + range.warning);
-    } catch (const ContactError& e) {
-      throw ContactError(describe(c_.script, a) + ": " + e.what());
-    }
+    } catch (const ContactError& e) { throw ContactError(describe(c_.script, a) + ": " + e.what()); }
     const Eigen::Vector3d p0 = first_contact(a);
     n.position = p0;
     n.direction = a.direction;
@@ -149,8 +148,7 @@ class ToolTrack {
     n.time = a.end_time();
     n.position += a.by;
     const double angle = a.rotation.norm();
-    n.orientation = angle > 0.0 ? Eigen::Quaterniond(Eigen::AngleAxisd(angle, a.rotation / angle))
-                                : Eigen::Quaterniond::Identity();
+    n.orientation = angle > 0.0 ? Eigen::Quaterniond(Eigen::AngleAxisd(angle, a.rotation / angle)) : Eigen::Quaterniond::Identity();
     kf_.push_back(n);
   }
 
@@ -362,8 +360,7 @@ void Session::simulation_step(HapticLoop& loop, SessionObserver* observer, Sessi
       dirty_ = false;
     }
   }
-  while (loop.take_retired()) {
-  }
+  while (loop.take_retired()) {}
   const std::uint64_t rendered = loop.model_version();
   for (auto it = tables_.begin(); it != tables_.end() && it->first + 2 < rendered;) it = tables_.erase(it);
   loop.heartbeat();
@@ -389,8 +386,7 @@ SessionResult Session::run(SessionObserver* observer) {
   for (const ScriptTool& t : script_.tools) channels = std::max(channels, t.device + 1);
   std::vector<HapticDevice*> devices(static_cast<std::size_t>(channels), nullptr);
   for (std::size_t t = 0; t < script_.tools.size(); ++t) {
-    owned.push_back(std::make_unique<ScriptedDevice>(keyframes_[t], "scripted " + script_.tools[t].name,
-                                                     options_.loop.max_force));
+    owned.push_back(std::make_unique<ScriptedDevice>(keyframes_[t], "scripted " + script_.tools[t].name, options_.loop.max_force));
     devices[static_cast<std::size_t>(script_.tools[t].device)] = owned.back().get();
   }
   for (auto& d : devices)
@@ -416,9 +412,7 @@ SessionResult Session::run(SessionObserver* observer) {
       const auto period = std::chrono::duration<double>(1.0 / options_.simulation_hz);
       // Until the script's end, and until every cut due by then has been applied (a slow cut
       // must not be skipped; the loop renders the old model meanwhile).
-      auto cuts_pending = [&] {
-        return std::any_of(cuts_.begin(), cuts_.end(), [](const ScheduledCut& c) { return !c.done; });
-      };
+      auto cuts_pending = [&] { return std::any_of(cuts_.begin(), cuts_.end(), [](const ScheduledCut& c) { return !c.done; }); };
       while (loop.time() < script_.duration || cuts_pending()) {
         simulation_step(loop, observer, result);
         std::this_thread::sleep_for(period);

@@ -190,8 +190,8 @@ DeviceState UdpDevice::read(double) {
       continue;
     }
     const bool loopback = from.sin_addr.s_addr == htonl(INADDR_LOOPBACK);
-    const bool port_ok = peer_port_ != 0 ? from.sin_port == peer_port_
-                                         : (settings_.peer_port == 0 || ntohs(from.sin_port) == settings_.peer_port);
+    const bool port_ok =
+        peer_port_ != 0 ? from.sin_port == peer_port_ : (settings_.peer_port == 0 || ntohs(from.sin_port) == settings_.peer_port);
     if (!loopback || !port_ok || p.channel != settings_.channel) {
       unexpected_.fetch_add(1, std::memory_order_relaxed);
       continue;

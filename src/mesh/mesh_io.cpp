@@ -18,8 +18,7 @@ TriangleMesh read_mesh(const std::string& path) {
   if (ext == ".off") return read_off(path);
   if (ext == ".ply") return read_ply(path);
   if (ext == ".vtk") return read_vtk(path);
-  throw InvalidMeshError("cannot read '" + path + "': unknown mesh file extension '" + ext +
-                         "' (known: .obj, .stl, .off, .ply, .vtk)");
+  throw InvalidMeshError("cannot read '" + path + "': unknown mesh file extension '" + ext + "' (known: .obj, .stl, .off, .ply, .vtk)");
 }
 
 }  // namespace bemsurg

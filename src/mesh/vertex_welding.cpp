@@ -59,8 +59,7 @@ std::vector<Index> coincident_vertex_representatives(const RowMatrixX3d& vertice
   for (Index v = 0; v < n; ++v) {
     const Vec3 p = vertices.row(v).transpose();
     if (!p.allFinite()) continue;
-    const CellKey key = {static_cast<std::int64_t>(std::floor(p.x() / cell)),
-                         static_cast<std::int64_t>(std::floor(p.y() / cell)),
+    const CellKey key = {static_cast<std::int64_t>(std::floor(p.x() / cell)), static_cast<std::int64_t>(std::floor(p.y() / cell)),
                          static_cast<std::int64_t>(std::floor(p.z() / cell))};
     Index found = -1;
     for (int dx = -1; dx <= 1 && found < 0; ++dx)
@@ -95,8 +94,8 @@ TriangleMesh weld_vertices(const RowMatrixX3d& vertices, const RowMatrixX3i& fac
     for (int k = 0; k < 3; ++k) {
       const int old = faces(f, k);
       if (old < 0 || old >= vertices.rows())
-        throw InvalidMeshError("face " + std::to_string(f) + " refers to vertex " + std::to_string(old) +
-                               ", but the mesh has " + std::to_string(vertices.rows()) + " vertices");
+        throw InvalidMeshError("face " + std::to_string(f) + " refers to vertex " + std::to_string(old) + ", but the mesh has " +
+                               std::to_string(vertices.rows()) + " vertices");
       const auto r = static_cast<std::size_t>(rep[static_cast<std::size_t>(old)]);
       if (new_index[r] < 0) {
         new_index[r] = count;

@@ -37,11 +37,11 @@ struct NearFieldPreconditioner::Factor {
 
   void solve(int system, const Eigen::Ref<const Eigen::VectorXd>& r, Eigen::Ref<Eigen::VectorXd> z) const {
     if (r.size() != n || z.size() != n)
-      throw SolverError("near-field preconditioner: vector of size " + std::to_string(r.size()) + " for a " +
-                        std::to_string(n) + " x " + std::to_string(n) + " factor");
+      throw SolverError("near-field preconditioner: vector of size " + std::to_string(r.size()) + " for a " + std::to_string(n) + " x " +
+                        std::to_string(n) + " factor");
     double info[UMFPACK_INFO];
-    const int status = umfpack_di_wsolve(system, column_starts.data(), row_indices.data(), values.data(), z.data(),
-                                         r.data(), numeric, control, info, wi.data(), w.data());
+    const int status = umfpack_di_wsolve(system, column_starts.data(), row_indices.data(), values.data(), z.data(), r.data(), numeric,
+                                         control, info, wi.data(), w.data());
     // A non-finite right-hand side passes through as NaN and the Krylov solver reports it.
     if (status != UMFPACK_OK && status != UMFPACK_WARNING_singular_matrix)
       throw SolverError("near-field preconditioner: UMFPACK solve failed with status " + std::to_string(status));
@@ -63,12 +63,11 @@ NearFieldPreconditioner& NearFieldPreconditioner::compute(const Eigen::MatrixXd&
   const auto start = SteadyClock::now();
   const Index E = mesh.num_elements();
   if (A.rows() != A.cols() || A.rows() != 3 * E)
-    throw SolverError("near-field preconditioner: the matrix is " + std::to_string(A.rows()) + " x " +
-                      std::to_string(A.cols()) + ", the mesh has " + std::to_string(E) + " elements (needs " +
-                      std::to_string(3 * E) + " x " + std::to_string(3 * E) + ")");
+    throw SolverError("near-field preconditioner: the matrix is " + std::to_string(A.rows()) + " x " + std::to_string(A.cols()) +
+                      ", the mesh has " + std::to_string(E) + " elements (needs " + std::to_string(3 * E) + " x " + std::to_string(3 * E) +
+                      ")");
   if (!(std::isfinite(radius) && radius > 0.0))
-    throw SolverError("near-field preconditioner: radius must be a positive number of element diameters, got " +
-                      number_text(radius));
+    throw SolverError("near-field preconditioner: radius must be a positive number of element diameters, got " + number_text(radius));
   if (3 * E > std::numeric_limits<int>::max() / 4)
     throw SolverError("near-field preconditioner: the system is too large for UMFPACK's int interface");
 
@@ -123,12 +122,11 @@ NearFieldPreconditioner& NearFieldPreconditioner::compute(const Eigen::MatrixXd&
   f->control[UMFPACK_IRSTEP] = 0;  // refining against the near-field matrix would not bring M^-1 closer to A^-1
   double info[UMFPACK_INFO];
   void* symbolic = nullptr;
-  int status = umfpack_di_symbolic(f->n, f->n, f->column_starts.data(), f->row_indices.data(), f->values.data(),
-                                   &symbolic, f->control, info);
+  int status =
+      umfpack_di_symbolic(f->n, f->n, f->column_starts.data(), f->row_indices.data(), f->values.data(), &symbolic, f->control, info);
   if (status != UMFPACK_OK)
     throw SolverError("near-field preconditioner: UMFPACK symbolic analysis failed with status " + std::to_string(status));
-  status = umfpack_di_numeric(f->column_starts.data(), f->row_indices.data(), f->values.data(), symbolic, &f->numeric,
-                              f->control, info);
+  status = umfpack_di_numeric(f->column_starts.data(), f->row_indices.data(), f->values.data(), symbolic, &f->numeric, f->control, info);
   umfpack_di_free_symbolic(&symbolic);
   if (status == UMFPACK_WARNING_singular_matrix)
     throw SolverError("near-field preconditioner: the near-field matrix (radius " + number_text(radius) +

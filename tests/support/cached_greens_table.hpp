@@ -7,9 +7,9 @@
 // compute it at once each write a private file and rename it into place, which is atomic.
 #pragma once
 
+#include <unistd.h>
 #include <cstdio>
 #include <string>
-#include <unistd.h>
 
 #include "bemsurg/error.hpp"
 #include "bemsurg/presolution/greens_table.hpp"

@@ -24,8 +24,7 @@ inline std::function<bool(bemsurg::Index)> box_edge_row(const bemsurg::TriangleM
   std::vector<char> on_edge(static_cast<std::size_t>(mesh.num_vertices()));
   for (bemsurg::Index v = 0; v < mesh.num_vertices(); ++v) {
     int bounds = 0;
-    for (int c = 0; c < 3; ++c)
-      bounds += (std::abs(mesh.vertex(v)(c) - lo(c)) < tol || std::abs(mesh.vertex(v)(c) - hi(c)) < tol) ? 1 : 0;
+    for (int c = 0; c < 3; ++c) bounds += (std::abs(mesh.vertex(v)(c) - lo(c)) < tol || std::abs(mesh.vertex(v)(c) - hi(c)) < tol) ? 1 : 0;
     on_edge[static_cast<std::size_t>(v)] = bounds >= 2;
   }
   std::vector<char> row(static_cast<std::size_t>(mesh.num_elements()));

@@ -13,8 +13,8 @@
 #include <memory>
 #include <vector>
 
-#include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/mesh/geometry.hpp"
+#include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/presolution/greens_table.hpp"
 
 namespace bemsurg::haptics {
@@ -63,15 +63,15 @@ inline HalfSpaceBlock half_space_block(double h, double h_max, double fine, doub
       const double f = aj * (1.0 + nu) / (numbers::pi * Y) * inv;  // per unit traction on j (force a_j t_j)
       Eigen::Matrix3d G;
       G << f * ((1.0 - nu) + nu * dx * dx), f * nu * dx * dy, 0.0,  //
-          f * nu * dx * dy, f * ((1.0 - nu) + nu * dy * dy), 0.0,    //
+          f * nu * dx * dy, f * ((1.0 - nu) + nu * dy * dy), 0.0,   //
           0.0, 0.0, f * (1.0 - nu);
       columns.block<3, 3>(3 * i, 3 * static_cast<Index>(s)) = G;
     }
   }
   HalfSpaceBlock b;
   b.fine_edge = h;
-  b.table = std::make_shared<const GreensTable>(key, top, Eigen::VectorXd::Zero(3 * E), Eigen::VectorXd::Zero(3 * E),
-                                                bc.kinds(), std::move(columns));
+  b.table = std::make_shared<const GreensTable>(key, top, Eigen::VectorXd::Zero(3 * E), Eigen::VectorXd::Zero(3 * E), bc.kinds(),
+                                                std::move(columns));
   b.mesh = std::move(mesh);
   return b;
 }

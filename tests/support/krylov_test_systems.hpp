@@ -22,7 +22,7 @@ struct BemSystem {
   bemsurg::TriangleMesh mesh;
   Eigen::MatrixXd A;
   Eigen::VectorXd b;
-  Eigen::VectorXd x_lu;  // reference: dense LU with partial pivoting
+  Eigen::VectorXd x_lu;       // reference: dense LU with partial pivoting
   double lu_condition = 0.0;  // 1 / rcond (1-norm estimate)
 };
 
@@ -55,8 +55,7 @@ inline BemSystem make_bem_system(int nx, int ny, int nz, double push = 0.0) {
     if (mesh.normal(e).z() < -0.9) bc.prescribe_displacement(e, Vec3::Zero());
   const InfluenceAssembler assembler(mesh, material);
   const InfluenceMatrices hg = assembler.assemble();
-  BemSystem s{mesh, build_system_matrix(hg, bc),
-              build_right_hand_side(hg, bc, assembler.gravity_vector(Vec3(0.0, 0.0, -9.81))), {}, 0.0};
+  BemSystem s{mesh, build_system_matrix(hg, bc), build_right_hand_side(hg, bc, assembler.gravity_vector(Vec3(0.0, 0.0, -9.81))), {}, 0.0};
   const DenseLu lu(s.A);
   s.x_lu = lu.solve(s.b);
   s.lu_condition = 1.0 / lu.rcond();

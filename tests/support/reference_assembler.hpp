@@ -69,9 +69,8 @@ class ReferenceAssembler {
     const Eigen::Vector3d n = mesh_.normal(e);
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
     if (self) {
-      quadrature_.polar(p, c[0], c[1], c[2], [&](const Eigen::Vector3d& d, double R, double w) {
-        sum += (0.5 * w * R * R) * kernel.tangential_part(d, n);
-      });
+      quadrature_.polar(p, c[0], c[1], c[2],
+                        [&](const Eigen::Vector3d& d, double R, double w) { sum += (0.5 * w * R * R) * kernel.tangential_part(d, n); });
     } else {
       quadrature_.integrate(p, c[0], c[1], c[2], [&](const Eigen::Vector3d& x, double w) { sum += w * kernel(x - p, n); });
     }

@@ -19,8 +19,7 @@ struct TempDir {
 
   explicit TempDir(const std::string& prefix) {
     static std::atomic<int> counter{0};
-    path = std::filesystem::temp_directory_path() /
-           (prefix + std::to_string(::getpid()) + "_" + std::to_string(counter++));
+    path = std::filesystem::temp_directory_path() / (prefix + std::to_string(::getpid()) + "_" + std::to_string(counter++));
     std::filesystem::remove_all(path);  // a leftover from a crashed run with a recycled pid
     std::filesystem::create_directories(path);
   }

@@ -74,23 +74,22 @@ class BoundaryConditions {
   /// body that floats by its outer shell and an element of it.
   void require_supported(const TriangleMesh& mesh) const {
     if (mesh.num_elements() != num_elements())
-      throw BoundaryConditionError("boundary conditions are for " + std::to_string(num_elements()) +
-                                   " elements, the mesh has " + std::to_string(mesh.num_elements()));
+      throw BoundaryConditionError("boundary conditions are for " + std::to_string(num_elements()) + " elements, the mesh has " +
+                                   std::to_string(mesh.num_elements()));
     if (num_displacement_dofs() == 0)
       throw BoundaryConditionError(
           "the body has no support: no element has a prescribed displacement, so rigid-body motion is free "
           "(prescribe u on some elements)");
     const MeshTopology topo(mesh);
     const std::vector<Index> body_of_shell = shell_bodies(mesh, topo);
-    const Index num_bodies =
-        body_of_shell.empty() ? 0 : 1 + *std::max_element(body_of_shell.begin(), body_of_shell.end());
+    const Index num_bodies = body_of_shell.empty() ? 0 : 1 + *std::max_element(body_of_shell.begin(), body_of_shell.end());
     if (num_bodies <= 1) {
       std::vector<Index> all(static_cast<std::size_t>(mesh.num_elements()));
       for (Index e = 0; e < mesh.num_elements(); ++e) all[static_cast<std::size_t>(e)] = e;
       const std::string free = free_rigid_motions(mesh, all);
       if (!free.empty())
-        throw BoundaryConditionError("the body is not fully supported: the prescribed displacements leave rigid-body motion free (" +
-                                     free + "); prescribe displacements on more elements or components");
+        throw BoundaryConditionError("the body is not fully supported: the prescribed displacements leave rigid-body motion free (" + free +
+                                     "); prescribe displacements on more elements or components");
       return;
     }
     for (Index b = 0; b < num_bodies; ++b) {
@@ -107,23 +106,22 @@ class BoundaryConditions {
       Index prescribed = 0;
       for (Index e : elements)
         for (int c = 0; c < 3; ++c) prescribed += kind(3 * e + c) == BcKind::Displacement ? 1 : 0;
-      const std::string which = "body " + std::to_string(b) + " of " + std::to_string(num_bodies) + " (shell " +
-                                std::to_string(outer) + ", " + std::to_string(elements.size()) + " elements, element " +
-                                std::to_string(elements.front()) + " among them)";
+      const std::string which = "body " + std::to_string(b) + " of " + std::to_string(num_bodies) + " (shell " + std::to_string(outer) +
+                                ", " + std::to_string(elements.size()) + " elements, element " + std::to_string(elements.front()) +
+                                " among them)";
       throw BoundaryConditionError(
-          prescribed == 0
-              ? which + " has no support: none of its elements has a prescribed displacement, so it floats free (" + free +
-                    "); each separate body needs its own support"
-              : which + " is not fully supported: its prescribed displacements leave rigid-body motion free (" + free +
-                    "); prescribe displacements on more of its elements or components");
+          prescribed == 0 ? which + " has no support: none of its elements has a prescribed displacement, so it floats free (" + free +
+                                "); each separate body needs its own support"
+                          : which + " is not fully supported: its prescribed displacements leave rigid-body motion free (" + free +
+                                "); prescribe displacements on more of its elements or components");
     }
   }
 
  private:
   void check_element(Index e) const {
     if (e < 0 || e >= num_elements())
-      throw BoundaryConditionError("element " + std::to_string(e) + " is out of range (the mesh has " +
-                                   std::to_string(num_elements()) + " elements)");
+      throw BoundaryConditionError("element " + std::to_string(e) + " is out of range (the mesh has " + std::to_string(num_elements()) +
+                                   " elements)");
   }
 
   /// The rigid motions of the surface made of `elements` that its prescribed displacements leave
@@ -140,7 +138,7 @@ class BoundaryConditions {
         hi = hi.cwiseMax(p);
       }
     }
-    static const char* names[6] = {"translation x", "translation y", "translation z",
+    static const char* names[6] = {"translation x",    "translation y",    "translation z",
                                    "rotation about x", "rotation about y", "rotation about z"};
     if (m == 0 || elements.empty()) return "translation x, y, z and rotation about x, y, z";
     center /= static_cast<double>(elements.size());

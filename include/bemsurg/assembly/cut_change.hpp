@@ -17,9 +17,9 @@
 
 #include "bemsurg/assembly/boundary_conditions.hpp"
 #include "bemsurg/assembly/influence_assembler.hpp"
-#include "bemsurg/mesh/mesh_delta.hpp"
 #include "bemsurg/error.hpp"
 #include "bemsurg/material.hpp"
+#include "bemsurg/mesh/mesh_delta.hpp"
 #include "bemsurg/mesh/triangle_mesh.hpp"
 #include "bemsurg/quadrature/element_quadrature.hpp"
 #include "bemsurg/timing.hpp"
@@ -31,9 +31,8 @@ namespace bemsurg {
 /// elements_before .. elements_after-1, no removed elements (updates refuse them rather than guess).
 inline void check_mesh_delta(const MeshDelta& delta, const TriangleMesh& before, const TriangleMesh& after) {
   if (!delta.removed.empty())
-    throw InvalidArgumentError("cut update: the delta removes " + std::to_string(delta.removed.size()) +
-                               " element(s) (first: " + std::to_string(delta.removed.front()) +
-                               "); retiring element ids is not supported by the exact update");
+    throw InvalidArgumentError("cut update: the delta removes " + std::to_string(delta.removed.size()) + " element(s) (first: " +
+                               std::to_string(delta.removed.front()) + "); retiring element ids is not supported by the exact update");
   if (delta.elements_before != before.num_elements() || delta.elements_after != after.num_elements())
     throw InvalidArgumentError("cut update: the delta is for " + std::to_string(delta.elements_before) + " -> " +
                                std::to_string(delta.elements_after) + " elements, the meshes have " +
@@ -57,23 +56,22 @@ inline void check_mesh_delta(const MeshDelta& delta, const TriangleMesh& before,
 /// surface is traction-free (docs/design.md §7).
 inline BoundaryConditions conditions_after_cut(const BoundaryConditions& before, const MeshDelta& delta) {
   BoundaryConditions after(delta.elements_after);
-  for (Index k = 0; k < before.num_dofs(); ++k)
-    after.prescribe_component(k / 3, static_cast<int>(k % 3), before.kind(k), before.value(k));
+  for (Index k = 0; k < before.num_dofs(); ++k) after.prescribe_component(k / 3, static_cast<int>(k % 3), before.kind(k), before.value(k));
   return after;
 }
 
 /// The rows and columns of H, G and gravity for the elements a cut step changed (D = M + N), on the cut mesh and, for M,
 /// on the mesh before the cut (integrate_cut_change): enough to know the change of A* and of the right-hand side exactly.
 struct CutChange {
-  Index n_before = 0, n_after = 0;     // equations (3 per element)
-  std::vector<Index> elements;         // D: modified (ascending), then added
-  std::vector<Index> dofs;             // 3 per element of D, in that order (d = 3|D|)
-  Index num_modified_dofs = 0;         // the first 3|M| of dofs
+  Index n_before = 0, n_after = 0;  // equations (3 per element)
+  std::vector<Index> elements;      // D: modified (ascending), then added
+  std::vector<Index> dofs;          // 3 per element of D, in that order (d = 3|D|)
+  Index num_modified_dofs = 0;      // the first 3|M| of dofs
   // After the cut (the new mesh): rows and columns of D.
-  Eigen::MatrixXd rows_H, rows_G;      // d x n_after
-  Eigen::MatrixXd cols_H, cols_G;      // n_after x d
-  Eigen::VectorXd rows_gravity;        // d: the gravity term of the rows D (all elements)
-  Eigen::VectorXd cols_gravity;        // n_after: the gravity term from the elements D only, every row
+  Eigen::MatrixXd rows_H, rows_G;  // d x n_after
+  Eigen::MatrixXd cols_H, cols_G;  // n_after x d
+  Eigen::VectorXd rows_gravity;    // d: the gravity term of the rows D (all elements)
+  Eigen::VectorXd cols_gravity;    // n_after: the gravity term from the elements D only, every row
   // Before the cut (the old mesh), for M only.
   Eigen::MatrixXd old_rows_H, old_rows_G;  // 3|M| x n_before
   Eigen::MatrixXd old_cols_H, old_cols_G;  // n_before x 3|M|
@@ -85,8 +83,7 @@ struct CutChange {
 
 /// Integrates the rows and columns of the changed elements on both meshes (checks the delta first).
 inline CutChange integrate_cut_change(const TriangleMesh& before, const TriangleMesh& after, const MeshDelta& delta,
-                                      const Material& material, const QuadratureOptions& quadrature,
-                                      const Eigen::Vector3d& gravity) {
+                                      const Material& material, const QuadratureOptions& quadrature, const Eigen::Vector3d& gravity) {
   check_mesh_delta(delta, before, after);
   const auto t0 = SteadyClock::now();
   CutChange c;
@@ -145,8 +142,7 @@ inline Eigen::MatrixXd system_columns_after(const CutChange& c, const BoundaryCo
 inline Eigen::MatrixXd system_rows_before(const CutChange& c, const BoundaryConditions& before) {
   Eigen::MatrixXd X = Eigen::MatrixXd::Zero(c.size(), c.n_after);
   for (Index k = 0; k < c.n_before; ++k)
-    X.col(k).head(c.num_modified_dofs) =
-        before.kind(k) == BcKind::Traction ? c.old_rows_H.col(k) : Eigen::VectorXd(-c.old_rows_G.col(k));
+    X.col(k).head(c.num_modified_dofs) = before.kind(k) == BcKind::Traction ? c.old_rows_H.col(k) : Eigen::VectorXd(-c.old_rows_G.col(k));
   for (Index j = c.num_modified_dofs; j < c.size(); ++j) X(j, c.dofs[static_cast<std::size_t>(j)]) = 1.0;
   return X;
 }

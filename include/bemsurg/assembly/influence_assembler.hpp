@@ -137,9 +137,8 @@ class InfluenceAssembler {
       const auto c = mesh_.corners(e);
       Eigen::Vector3d sum = Eigen::Vector3d::Zero();
       // P depends on the direction only when dr/dn = 0: int_0^R P r dr = P(d) R^2 / 2.
-      quadrature_.polar(p, c[0], c[1], c[2], [&](const Eigen::Vector3d& d, double R, double w) {
-        sum += (0.5 * w * R * R) * kernel.tangential_part(d, n);
-      });
+      quadrature_.polar(p, c[0], c[1], c[2],
+                        [&](const Eigen::Vector3d& d, double R, double w) { sum += (0.5 * w * R * R) * kernel.tangential_part(d, n); });
       return sum;
     }
     double total[kSums];
@@ -175,22 +174,41 @@ class InfluenceAssembler {
       const Index chunk = t / ranges, range = t % ranges;
       const Index r0 = chunk * kTileRows, m = std::min<Index>(kTileRows, R - r0);
       const Index c0 = C * range / ranges, c1 = C * (range + 1) / ranges;
-      if (hg && g) tile<true, true>(rows, R, r0, m, cols, c0, c1, H, G, g, body_force);
-      else if (hg) tile<true, false>(rows, R, r0, m, cols, c0, c1, H, G, g, body_force);
-      else tile<false, true>(rows, R, r0, m, cols, c0, c1, H, G, g, body_force);
+      if (hg && g)
+        tile<true, true>(rows, R, r0, m, cols, c0, c1, H, G, g, body_force);
+      else if (hg)
+        tile<true, false>(rows, R, r0, m, cols, c0, c1, H, G, g, body_force);
+      else
+        tile<false, true>(rows, R, r0, m, cols, c0, c1, H, G, g, body_force);
     }
   }
 
  private:
-  static constexpr int kTileRows = 64;   // source points evaluated together (fits L1 with the sums)
-  static constexpr int kBatch = 64;      // quadrature points of one mid / near pair evaluated together
-  static constexpr int kFarPoints = 7;   // Radon's rule
+  static constexpr int kTileRows = 64;  // source points evaluated together (fits L1 with the sums)
+  static constexpr int kBatch = 64;     // quadrature points of one mid / near pair evaluated together
+  static constexpr int kFarPoints = 7;  // Radon's rule
   // Per-pair sums of the kernel loop, one array each over the source points (far field) or the
   // quadrature points (mid / near pairs).
   enum : int {
-    kGxx, kGyy, kGzz, kGxy, kGxz, kGyz,                    // G is symmetric: 6
-    kHxx, kHyy, kHzz, kHxy, kHyx, kHxz, kHzx, kHyz, kHzy,  // H: 9
-    kPn, kPx, kPy, kPz,                                    // gravity: sum w dr/dn, sum w r,i
+    kGxx,
+    kGyy,
+    kGzz,
+    kGxy,
+    kGxz,
+    kGyz,  // G is symmetric: 6
+    kHxx,
+    kHyy,
+    kHzz,
+    kHxy,
+    kHyx,
+    kHxz,
+    kHzx,
+    kHyz,
+    kHzy,  // H: 9
+    kPn,
+    kPx,
+    kPy,
+    kPz,  // gravity: sum w dr/dn, sum w r,i
     kSums
   };
   static constexpr int kGIndex[3][3] = {{kGxx, kGxy, kGxz}, {kGxy, kGyy, kGyz}, {kGxz, kGyz, kGzz}};
@@ -198,9 +216,9 @@ class InfluenceAssembler {
 
   // Element geometry in structure-of-arrays form, read in the order the loops need it.
   struct Geometry {
-    std::vector<double> cx, cy, cz;  // centroid = collocation point
-    std::vector<double> nx, ny, nz;  // unit normal
-    std::vector<double> far2;        // (far_ratio * diameter)^2, raised by 1e-12 relative (see tile)
+    std::vector<double> cx, cy, cz;      // centroid = collocation point
+    std::vector<double> nx, ny, nz;      // unit normal
+    std::vector<double> far2;            // (far_ratio * diameter)^2, raised by 1e-12 relative (see tile)
     std::vector<double> qx, qy, qz, qw;  // far-rule points and weights, kFarPoints per element
   };
 
@@ -208,7 +226,7 @@ class InfluenceAssembler {
     for (Index e : ids)
       if (e < 0 || e >= mesh_.num_elements())
         throw InvalidArgumentError(std::string("InfluenceAssembler::") + where + ": element " + std::to_string(e) + " out of range [0, " +
-                    std::to_string(mesh_.num_elements()) + ")");
+                                   std::to_string(mesh_.num_elements()) + ")");
   }
 
   void precompute_geometry() {
@@ -308,8 +326,8 @@ class InfluenceAssembler {
   /// One tile: source rows r0 .. r0+m-1 (positions in the row list) against columns c0 .. c1-1.
   // long: the assembly's innermost loop; its far, near and gravity passes share the tile's stack arrays
   template <bool HG, bool Gravity>
-  void tile(const Index* rows, Index R, Index r0, Index m, const Index* cols, Index c0, Index c1, double* H, double* G,
-            double* g, const Eigen::Vector3d& body_force) const {
+  void tile(const Index* rows, Index R, Index r0, Index m, const Index* cols, Index c0, Index c1, double* H, double* G, double* g,
+            const Eigen::Vector3d& body_force) const {
     alignas(64) double px[kTileRows], py[kTileRows], pz[kTileRows];
     alignas(64) double rx[kTileRows], ry[kTileRows], rz[kTileRows], inv[kTileRows], wq[kTileRows];
     alignas(64) double sum[kSums][kTileRows];
@@ -372,8 +390,7 @@ class InfluenceAssembler {
       if (Gravity && nfar > 0)
         for (Index j = 0; j < m; ++j) {
           if (!far[j]) continue;
-          const Eigen::Vector3d v =
-              gravity_kernel.from_integrals(sum[kPn][j], Eigen::Vector3d(sum[kPx][j], sum[kPy][j], sum[kPz][j]), n);
+          const Eigen::Vector3d v = gravity_kernel.from_integrals(sum[kPn][j], Eigen::Vector3d(sum[kPx][j], sum[kPy][j], sum[kPz][j]), n);
           for (int a = 0; a < 3; ++a) gsum[a][j] += v(a);
         }
       if (nfar == m) continue;
@@ -435,15 +452,17 @@ class InfluenceAssembler {
     const KelvinConstants& k = constants_;
     const double c34 = k.three_minus_4nu, a = k.one_minus_2nu;
     auto put = [](double& o, double v) {
-      if (Accumulate) o += v;
-      else o = v;
+      if (Accumulate)
+        o += v;
+      else
+        o = v;
     };
     for (Index j = 0; j < m; ++j) {
       const double dx = rx[j] * inv[j], dy = ry[j] * inv[j], dz = rz[j] * inv[j];  // r,i
       const double drdn = dx * nx + dy * ny + dz * nz;
       if (HG) {
-        const double wu = w[j] * k.u_scale * inv[j];            // w u_scale / r
-        const double wt = w[j] * k.t_scale * inv[j] * inv[j];   // w t_scale / r^2
+        const double wu = w[j] * k.u_scale * inv[j];           // w u_scale / r
+        const double wt = w[j] * k.t_scale * inv[j] * inv[j];  // w t_scale / r^2
         put(out[kGxx][j], wu * (dx * dx + c34));
         put(out[kGyy][j], wu * (dy * dy + c34));
         put(out[kGzz][j], wu * (dz * dz + c34));
@@ -480,4 +499,3 @@ class InfluenceAssembler {
 };
 
 }  // namespace bemsurg
-

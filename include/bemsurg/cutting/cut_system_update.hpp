@@ -25,11 +25,11 @@
 #include <thread>
 #include <utility>
 
+#include "bemsurg/assembly/cut_change.hpp"
 #include "bemsurg/assembly/influence_assembler.hpp"
 #include "bemsurg/assembly/linear_system.hpp"
-#include "bemsurg/assembly/cut_change.hpp"
-#include "bemsurg/mesh/mesh_delta.hpp"
 #include "bemsurg/error.hpp"
+#include "bemsurg/mesh/mesh_delta.hpp"
 #include "bemsurg/presolution/greens_table.hpp"
 #include "bemsurg/solvers/linear_solve.hpp"
 #include "bemsurg/timing.hpp"
@@ -50,8 +50,8 @@ inline const char* to_string(CutUpdateMethod m) {
   return "unknown";
 }
 inline CutUpdateMethod parse_cut_update_method(const std::string& name) {
-  for (CutUpdateMethod m : {CutUpdateMethod::Exact, CutUpdateMethod::Gmres, CutUpdateMethod::BiCgStab, CutUpdateMethod::BiCg,
-                            CutUpdateMethod::Refactor})
+  for (CutUpdateMethod m :
+       {CutUpdateMethod::Exact, CutUpdateMethod::Gmres, CutUpdateMethod::BiCgStab, CutUpdateMethod::BiCg, CutUpdateMethod::Refactor})
     if (name == to_string(m)) return m;
   throw InvalidArgumentError("unknown update method '" + name + "' (expected exact, gmres, bicgstab, bicg or refactor)");
 }
@@ -85,8 +85,8 @@ struct CutStepResult {
   double system_seconds = 0.0;       // the system's update and solve (Krylov: the iterations)
   double table_seconds = 0.0;        // the table's update (refactor: factorisation and table)
   double total_seconds = 0.0;
-  Index rank = 0;                    // accumulated correction rank after the step
-  bool refactor_started = false;     // a refactorisation was started (or done, if not in background)
+  Index rank = 0;                 // accumulated correction rank after the step
+  bool refactor_started = false;  // a refactorisation was started (or done, if not in background)
 };
 /// Deprecated name (before 0.2), kept one minor version: use CutStepResult.
 using CutStepReport [[deprecated("renamed to CutStepResult in bemsurg 0.2")]] = CutStepResult;
@@ -156,7 +156,7 @@ class CutSystemUpdate {
       }
       if (method != CutUpdateMethod::Exact) {
         LinearSolverOptions s = options_.krylov;
-        s.method = method == CutUpdateMethod::Gmres ? SolverMethod::Gmres
+        s.method = method == CutUpdateMethod::Gmres      ? SolverMethod::Gmres
                    : method == CutUpdateMethod::BiCgStab ? SolverMethod::BiCgStab
                                                          : SolverMethod::BiCg;
         Eigen::VectorXd x0 = Eigen::VectorXd::Zero(A.rows());
@@ -199,8 +199,8 @@ class CutSystemUpdate {
   }
 
   /// The explicit A* after the step: blockdiag(A*, I) with the rows and columns D replaced.
-  Eigen::MatrixXd updated_matrix(const GreensTable& current, const TriangleMesh& after, const MeshDelta& delta,
-                                 const CutChange* known, CutStepResult& r) const {
+  Eigen::MatrixXd updated_matrix(const GreensTable& current, const TriangleMesh& after, const MeshDelta& delta, const CutChange* known,
+                                 CutStepResult& r) const {
     CutChange local;
     if (!known) {
       local = integrate_cut_change(*current.mesh(), after, delta, current.key().material, current.quadrature(), current.key().gravity);
@@ -239,8 +239,10 @@ class CutSystemUpdate {
       }
       busy_.store(false);
     };
-    if (now) work();
-    else worker_ = std::thread(work);
+    if (now)
+      work();
+    else
+      worker_ = std::thread(work);
     return true;
   }
 

@@ -27,8 +27,8 @@ inline std::string narrow_gap_reason(double gap_width, double edge_length) {
   if (!(edge_length > 0.0) || gap_width >= kMinimumGapRatio * edge_length * (1.0 - 1e-9)) return {};
   std::ostringstream s;
   use_classic_locale(s);
-  s << "the gap is too narrow: width " << gap_width << " is " << gap_width / edge_length << " x the local edge length "
-    << edge_length << "; below " << kMinimumGapRatio
+  s << "the gap is too narrow: width " << gap_width << " is " << gap_width / edge_length << " x the local edge length " << edge_length
+    << "; below " << kMinimumGapRatio
     << " x the edge length the far wall's near-singular integration no longer agrees with a refined reference to 1e-6 "
        "(docs/cutting.md); use a gap of at least "
     << kMinimumGapRatio * edge_length;

@@ -117,8 +117,8 @@ class SurfaceCutter {
     bool split = false;
     Index vertex = -1;  // an end (unsplit): the vertex itself
     Vec3 center = Vec3::Zero();
-    Vec3 normal = Vec3::Zero();      // outward unit normal used for the depth direction
-    Vec3 left_dir = Vec3::Zero();    // unit, tangent to the surface, to the left of travel
+    Vec3 normal = Vec3::Zero();    // outward unit normal used for the depth direction
+    Vec3 left_dir = Vec3::Zero();  // unit, tangent to the surface, to the left of travel
     double width = 0.0, level_depth = 0.0, edge_length = 0.0;
     std::vector<Index> left, right;  // vertex ids per level 0..levels
   };
@@ -134,8 +134,7 @@ class SurfaceCutter {
   bool extend(Work& w, const Vec3& direction, std::string& reason) const;
   bool touches_lock(const Work& w, Index v, std::string& reason) const;
   bool split_section(Work& w, std::size_t i, std::string& reason) const;
-  bool divide_sides(const Work& w, std::size_t i, std::vector<Index>& left, std::vector<Index>& right,
-                    std::string& reason) const;
+  bool divide_sides(const Work& w, std::size_t i, std::vector<Index>& left, std::vector<Index>& right, std::string& reason) const;
   // The groove's walls and bottom (cutting/impl/cut_groove_impl.hpp).
   void rebuild_groove(Work& w) const;
   // The checks before a step is published (cutting/impl/cut_checks_impl.hpp), in this order.
@@ -144,8 +143,7 @@ class SurfaceCutter {
   bool check_angles(const TriangleMesh& mesh, const std::vector<Index>& changed, std::string& reason) const;
   static bool check_self_intersection(const TriangleMesh& mesh, const std::vector<Index>& changed, std::string& reason);
   static bool check_clearance(const Work& w, const TriangleMesh& mesh, std::string& reason);
-  static bool check_manifold(const Work& w, const TriangleMesh& mesh, const std::vector<Index>& changed,
-                             std::string& reason);
+  static bool check_manifold(const Work& w, const TriangleMesh& mesh, const std::vector<Index>& changed, std::string& reason);
 
   std::shared_ptr<const TriangleMesh> mesh_;
   std::uint64_t version_ = 0;
@@ -164,7 +162,7 @@ class SurfaceCutter {
 
 // Definitions (header-only: the numerical core needs no compiled library, docs/design.md).
 #ifndef BEMSURG_SEPARATE_COMPILATION  // else compiled once by the library (bemsurg/config.hpp)
-#include "bemsurg/cutting/impl/surface_cutter_impl.hpp"
-#include "bemsurg/cutting/impl/cut_groove_impl.hpp"
 #include "bemsurg/cutting/impl/cut_checks_impl.hpp"
+#include "bemsurg/cutting/impl/cut_groove_impl.hpp"
+#include "bemsurg/cutting/impl/surface_cutter_impl.hpp"
 #endif

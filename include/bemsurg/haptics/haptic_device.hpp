@@ -15,10 +15,10 @@ namespace bemsurg::haptics {
 
 /// What the device reports each haptic tick.
 struct DeviceState {
-  Eigen::Vector3d position = Eigen::Vector3d::Zero();        // tool tip, metres
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();               // tool tip, metres
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  // handle orientation
-  Eigen::Vector3d direction = -Eigen::Vector3d::UnitZ();     // tool axis (unit)
-  std::uint32_t buttons = 0;                                 // bit i: button i is down
+  Eigen::Vector3d direction = -Eigen::Vector3d::UnitZ();            // tool axis (unit)
+  std::uint32_t buttons = 0;                                        // bit i: button i is down
   /// False when the device has no fresh state (unplugged, its bridge went silent): the loop sends
   /// zero force to it and its tool does not move.
   bool connected = true;

@@ -47,19 +47,18 @@ struct ContactModel {
   std::array<int, kMaxChannels> tool_of_channel{{-1, -1, -1, -1}};
   /// Per channel: the device orientation at engagement (a plate turns by the change from it).
   std::array<Eigen::Quaterniond, kMaxChannels> engaged_orientation{
-      {Eigen::Quaterniond::Identity(), Eigen::Quaterniond::Identity(), Eigen::Quaterniond::Identity(),
-       Eigen::Quaterniond::Identity()}};
+      {Eigen::Quaterniond::Identity(), Eigen::Quaterniond::Identity(), Eigen::Quaterniond::Identity(), Eigen::Quaterniond::Identity()}};
 };
 
 /// Settings of a HapticLoop: tick rate, the safety stages (force and force-rate limits, watchdog staleness, overruns and
 /// ramp time), ring capacities, and the real-time priority and spin time of the haptic thread.
 struct HapticLoopOptions {
-  double rate_hz = 1000.0;         // 100 .. 10000
-  double max_force = 3.3;          // N (a Touch-class desktop device); also capped by each device's own
-  double max_force_rate = 300.0;   // N/s: 0.3 N per tick at 1 kHz
-  double stale_after_s = 0.25;     // heartbeat older than this: the watchdog ramps the force down
-  int overrun_limit = 5;           // this many overruns in a row: the watchdog ramps the force down
-  double ramp_s = 0.05;            // watchdog ramp time from full force to zero (and back)
+  double rate_hz = 1000.0;        // 100 .. 10000
+  double max_force = 3.3;         // N (a Touch-class desktop device); also capped by each device's own
+  double max_force_rate = 300.0;  // N/s: 0.3 N per tick at 1 kHz
+  double stale_after_s = 0.25;    // heartbeat older than this: the watchdog ramps the force down
+  int overrun_limit = 5;          // this many overruns in a row: the watchdog ramps the force down
+  double ramp_s = 0.05;           // watchdog ramp time from full force to zero (and back)
   int max_active_set_iterations = 20;
   std::size_t trace_capacity = 1 << 15;  // samples the trace ring holds before the reader drains it
   std::size_t event_capacity = 256;
@@ -132,8 +131,7 @@ class HapticLoop {
   /// `devices[c]` drives channel c (at most kMaxChannels; the loop does not own them and they
   /// must outlive it); `workspaces[c]` maps its frame into the model's (default: identity).
   /// Throws InvalidArgumentError for bad settings or too many / null devices.
-  HapticLoop(const HapticLoopOptions& settings, std::vector<HapticDevice*> devices,
-             std::vector<Workspace> workspaces = {});
+  HapticLoop(const HapticLoopOptions& settings, std::vector<HapticDevice*> devices, std::vector<Workspace> workspaces = {});
   ~HapticLoop();
   HapticLoop(const HapticLoop&) = delete;
   HapticLoop& operator=(const HapticLoop&) = delete;
@@ -191,10 +189,8 @@ class HapticLoop {
   inline void push_button_edges(int channel, double now, const DeviceState& s);
   inline ContactStatus step_contact(ToolContactSolver* solver);
   inline void publish_contact(double now, const ToolContactSolver* solver);
-  inline void write_channel_force(int channel, const ToolContactSolver* solver, ContactStatus step_status, double dt,
-                                  ChannelSample& cs);
-  inline void record_tick(TickSample& sample, double now, double dt, bool late,
-                          std::chrono::steady_clock::time_point t_start) noexcept;
+  inline void write_channel_force(int channel, const ToolContactSolver* solver, ContactStatus step_status, double dt, ChannelSample& cs);
+  inline void record_tick(TickSample& sample, double now, double dt, bool late, std::chrono::steady_clock::time_point t_start) noexcept;
 
   HapticLoopOptions settings_;
   std::vector<HapticDevice*> devices_;

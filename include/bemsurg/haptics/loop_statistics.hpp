@@ -53,27 +53,25 @@ class MicrosecondHistogram {
 struct Percentiles {
   double p50 = 0.0, p99 = 0.0, p999 = 0.0, max = 0.0;
 };
-inline Percentiles percentiles_of(const MicrosecondHistogram& h) {
-  return {h.quantile(0.5), h.quantile(0.99), h.quantile(0.999), h.max()};
-}
+inline Percentiles percentiles_of(const MicrosecondHistogram& h) { return {h.quantile(0.5), h.quantile(0.99), h.quantile(0.999), h.max()}; }
 
 /// A loop's report (docs/haptics.md, "Statistics"; the session's report.json carries it).
 struct LoopStatistics {
-  double rate_hz = 0.0;        // requested
+  double rate_hz = 0.0;  // requested
   double achieved_rate_hz = 0.0;
   std::uint64_t ticks = 0;
   std::uint64_t overruns = 0;  // ticks that missed their slot (late by a period or longer than one)
   Percentiles jitter_us;       // |actual period - nominal period|
   Percentiles force_us;        // time to read devices, compute and write forces in one tick
   std::uint64_t dropped_packets = 0;
-  std::uint64_t model_swaps = 0;        // new contact models taken between ticks
-  std::uint64_t nan_guards = 0;         // non-finite forces replaced by the last good one
-  std::uint64_t failed_steps = 0;       // contact steps that returned CapacityExceeded / Singular
-  std::uint64_t watchdog_ticks = 0;     // ticks with the watchdog ramping (stale state, overruns, fault)
-  std::uint64_t clamped_ticks = 0;      // ticks where the limiter changed the force
-  std::uint64_t faults = 0;             // exceptions caught on the haptic thread (force zeroed)
-  std::uint64_t trace_dropped = 0;      // trace samples lost because the reader fell behind
-  int realtime_priority = 0;            // SCHED_FIFO priority the haptic thread got (0: normal)
+  std::uint64_t model_swaps = 0;     // new contact models taken between ticks
+  std::uint64_t nan_guards = 0;      // non-finite forces replaced by the last good one
+  std::uint64_t failed_steps = 0;    // contact steps that returned CapacityExceeded / Singular
+  std::uint64_t watchdog_ticks = 0;  // ticks with the watchdog ramping (stale state, overruns, fault)
+  std::uint64_t clamped_ticks = 0;   // ticks where the limiter changed the force
+  std::uint64_t faults = 0;          // exceptions caught on the haptic thread (force zeroed)
+  std::uint64_t trace_dropped = 0;   // trace samples lost because the reader fell behind
+  int realtime_priority = 0;         // SCHED_FIFO priority the haptic thread got (0: normal)
 };
 
 }  // namespace bemsurg::haptics

@@ -29,8 +29,7 @@ struct Keyframe {
 class ScriptedDevice : public HapticDevice {
  public:
   /// From a function of the session time (it must not allocate, lock or throw).
-  explicit ScriptedDevice(std::function<DeviceState(double)> trajectory, std::string name = "scripted device",
-                          double max_force = 3.3);
+  explicit ScriptedDevice(std::function<DeviceState(double)> trajectory, std::string name = "scripted device", double max_force = 3.3);
   /// From keyframes (sorted by time; throws InvalidArgumentError when not, or when empty).
   explicit ScriptedDevice(std::vector<Keyframe> keyframes, std::string name = "scripted device", double max_force = 3.3);
   /// From a CSV file with the header `time,x,y,z,dx,dy,dz,buttons` (more columns, e.g. the

@@ -48,7 +48,7 @@ struct SessionOptions {
   double graphics_hz = 60.0;     // field from the published contact (0: not computed)
   /// Sphere and flat tools may slide this many radii sideways before they are placed again.
   double slide_margin_radii = 1.0;
-  HapticLoopOptions loop;       // rate_hz is taken from the script
+  HapticLoopOptions loop;  // rate_hz is taken from the script
   CutHook cut_hook;
 };
 

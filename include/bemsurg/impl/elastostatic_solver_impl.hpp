@@ -30,12 +30,10 @@ BEMSURG_INLINE ElastostaticSolution solve_elastostatic(const ElastostaticProblem
   const double limit = default_memory_limit_bytes();
   if (need > limit) {
     const double physical = physical_memory_bytes();
-    throw ResourceError("solve_elastostatic: the dense solve of " + std::to_string(E) + " elements (" +
-                        std::to_string(3 * E) + " equations) needs about " + format_gib(need) +
-                        " (H and G, each " + format_gib(8.0 * 9.0 * double(E) * double(E)) + "), more than " +
-                        format_gib(limit) + " (80 % of this machine's " +
-                        (physical > 0.0 ? format_gib(physical) : std::string("unknown")) +
-                        " of physical memory); coarsen the mesh");
+    throw ResourceError("solve_elastostatic: the dense solve of " + std::to_string(E) + " elements (" + std::to_string(3 * E) +
+                        " equations) needs about " + format_gib(need) + " (H and G, each " + format_gib(8.0 * 9.0 * double(E) * double(E)) +
+                        "), more than " + format_gib(limit) + " (80 % of this machine's " +
+                        (physical > 0.0 ? format_gib(physical) : std::string("unknown")) + " of physical memory); coarsen the mesh");
   }
   // The quadrature options' cost, estimated before the work (docs/design.md §4, §10).
   require_assembly_quadrature_within(problem.mesh, problem.quadrature, "solve_elastostatic");

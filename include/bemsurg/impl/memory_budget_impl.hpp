@@ -9,7 +9,6 @@
 #include <malloc.h>
 #endif
 
-
 namespace bemsurg {
 
 BEMSURG_INLINE double physical_memory_bytes() {
@@ -36,8 +35,6 @@ BEMSURG_INLINE bool reuse_freed_memory() {
 #endif
 }
 
-BEMSURG_INLINE std::string format_gib(double bytes) {
-  return general_text(bytes / (1024.0 * 1024.0 * 1024.0), 3) + " GiB";
-}
+BEMSURG_INLINE std::string format_gib(double bytes) { return general_text(bytes / (1024.0 * 1024.0 * 1024.0), 3) + " GiB"; }
 
 }  // namespace bemsurg

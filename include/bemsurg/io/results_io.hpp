@@ -28,8 +28,7 @@ inline constexpr const char* kInteriorCsvHeader = "x,y,z,ux,uy,uz,sxx,syy,szz,sx
 void write_elements_csv(const std::string& path, const TriangleMesh& mesh, const BoundarySolution& solution);
 
 /// One row per point: position, displacement, stress (sxx, syy, szz, sxy, syz, sxz).
-void write_interior_csv(const std::string& path, const RowMatrixX3d& points, const RowMatrixX3d& displacement,
-                        const StressRows& stress);
+void write_interior_csv(const std::string& path, const RowMatrixX3d& points, const RowMatrixX3d& displacement, const StressRows& stress);
 
 /// Legacy VTK surface with cell fields "displacement" and "traction" and the point field
 /// "displacement" (area-weighted vertex average, TriangleMesh::element_to_vertex).

@@ -68,8 +68,7 @@ Scene load_scene(const std::string& path);
 
 /// The same from JSON text already in memory; relative paths resolve against `directory`.
 /// `name` is used in messages in place of a file name.
-Scene load_scene_from_string(const std::string& json_text, const std::string& directory,
-                             const std::string& name = "<scene>");
+Scene load_scene_from_string(const std::string& json_text, const std::string& directory, const std::string& name = "<scene>");
 
 /// The scene at `path` with its "mesh" replaced by the mesh file `mesh_file` (any format
 /// mesh_io.hpp reads): what the scene's rules prescribe on another surface, such as the mesh a

@@ -14,12 +14,12 @@ namespace bemsurg {
 /// The material constants of the Kelvin kernels U, T, the gravity kernel P and their derivatives (Wang et al. 2007
 /// eqs. 2-3), computed in one place from a Material so that every kernel and the assembler use the same convention.
 struct KelvinConstants {
-  double mu;          // shear modulus
-  double nu;          // Poisson's ratio
-  double u_scale;     // 1 / (16 pi mu (1 - nu)): U_ij = u_scale [(3 - 4 nu) delta_ij + r,i r,j] / r
-  double t_scale;     // -1 / (8 pi (1 - nu)):     T_ij = t_scale [...] / r^2
-  double p_scale;     // 1 / (8 pi mu):            P_i  = p_scale [b_i dr/dn - n_i (b . r,) p_half_inv]
-  double p_half_inv;  // 1 / (2 (1 - nu))
+  double mu;               // shear modulus
+  double nu;               // Poisson's ratio
+  double u_scale;          // 1 / (16 pi mu (1 - nu)): U_ij = u_scale [(3 - 4 nu) delta_ij + r,i r,j] / r
+  double t_scale;          // -1 / (8 pi (1 - nu)):     T_ij = t_scale [...] / r^2
+  double p_scale;          // 1 / (8 pi mu):            P_i  = p_scale [b_i dr/dn - n_i (b . r,) p_half_inv]
+  double p_half_inv;       // 1 / (2 (1 - nu))
   double three_minus_4nu;  // 3 - 4 nu
   double one_minus_2nu;    // 1 - 2 nu
 

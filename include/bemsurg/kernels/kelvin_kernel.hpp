@@ -45,8 +45,7 @@ class KelvinKernel {
   }
 
   /// Both kernels at once: the quadrature loop needs both at every point, and they share r, r,i.
-  void displacement_and_traction(const Eigen::Vector3d& r, const Eigen::Vector3d& n, Eigen::Matrix3d& u,
-                                 Eigen::Matrix3d& t) const {
+  void displacement_and_traction(const Eigen::Vector3d& r, const Eigen::Vector3d& n, Eigen::Matrix3d& u, Eigen::Matrix3d& t) const {
     const double rn = r.norm();
     const double inv = 1.0 / rn;
     const Eigen::Vector3d d = r * inv;
@@ -84,10 +83,8 @@ class KelvinKernel {
 /// to the displacement at the source point (docs/design.md, kernels). P is bounded, so no singular rule is needed.
 class GravityKernel {
  public:
-  GravityKernel(const Material& m, const Eigen::Vector3d& body_force)
-      : GravityKernel(KelvinConstants(m), body_force) {}
-  GravityKernel(const KelvinConstants& c, const Eigen::Vector3d& body_force)
-      : b_(body_force), scale_(c.p_scale), half_inv_(c.p_half_inv) {}
+  GravityKernel(const Material& m, const Eigen::Vector3d& body_force) : GravityKernel(KelvinConstants(m), body_force) {}
+  GravityKernel(const KelvinConstants& c, const Eigen::Vector3d& body_force) : b_(body_force), scale_(c.p_scale), half_inv_(c.p_half_inv) {}
 
   const Eigen::Vector3d& body_force() const { return b_; }
 
@@ -103,9 +100,7 @@ class GravityKernel {
   }
 
   /// P with dr/dn = 0 (the source's own flat element): -n (b . r,) / (2(1-nu)) / (8 pi mu).
-  Eigen::Vector3d tangential_part(const Eigen::Vector3d& d, const Eigen::Vector3d& n) const {
-    return -scale_ * half_inv_ * b_.dot(d) * n;
-  }
+  Eigen::Vector3d tangential_part(const Eigen::Vector3d& d, const Eigen::Vector3d& n) const { return -scale_ * half_inv_ * b_.dot(d) * n; }
 
  private:
   Eigen::Vector3d b_;

@@ -24,8 +24,7 @@ using KernelGradient = std::array<Eigen::Matrix3d, 3>;
 /// stresses at interior points through Hooke's law (Wang et al. 2007 eqs. 7-9).
 class KelvinKernelGradients {
  public:
-  explicit KelvinKernelGradients(const Material& m)
-      : c_(m) {}
+  explicit KelvinKernelGradients(const Material& m) : c_(m) {}
 
   /// U_aj = C [(3 - 4nu) delta_aj / r + r_a r_j / r^3]
   /// dU_aj/dr_b = C [-(3 - 4nu) delta_aj r_b / r^3 + (delta_ab r_j + delta_jb r_a) / r^3 - 3 r_a r_j r_b / r^5]
@@ -38,7 +37,7 @@ class KelvinKernelGradients {
       m.diagonal().array() -= c_.three_minus_4nu * r(b) / r3;
       m.row(b) += r.transpose() / r3;  // delta_ab r_j
       m.col(b) += r / r3;              // delta_jb r_a
-      m *= -c_.u_scale;                  // d/dp = -d/dr
+      m *= -c_.u_scale;                // d/dp = -d/dr
     }
     return g;
   }
@@ -69,7 +68,7 @@ class KelvinKernelGradients {
   /// P_a = s [b_a (r.n)/r - n_a (b.r) / (2 (1 - nu) r)]; returns dP_a/dp_b as a 3x3 (a, b).
   Eigen::Matrix3d gravity(const Eigen::Vector3d& r, const Eigen::Vector3d& n, const Eigen::Vector3d& body_force) const {
     const double rn = r.norm(), r3 = rn * rn * rn;
-    const Eigen::Vector3d d_rdn = n / rn - (r.dot(n) / r3) * r;            // d((r.n)/r)/dr_b
+    const Eigen::Vector3d d_rdn = n / rn - (r.dot(n) / r3) * r;                    // d((r.n)/r)/dr_b
     const Eigen::Vector3d d_bdr = body_force / rn - (body_force.dot(r) / r3) * r;  // d((b.r)/r)/dr_b
     return -c_.p_scale * (body_force * d_rdn.transpose() - c_.p_half_inv * n * d_bdr.transpose());
   }

@@ -22,9 +22,9 @@ namespace bemsurg {
 struct RayHit {
   Index element = -1;
   double t = std::numeric_limits<double>::infinity();  // origin + t * direction (segment: t in [0, 1])
-  double u = 0.0, v = 0.0;                            // barycentric: point = (1-u-v) a + u b + v c
+  double u = 0.0, v = 0.0;                             // barycentric: point = (1-u-v) a + u b + v c
   Eigen::Vector3d point = Eigen::Vector3d::Zero();
-  bool front_facing = false;                          // the ray enters the material here
+  bool front_facing = false;  // the ray enters the material here
 };
 
 /// Bounding-volume hierarchy over the triangles of the current (deformed) surface, for picking with a tool's ray or
@@ -60,9 +60,9 @@ class TriangleBvh {
  private:
   struct Node {
     Eigen::Vector3d lo, hi;
-    int left = -1;   // inner: first child (second child = right); leaf: -1
+    int left = -1;  // inner: first child (second child = right); leaf: -1
     int right = -1;
-    int first = 0;   // leaf: range in order_
+    int first = 0;  // leaf: range in order_
     int count = 0;
   };
   int build(int begin, int end, std::vector<Eigen::Vector3d>& centers);

@@ -50,8 +50,7 @@ bool graded_remesher_available();
 /// lengths that are not positive and finite, an inside length larger than the outside one, a
 /// growth outside (1, 2], or a region that does not meet the surface, and bemsurg::Error when
 /// this build has no remesher or Gmsh fails.
-GradedRemeshResult graded_remesh(const TriangleMesh& input, const OperatingRegion& region,
-                                 const GradedRemeshOptions& options);
+GradedRemeshResult graded_remesh(const TriangleMesh& input, const OperatingRegion& region, const GradedRemeshOptions& options);
 
 /// The size function used: h(x) for a point x (exposed for tests and reports).
 double graded_target_size(const OperatingRegion& region, const GradedRemeshOptions& options, const Vec3& x);

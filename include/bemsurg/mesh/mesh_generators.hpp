@@ -23,8 +23,7 @@ TriangleMesh box_mesh(const Vec3& lo, const Vec3& hi, int nx, int ny, int nz);
 /// Box whose surface follows the tensor-product grid lines xs x ys x zs (strictly increasing,
 /// at least two values each, any spacing): conforming on all six faces, with the same
 /// checkerboard diagonals as box_mesh. The box is [xs.front(), xs.back()] x ...
-TriangleMesh box_mesh_from_grid(const std::vector<double>& xs, const std::vector<double>& ys,
-                                const std::vector<double>& zs);
+TriangleMesh box_mesh_from_grid(const std::vector<double>& xs, const std::vector<double>& ys, const std::vector<double>& zs);
 
 /// Strictly increasing coordinates from lo to hi with spacing h_min near `focus` (which is one
 /// of the coordinates; it is clamped into [lo, hi]), uniform within fine_half_width of the focus,

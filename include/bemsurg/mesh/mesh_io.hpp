@@ -55,8 +55,7 @@ struct MeshField {
   /// Any n x 3 or n x 1 Eigen matrix or expression (RowMatrixX3d, VectorXd, ...); the shape
   /// is checked when the field is written.
   template <typename Derived>
-  MeshField(std::string field_name, const Eigen::MatrixBase<Derived>& field_values)
-      : name(std::move(field_name)), values(field_values) {}
+  MeshField(std::string field_name, const Eigen::MatrixBase<Derived>& field_values) : name(std::move(field_name)), values(field_values) {}
 };
 
 /// OBJ with 'v' and 'f' lines; coordinates written in the shortest form that reads back exactly.

@@ -96,8 +96,7 @@ class MeshTopology {
 /// trouble with rays through vertices or edges, and it works for either orientation. Returns the
 /// winding number (about +1 inside an outward shell, -1 inside an inward one, 0 outside).
 /// `on_surface` (optional) is set when p lies on one of the triangles, where w is not defined.
-double winding_number(const TriangleMesh& mesh, const std::vector<Index>& faces, const Vec3& p,
-                      bool* on_surface = nullptr);
+double winding_number(const TriangleMesh& mesh, const std::vector<Index>& faces, const Vec3& p, bool* on_surface = nullptr);
 /// The same over every face of the mesh: 1 inside the material of a closed outward body, 0
 /// outside and inside a cavity (whose shell faces the other way).
 double winding_number(const TriangleMesh& mesh, const Vec3& p, bool* on_surface = nullptr);

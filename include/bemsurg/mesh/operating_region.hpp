@@ -63,7 +63,6 @@ class OperatingRegion {
   RowMatrixX3d triangles_;
 };
 
-
 }  // namespace bemsurg
 
 // Definitions (header-only: the numerical core needs no compiled library, docs/design.md).

@@ -32,8 +32,7 @@ struct SelfIntersectionOptions {
 };
 
 /// Face pairs (first < second), ascending, that intersect improperly. Empty for a clean surface.
-std::vector<std::pair<Index, Index>> find_self_intersections(const TriangleMesh& mesh,
-                                                             const SelfIntersectionOptions& options = {});
+std::vector<std::pair<Index, Index>> find_self_intersections(const TriangleMesh& mesh, const SelfIntersectionOptions& options = {});
 
 /// The same, restricted to pairs in which at least one face is in `faces` (for instance the
 /// faces a cut step changed or added, the rest having been checked before).

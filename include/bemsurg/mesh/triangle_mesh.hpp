@@ -33,8 +33,8 @@ class TriangleMesh {
     for (Index f = 0; f < faces_.rows(); ++f)
       for (int k = 0; k < 3; ++k)
         if (faces_(f, k) < 0 || faces_(f, k) >= vertices_.rows())
-          throw InvalidMeshError("face " + std::to_string(f) + " refers to vertex " + std::to_string(faces_(f, k)) +
-                                 ", but the mesh has " + std::to_string(vertices_.rows()) + " vertices");
+          throw InvalidMeshError("face " + std::to_string(f) + " refers to vertex " + std::to_string(faces_(f, k)) + ", but the mesh has " +
+                                 std::to_string(vertices_.rows()) + " vertices");
     update_geometry();
   }
 
@@ -56,9 +56,7 @@ class TriangleMesh {
   Vec3 normal(Index e) const { return normals_.row(e).transpose(); }
   double area(Index e) const { return areas_(e); }
   double diameter(Index e) const { return diameters_(e); }
-  std::array<Vec3, 3> corners(Index e) const {
-    return {vertex(faces_(e, 0)), vertex(faces_(e, 1)), vertex(faces_(e, 2))};
-  }
+  std::array<Vec3, 3> corners(Index e) const { return {vertex(faces_(e, 0)), vertex(faces_(e, 1)), vertex(faces_(e, 2))}; }
 
   /// Total surface area and the volume enclosed (divergence theorem; positive for outward normals).
   double total_area() const { return areas_.sum(); }

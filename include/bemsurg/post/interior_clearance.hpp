@@ -26,7 +26,6 @@ namespace bemsurg {
 /// point is evaluated: 2 mid_ratio 2^-max_depth.
 double min_clearance_fraction(const QuadratureOptions& options);
 
-
 /// The first point closer to some element than min_clearance_fraction x that element's longest
 /// edge: point = -1 when every point is clear. element, distance, element_size and required
 /// describe the violation (the element with the smallest distance / required ratio).

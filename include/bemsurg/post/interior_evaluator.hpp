@@ -24,8 +24,8 @@ using StressRows = Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::RowMajor>;
 /// al. 2007 eqs. 7-9), with the adaptive quadrature of assembly; points too close to an element are refused.
 class InteriorEvaluator {
  public:
-  InteriorEvaluator(const TriangleMesh& mesh, const Material& material,
-                    const Eigen::Vector3d& gravity = Eigen::Vector3d::Zero(), const QuadratureOptions& options = {});
+  InteriorEvaluator(const TriangleMesh& mesh, const Material& material, const Eigen::Vector3d& gravity = Eigen::Vector3d::Zero(),
+                    const QuadratureOptions& options = {});
 
   /// Both throw InvalidArgumentError naming the first point closer to an element than the
   /// quadrature resolves (interior_clearance.hpp), before evaluating anything.

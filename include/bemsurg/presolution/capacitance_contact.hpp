@@ -38,7 +38,7 @@ namespace bemsurg {
 struct ContactRow {
   Index element = 0;
   Eigen::Vector3d direction = Eigen::Vector3d::UnitX();  // unit vector
-  int tag = 0;  // which tool owns the row (forces are reported per tag)
+  int tag = 0;                                           // which tool owns the row (forces are reported per tag)
 };
 
 /// Exact contact on any set of elements at once by the capacitance-matrix method (James & Pai 1999; docs/design.md §6)
@@ -48,8 +48,7 @@ class CapacitanceContact {
   /// `mesh` gives areas (the force) and must be the table's mesh; both are shared snapshots.
   /// `capacity`: the most constraint rows at once (bonded elements take 3, frictionless 1).
   /// Throws ContactError for a null or empty table, a mesh that is not the table's, capacity < 1.
-  CapacitanceContact(std::shared_ptr<const TriangleMesh> mesh, std::shared_ptr<const GreensTable> table,
-                     Index capacity = 300);
+  CapacitanceContact(std::shared_ptr<const TriangleMesh> mesh, std::shared_ptr<const GreensTable> table, Index capacity = 300);
 
   Index capacity() const { return capacity_; }
   Index num_rows() const { return k_; }
@@ -132,13 +131,13 @@ class CapacitanceContact {
   Index num_elements_ = 0;
   Index updates_ = 0;
   std::vector<ContactRow> rows_;
-  std::vector<char> first_row_;     // per row: the first row of its element (counts base traction)
-  std::vector<int> rows_of_;         // per mesh element: number of rows it has in the set
-  std::vector<double> P_;            // capacity x capacity, column-major, leading dimension capacity
+  std::vector<char> first_row_;                            // per row: the first row of its element (counts base traction)
+  std::vector<int> rows_of_;                               // per mesh element: number of rows it has in the set
+  std::vector<double> P_;                                  // capacity x capacity, column-major, leading dimension capacity
   std::vector<double> work_a_, work_b_, work_c_, work_d_;  // capacity x capacity each
   std::vector<double> target_, rhs_, lambda_;
-  std::vector<double> row_base_;      // per row: w_a . u_g(e_a)
-  std::vector<double> force_op_;      // 3 x capacity (component-major): K = -(A W)^T P
+  std::vector<double> row_base_;                          // per row: w_a . u_g(e_a)
+  std::vector<double> force_op_;                          // 3 x capacity (component-major): K = -(A W)^T P
   Eigen::Vector3d base_force_ = Eigen::Vector3d::Zero();  // -sum a_c t_base,c over contact elements
 };
 

@@ -95,8 +95,7 @@ class ToolContactSolver {
  public:
   /// `capacity_rows`: the most constraint rows of all tools together (bonded elements take 3).
   /// The mesh and table are shared snapshots (throws ContactError when null or mismatched).
-  ToolContactSolver(std::shared_ptr<const TriangleMesh> mesh, std::shared_ptr<const GreensTable> table,
-                    Index capacity_rows = 600);
+  ToolContactSolver(std::shared_ptr<const TriangleMesh> mesh, std::shared_ptr<const GreensTable> table, Index capacity_rows = 600);
 
   /// Adds a tool (not yet touching); returns its id (the tag of its rows).
   int add_tool(const ToolSpec& spec);
@@ -165,7 +164,7 @@ class ToolContactSolver {
   struct Tool {
     ToolSpec spec;
     bool engaged = false;
-    Eigen::Vector3d origin = Eigen::Vector3d::Zero();     // reference point (contact point / centre / disc face)
+    Eigen::Vector3d origin = Eigen::Vector3d::Zero();      // reference point (contact point / centre / disc face)
     Eigen::Vector3d direction = Eigen::Vector3d::UnitZ();  // approach direction, unit
     Eigen::Vector3d delta = Eigen::Vector3d::Zero();
     Eigen::Vector3d rotation = Eigen::Vector3d::Zero();
@@ -181,9 +180,7 @@ class ToolContactSolver {
   bool unilateral(const Tool& t) const {
     return t.spec.shape == ToolShape::FlatPunch || t.spec.shape == ToolShape::Sphere || t.spec.shape == ToolShape::Point;
   }
-  Eigen::Vector3d base_position(Index e) const {
-    return mesh_->centroid(e) + table_->base_displacement().segment<3>(3 * e);
-  }
+  Eigen::Vector3d base_position(Index e) const { return mesh_->centroid(e) + table_->base_displacement().segment<3>(3 * e); }
   /// Whether candidate element e of tool t is geometrically in contact at the current pose, and
   /// the displacement target: the displacement change from the base state it must undergo.
   bool geometric_contact(const Tool& t, Index e, Eigen::Vector3d& push, Eigen::Vector3d& row_direction) const;
@@ -204,7 +201,7 @@ class ToolContactSolver {
   Index rows_needed_ = 0;
   TriangleBvh bvh_;
   std::vector<Tool> tools_;
-  std::vector<int> owner_;  // per element: tool id in contact, or -1
+  std::vector<int> owner_;              // per element: tool id in contact, or -1
   std::vector<ContactRow> add_buffer_;  // reserved to the capacity: rows joining in one update
 };
 

@@ -38,8 +38,8 @@ struct ContactDepthCheck {
 /// by a tool of `tool_radius` (0 for a point tool; the punch's or sphere's radius otherwise)
 /// against `limits`. Throws ContactError naming the depth, the strain and the limit when the depth
 /// is beyond max_* (or not finite, or negative); returns the strains and a warning otherwise.
-ContactDepthCheck check_contact_depth(const TriangleMesh& mesh, const Eigen::Vector3d& direction, double depth,
-                                      double tool_radius, const ContactDepthLimits& limits = ContactDepthLimits());
+ContactDepthCheck check_contact_depth(const TriangleMesh& mesh, const Eigen::Vector3d& direction, double depth, double tool_radius,
+                                      const ContactDepthLimits& limits = ContactDepthLimits());
 
 }  // namespace bemsurg
 

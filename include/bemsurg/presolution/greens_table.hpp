@@ -28,8 +28,8 @@
 #include <vector>
 
 #include "bemsurg/assembly/boundary_conditions.hpp"
-#include "bemsurg/mesh/mesh_delta.hpp"
 #include "bemsurg/material.hpp"
+#include "bemsurg/mesh/mesh_delta.hpp"
 #include "bemsurg/mesh/triangle_mesh.hpp"
 #include "bemsurg/quadrature/element_quadrature.hpp"
 #include "bemsurg/solvers/low_rank_updated_lu.hpp"
@@ -71,8 +71,8 @@ struct GreensTableUpdateResult {
   double system_seconds = 0.0;       // low-rank update of the factorisation and the base state
   double table_seconds = 0.0;        // the table's columns (old ones corrected, new ones solved)
   double total_seconds = 0.0;
-  Index rank = 0;                    // accumulated rank of the correction after the step
-  Index added_region_elements = 0;   // new elements that joined the region
+  Index rank = 0;                   // accumulated rank of the correction after the step
+  Index added_region_elements = 0;  // new elements that joined the region
 };
 /// Deprecated name (before 0.2), kept one minor version: use GreensTableUpdateResult.
 using GreensTableUpdateReport [[deprecated("renamed to GreensTableUpdateResult in bemsurg 0.2")]] = GreensTableUpdateResult;
@@ -132,15 +132,13 @@ class GreensTable {
   /// that does not fit (or removes elements) or a table without factorisation, SolverError when
   /// the cut system is singular. `this` is not changed.
   std::shared_ptr<const GreensTable> updated(std::shared_ptr<const TriangleMesh> after, const MeshDelta& delta,
-                                             const GreensTableUpdateOptions& options = {},
-                                             GreensTableUpdateResult* report = nullptr) const;
+                                             const GreensTableUpdateOptions& options = {}, GreensTableUpdateResult* report = nullptr) const;
 
   /// The same step taken with the rows and columns already integrated (integrate_cut_change on
   /// this table's mesh, `after`, its material, quadrature and gravity), e.g. shared with an
   /// iterative re-solve of the same step.
-  std::shared_ptr<const GreensTable> updated(std::shared_ptr<const TriangleMesh> after, const MeshDelta& delta,
-                                             const CutChange& change, const GreensTableUpdateOptions& options = {},
-                                             GreensTableUpdateResult* report = nullptr) const;
+  std::shared_ptr<const GreensTable> updated(std::shared_ptr<const TriangleMesh> after, const MeshDelta& delta, const CutChange& change,
+                                             const GreensTableUpdateOptions& options = {}, GreensTableUpdateResult* report = nullptr) const;
   /// The reference for updated(): the same step by full re-assembly and a new factorisation
   /// (same region rule, version() + 1).
   std::shared_ptr<const GreensTable> recomputed_after(std::shared_ptr<const TriangleMesh> after, const MeshDelta& delta,
@@ -169,8 +167,8 @@ class GreensTable {
   const QuadratureOptions& quadrature() const { return quadrature_; }
 
   /// From stored parts (the table file reader); checks that the sizes agree.
-  GreensTable(GreensTableKey key, std::vector<Index> region, Eigen::VectorXd base_displacement,
-              Eigen::VectorXd base_traction, std::vector<BcKind> base_kinds, Eigen::MatrixXd columns);
+  GreensTable(GreensTableKey key, std::vector<Index> region, Eigen::VectorXd base_displacement, Eigen::VectorXd base_traction,
+              std::vector<BcKind> base_kinds, Eigen::MatrixXd columns);
 
   bool empty() const { return key_.num_elements == 0; }
   Index num_elements() const { return key_.num_elements; }
@@ -192,9 +190,7 @@ class GreensTable {
   /// n x 3|region|: displacement of every dof per unit traction on each region dof.
   const Eigen::MatrixXd& columns() const { return columns_; }
   /// Displacement of element `row` (3) per unit traction on element `col` (3): G_{row,col}.
-  Eigen::Matrix3d block(Index row, Index col) const {
-    return columns_.block<3, 3>(3 * row, 3 * region_slot(col));
-  }
+  Eigen::Matrix3d block(Index row, Index col) const { return columns_.block<3, 3>(3 * row, 3 * region_slot(col)); }
   /// Pointer to the first of the three columns of region element `col` (contiguous, length n each).
   const double* column_data(Index col) const { return columns_.data() + 3 * region_slot(col) * columns_.rows(); }
 
@@ -227,14 +223,12 @@ class GreensTable {
     std::vector<Index> table_cols, sources;
   };
   void check_update(const TriangleMesh* after, const MeshDelta& delta, const CutChange& change) const;
-  static SystemChange system_change(const CutChange& change, const BoundaryConditions& before,
-                                    const BoundaryConditions& after);
+  static SystemChange system_change(const CutChange& change, const BoundaryConditions& before, const BoundaryConditions& after);
   static FreshColumns fresh_columns(const CutChange& change, const std::vector<Index>& region_after);
-  Eigen::MatrixXd fresh_right_hand_sides(const CutChange& change, const FreshColumns& fresh,
-                                         const Eigen::VectorXd& rhs_after) const;
+  Eigen::MatrixXd fresh_right_hand_sides(const CutChange& change, const FreshColumns& fresh, const Eigen::VectorXd& rhs_after) const;
   Eigen::MatrixXd correction_coefficients_transposed(const CutChange& change, const Eigen::MatrixXd& X) const;
-  Eigen::MatrixXd columns_after_cut(const CutChange& change, const Eigen::MatrixXd& Z, const Eigen::MatrixXd& CTt,
-                                    const Eigen::MatrixXd& F, const FreshColumns& fresh, Index region_after_size) const;
+  Eigen::MatrixXd columns_after_cut(const CutChange& change, const Eigen::MatrixXd& Z, const Eigen::MatrixXd& CTt, const Eigen::MatrixXd& F,
+                                    const FreshColumns& fresh, Index region_after_size) const;
 
   void build_slots();
   /// Base displacement and traction from the solution x of A* x = b (u on traction dofs, t on
@@ -260,7 +254,6 @@ class GreensTable {
   std::vector<Index> reaction_dofs_;
   Eigen::MatrixXd reactions_;
 };
-
 
 }  // namespace bemsurg
 

@@ -17,8 +17,8 @@
 #include <string>
 
 #include "bemsurg/error.hpp"
-#include "bemsurg/number_text.hpp"
 #include "bemsurg/mesh/geometry.hpp"
+#include "bemsurg/number_text.hpp"
 #include "bemsurg/quadrature/triangle_rules.hpp"
 
 namespace bemsurg {
@@ -29,8 +29,8 @@ struct QuadratureOptions {
   double far_ratio = 4.0;
   double mid_ratio = 1.5;
   int mid_order = 5;
-  int max_depth = 10;   // depth at which splitting stops and the mid rule is used regardless
-  int polar_order = 8;  // Gauss points per angular piece of the self-element rule
+  int max_depth = 10;             // depth at which splitting stops and the mid rule is used regardless
+  int polar_order = 8;            // Gauss points per angular piece of the self-element rule
   double polar_max_angle = 0.25;  // radians per angular piece
 
   /// Throws bemsurg::Error naming the first field out of range: ratios finite and positive with
@@ -42,7 +42,8 @@ struct QuadratureOptions {
     };
     if (!(std::isfinite(far_ratio) && far_ratio > 0.0)) fail("far_ratio", "must be finite and positive, got " + number_text(far_ratio));
     if (!(std::isfinite(mid_ratio) && mid_ratio > 0.0)) fail("mid_ratio", "must be finite and positive, got " + number_text(mid_ratio));
-    if (mid_ratio > far_ratio) fail("mid_ratio", "must not exceed far_ratio (" + number_text(far_ratio) + "), got " + number_text(mid_ratio));
+    if (mid_ratio > far_ratio)
+      fail("mid_ratio", "must not exceed far_ratio (" + number_text(far_ratio) + "), got " + number_text(mid_ratio));
     if (mid_order < 1 || mid_order > 20) fail("mid_order", "must lie in [1, 20], got " + std::to_string(mid_order));
     if (max_depth < 0 || max_depth > 20) fail("max_depth", "must lie in [0, 20], got " + std::to_string(max_depth));
     if (polar_order < 1 || polar_order > 40) fail("polar_order", "must lie in [1, 40], got " + std::to_string(polar_order));
@@ -84,8 +85,7 @@ class ElementQuadrature {
   /// in-plane direction d, distance R from p to the boundary along d, and angle weight w
   /// (sum of w = 2 pi). Then int_T f dS = sum w int_0^R f(p + r d) r dr.
   template <class Visit>
-  void polar(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
-             Visit&& visit) const {
+  void polar(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c, Visit&& visit) const {
     const Eigen::Vector3d v[3] = {a, b, c};
     for (int k = 0; k < 3; ++k) {
       const Eigen::Vector3d& s = v[k];
@@ -112,16 +112,16 @@ class ElementQuadrature {
 
  private:
   template <class Visit>
-  void apply_rule(const TriangleRule& rule, const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
-                  double area, Visit& visit) const {
+  void apply_rule(const TriangleRule& rule, const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c, double area,
+                  Visit& visit) const {
     const Eigen::Vector3d e1 = b - a, e2 = c - a;
     for (std::size_t k = 0; k < rule.weights.size(); ++k)
       visit(Eigen::Vector3d(a + rule.points[k].x() * e1 + rule.points[k].y() * e2), area * rule.weights[k]);
   }
 
   template <class Visit>
-  void integrate_adaptive(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                          const Eigen::Vector3d& c, int depth, Visit& visit) const {
+  void integrate_adaptive(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c, int depth,
+                          Visit& visit) const {
     const double h = element_diameter(a, b, c);
     const double dist = (p - (a + b + c) / 3.0).norm();
     const double area = 0.5 * (b - a).cross(c - a).norm();
@@ -135,8 +135,8 @@ class ElementQuadrature {
   }
 
   // integrate_adaptive's decisions, counting points instead of visiting them (keep the two alike).
-  void count_adaptive(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
-                      int depth, double cap, double& count) const {
+  void count_adaptive(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c, int depth,
+                      double cap, double& count) const {
     if (count > cap) return;
     const double h = element_diameter(a, b, c);
     const double dist = (p - (a + b + c) / 3.0).norm();

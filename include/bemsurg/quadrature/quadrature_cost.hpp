@@ -36,8 +36,8 @@ constexpr double kQuadratureCostFloor = 1e9;
 /// pairs of at most `max_sampled_sources` source points spread evenly over the elements exactly
 /// and scaling by the number of elements. Stops counting (exceeded = true) once the scaled count
 /// passes `limit_points`.
-QuadratureCostEstimate estimate_assembly_quadrature(const TriangleMesh& mesh, const QuadratureOptions& options,
-                                                     double limit_points, Index max_sampled_sources = 16);
+QuadratureCostEstimate estimate_assembly_quadrature(const TriangleMesh& mesh, const QuadratureOptions& options, double limit_points,
+                                                    Index max_sampled_sources = 16);
 
 /// Throws ResourceError with the estimate, the limit and the options that drive it when the
 /// assembly of `mesh` with `options` needs more kernel evaluations than the threshold above.

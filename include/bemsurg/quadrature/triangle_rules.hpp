@@ -60,8 +60,8 @@ inline const TriangleRule& radon7_rule() {
     const double s15 = std::sqrt(15.0);
     const double a1 = (6.0 - s15) / 21.0, a2 = (6.0 + s15) / 21.0;
     const double w1 = (155.0 - s15) / 1200.0, w2 = (155.0 + s15) / 1200.0;
-    r.points = {{1.0 / 3.0, 1.0 / 3.0}, {a1, a1}, {1.0 - 2.0 * a1, a1}, {a1, 1.0 - 2.0 * a1},
-                {a2, a2}, {1.0 - 2.0 * a2, a2}, {a2, 1.0 - 2.0 * a2}};
+    r.points = {{1.0 / 3.0, 1.0 / 3.0}, {a1, a1}, {1.0 - 2.0 * a1, a1}, {a1, 1.0 - 2.0 * a1}, {a2, a2}, {1.0 - 2.0 * a2, a2},
+                {a2, 1.0 - 2.0 * a2}};
     r.weights = {9.0 / 40.0, w1, w1, w1, w2, w2, w2};
     return r;
   }();

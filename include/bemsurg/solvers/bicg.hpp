@@ -33,8 +33,7 @@ class BiCg : public KrylovSolverBase<BiCg<Operator, Preconditioner>, Operator, P
   friend Base;  // solve() calls workspace(), iterate() and run_pass()
 
   Eigen::VectorXd& workspace(Eigen::Index n) {
-    if (r_.size() != n)
-      r_.resize(n), rt_.resize(n), z_.resize(n), zt_.resize(n), p_.resize(n), pt_.resize(n), q_.resize(n), qt_.resize(n);
+    if (r_.size() != n) r_.resize(n), rt_.resize(n), z_.resize(n), zt_.resize(n), p_.resize(n), pt_.resize(n), q_.resize(n), qt_.resize(n);
     return r_;
   }
 

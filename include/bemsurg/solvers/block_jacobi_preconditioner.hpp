@@ -25,8 +25,8 @@ class BlockJacobiPreconditioner {
   /// by 3, or names the element whose block is singular or non-finite.
   BlockJacobiPreconditioner& compute(const Eigen::MatrixXd& A) {
     if (A.rows() != A.cols() || A.rows() % 3 != 0)
-      throw SolverError("block-Jacobi preconditioner: the matrix is " + std::to_string(A.rows()) + " x " +
-                        std::to_string(A.cols()) + "; it must be square with 3 unknowns per element");
+      throw SolverError("block-Jacobi preconditioner: the matrix is " + std::to_string(A.rows()) + " x " + std::to_string(A.cols()) +
+                        "; it must be square with 3 unknowns per element");
     const Eigen::Index blocks = A.rows() / 3;
     inverses_.resize(3, A.rows());
     for (Eigen::Index e = 0; e < blocks; ++e) {
@@ -54,8 +54,7 @@ class BlockJacobiPreconditioner {
   const Eigen::Matrix<double, 3, Eigen::Dynamic>& inverse_blocks() const { return inverses_; }
 
   void apply(const Eigen::Ref<const Eigen::VectorXd>& r, Eigen::Ref<Eigen::VectorXd> z) const {
-    for (Eigen::Index k = 0; k < inverses_.cols(); k += 3)
-      z.segment<3>(k).noalias() = inverses_.block<3, 3>(0, k) * r.segment<3>(k);
+    for (Eigen::Index k = 0; k < inverses_.cols(); k += 3) z.segment<3>(k).noalias() = inverses_.block<3, 3>(0, k) * r.segment<3>(k);
   }
   void apply_transpose(const Eigen::Ref<const Eigen::VectorXd>& r, Eigen::Ref<Eigen::VectorXd> z) const {
     for (Eigen::Index k = 0; k < inverses_.cols(); k += 3)

@@ -39,8 +39,8 @@ class DenseLu {
     if (!A.allFinite()) {
       Eigen::Index row = 0, col = 0;
       first_non_finite(A, row, col);
-      throw SolverError("DenseLu: the matrix has a non-finite entry (" + number_text(A(row, col)) + " at row " +
-                        std::to_string(row) + ", column " + std::to_string(col) + "); it cannot be factorised");
+      throw SolverError("DenseLu: the matrix has a non-finite entry (" + number_text(A(row, col)) + " at row " + std::to_string(row) +
+                        ", column " + std::to_string(col) + "); it cannot be factorised");
     }
     const Eigen::VectorXd column_max = column_maxima(A);
     lu_.compute(A);

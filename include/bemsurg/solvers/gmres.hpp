@@ -58,9 +58,9 @@ class Gmres : public KrylovSolverBase<Gmres<Operator, Preconditioner>, Operator,
       V_.col(0) = r_ / beta;
       g_.setZero();
       g_(0) = beta;
-      Eigen::Index k = 0;           // columns of the Hessenberg matrix in use
-      bool invariant = false;       // A M^-1 v_j fell into the span of the basis (h(j+1,j) = 0)
-      bool singular = false;        // ... and the rotated diagonal vanished too: A M^-1 singular there
+      Eigen::Index k = 0;      // columns of the Hessenberg matrix in use
+      bool invariant = false;  // A M^-1 v_j fell into the span of the basis (h(j+1,j) = 0)
+      bool singular = false;   // ... and the rotated diagonal vanished too: A M^-1 singular there
       while (k < m && report.iterations < s.max_iterations) {
         const Eigen::Index j = k;
         M.apply(V_.col(j), t_);
@@ -108,11 +108,10 @@ class Gmres : public KrylovSolverBase<Gmres<Operator, Preconditioner>, Operator,
       report.true_residual = residual;
       if (!std::isfinite(residual)) return this->finish(KrylovStatus::NonFinite, "solution update", start);
       if (residual <= s.tolerance) return this->finish(KrylovStatus::Converged, "", start);
-      if (singular)
-        return this->finish(KrylovStatus::Breakdown, "h(j,j) = h(j+1,j) = 0: A M^-1 is singular on the Krylov space", start);
+      if (singular) return this->finish(KrylovStatus::Breakdown, "h(j,j) = h(j+1,j) = 0: A M^-1 is singular on the Krylov space", start);
       if (invariant)
-        return this->finish(KrylovStatus::Breakdown,
-                            "h(j+1,j) = 0: the Krylov space is invariant but the residual is above tolerance", start);
+        return this->finish(KrylovStatus::Breakdown, "h(j+1,j) = 0: the Krylov space is invariant but the residual is above tolerance",
+                            start);
       if (report.iterations >= s.max_iterations) return this->finish(KrylovStatus::IterationLimit, "", start);
       if (residual > (1.0 - s.stagnation_reduction) * previous) return this->finish(KrylovStatus::Stagnation, "", start);
       ++report.restarts;
@@ -146,7 +145,6 @@ class Gmres : public KrylovSolverBase<Gmres<Operator, Preconditioner>, Operator,
     b = -s * a + c * b;
     a = t;
   }
-
 };
 
 }  // namespace bemsurg

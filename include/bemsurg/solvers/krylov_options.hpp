@@ -32,8 +32,7 @@ struct KrylovOptions {
   void validate() const {
     if (!(std::isfinite(tolerance) && tolerance > 0.0))
       throw SolverError("Krylov settings: tolerance must be a positive finite number, got " + number_text(tolerance));
-    if (max_iterations < 1)
-      throw SolverError("Krylov settings: max_iterations must be at least 1, got " + std::to_string(max_iterations));
+    if (max_iterations < 1) throw SolverError("Krylov settings: max_iterations must be at least 1, got " + std::to_string(max_iterations));
     if (restart < 0) throw SolverError("Krylov settings: restart must be 0 (no restart) or positive, got " + std::to_string(restart));
     if (!(std::isfinite(breakdown_tolerance) && breakdown_tolerance >= 0.0 && breakdown_tolerance < 1.0))
       throw SolverError("Krylov settings: breakdown_tolerance must lie in [0, 1), got " + number_text(breakdown_tolerance));

@@ -8,8 +8,8 @@
 #include <charconv>
 #include <string>
 
-#include "bemsurg/number_text.hpp"
 #include <vector>
+#include "bemsurg/number_text.hpp"
 
 namespace bemsurg {
 
@@ -43,16 +43,16 @@ struct KrylovResult {
   /// For Breakdown: which quantity vanished, e.g. "rho = (r0~, r)"; for NonFinite: where the
   /// first NaN/infinity appeared; empty otherwise.
   std::string breakdown;
-  int iterations = 0;                 // products with A inside the iteration (BiCGStab: steps)
-  int restarts = 0;                   // GMRES(m) cycles after the first; residual replacements in BiCG(Stab)
-  double initial_residual = 0.0;      // ||b - A x0|| / ||b||
-  double true_residual = 0.0;         // ||b - A x|| / ||b||, recomputed from the returned x
-  double estimated_residual = 0.0;    // the recurrence's last estimate (for comparison only)
+  int iterations = 0;               // products with A inside the iteration (BiCGStab: steps)
+  int restarts = 0;                 // GMRES(m) cycles after the first; residual replacements in BiCG(Stab)
+  double initial_residual = 0.0;    // ||b - A x0|| / ||b||
+  double true_residual = 0.0;       // ||b - A x|| / ||b||, recomputed from the returned x
+  double estimated_residual = 0.0;  // the recurrence's last estimate (for comparison only)
   /// Relative residual estimate after each iteration, starting with the initial residual; the
   /// capacity is reused between solves, so a warm solver allocates nothing here (up to 4096
   /// iterations are reserved before a solve; a longer run grows it, and keeps the capacity).
   std::vector<double> residual_history;
-  double seconds = 0.0;               // wall time of the solve (not of compute())
+  double seconds = 0.0;  // wall time of the solve (not of compute())
 
   bool converged() const { return status == KrylovStatus::Converged; }
   Eigen::ComputationInfo info() const {
@@ -70,7 +70,6 @@ struct KrylovResult {
     s += " after " + std::to_string(iterations) + " iterations, true relative residual " + scientific_text(true_residual, 3);
     return s;
   }
-
 };
 
 /// Deprecated name (before 0.2), kept one minor version: use KrylovResult.

@@ -28,8 +28,8 @@
 
 #include "bemsurg/error.hpp"
 #include "bemsurg/solvers/identity_preconditioner.hpp"
-#include "bemsurg/solvers/krylov_result.hpp"
 #include "bemsurg/solvers/krylov_options.hpp"
+#include "bemsurg/solvers/krylov_result.hpp"
 #include "bemsurg/timing.hpp"
 
 namespace bemsurg {
@@ -97,12 +97,12 @@ class KrylovSolverBase {
     settings_.validate();
     const Eigen::Index n = A_->rows();
     if (b.size() != n)
-      throw SolverError("Krylov solver: the right-hand side has " + std::to_string(b.size()) + " entries, the matrix " +
-                        std::to_string(n) + " rows");
+      throw SolverError("Krylov solver: the right-hand side has " + std::to_string(b.size()) + " entries, the matrix " + std::to_string(n) +
+                        " rows");
     if (x.size() == 0) x.setZero(n);
     if (x.size() != n)
-      throw SolverError("Krylov solver: the initial guess has " + std::to_string(x.size()) + " entries, the matrix " +
-                        std::to_string(n) + " rows");
+      throw SolverError("Krylov solver: the initial guess has " + std::to_string(x.size()) + " entries, the matrix " + std::to_string(n) +
+                        " rows");
     report_.status = KrylovStatus::NotComputed;
     report_.breakdown.clear();
     report_.iterations = 0;
@@ -111,8 +111,7 @@ class KrylovSolverBase {
     report_.residual_history.clear();
     // Reserve for typical solves only: a limit such as 1e8 must not cost 800 MB up front. Longer
     // runs grow the history past the cap (amortised; the capacity stays for later solves).
-    report_.residual_history.reserve(
-        static_cast<std::size_t>(std::min(settings_.max_iterations, kHistoryReserveCap)) + 2);
+    report_.residual_history.reserve(static_cast<std::size_t>(std::min(settings_.max_iterations, kHistoryReserveCap)) + 2);
     report_.seconds = 0.0;
     b_norm_ = b.norm();
     if (!std::isfinite(b_norm_)) return finish(KrylovStatus::NonFinite, "right-hand side b", start), false;
@@ -128,8 +127,7 @@ class KrylovSolverBase {
   /// The opening every method shares once its workspace is sized: r = b - A x0 recorded as the
   /// initial residual. Returns false (with the report final) when x0 already solves the system or
   /// the residual is not finite; otherwise `residual` is ||r|| / ||b||.
-  bool begin_residual(const Eigen::VectorXd& b, const Eigen::VectorXd& x, Eigen::VectorXd& r, double& residual,
-                      Clock::time_point start) {
+  bool begin_residual(const Eigen::VectorXd& b, const Eigen::VectorXd& x, Eigen::VectorXd& r, double& residual, Clock::time_point start) {
     residual = true_residual(b, x, r);
     report_.initial_residual = report_.true_residual = report_.estimated_residual = residual;
     report_.residual_history.push_back(residual);
@@ -160,9 +158,7 @@ class KrylovSolverBase {
   }
 
   /// A scalar that is to be divided by has vanished: |value| <= tol * scale (or scale is zero).
-  bool vanished(double value, double scale) const {
-    return !(std::abs(value) > settings_.breakdown_tolerance * scale) || scale == 0.0;
-  }
+  bool vanished(double value, double scale) const { return !(std::abs(value) > settings_.breakdown_tolerance * scale) || scale == 0.0; }
 
   /// One pass of a recurrence that replaces its residual by the true one (BiCG, BiCGStab): from
   /// a (re)start to the iteration that stopped it.
@@ -187,8 +183,8 @@ class KrylovSolverBase {
 
   /// The outer loop of BiCG and BiCGStab: passes of the recurrence (Derived::run_pass(A, M, x,
   /// pass)) on the residual in `r`, each ended by restart_from_true_residual() with `scratch`.
-  void iterate_with_replacement(const Operator& A, const Preconditioner& M, const Eigen::VectorXd& b, Eigen::VectorXd& x,
-                                double residual, Clock::time_point start, Eigen::VectorXd& r, Eigen::VectorXd& scratch) {
+  void iterate_with_replacement(const Operator& A, const Preconditioner& M, const Eigen::VectorXd& b, Eigen::VectorXd& x, double residual,
+                                Clock::time_point start, Eigen::VectorXd& r, Eigen::VectorXd& scratch) {
     double replaced_at = residual;  // true residual when the recurrence last (re)started
     for (;;) {                      // one pass per (re)start of the recurrence from the true residual
       Pass pass;
@@ -211,8 +207,7 @@ class KrylovSolverBase {
     if (report_.true_residual <= s.tolerance) return finish(KrylovStatus::Converged, "", start), false;
     // A breakdown in the first step after a (re)start is final: restarting again would repeat it. Later ones
     // restart from the true residual with a fresh shadow vector (as Eigen's BiCGSTAB does for rho).
-    if (pass.status == KrylovStatus::NonFinite ||
-        (pass.status == KrylovStatus::Breakdown && report_.iterations <= pass.started_at + 1))
+    if (pass.status == KrylovStatus::NonFinite || (pass.status == KrylovStatus::Breakdown && report_.iterations <= pass.started_at + 1))
       return finish(pass.status, pass.stop, start), false;
     if (report_.iterations >= s.max_iterations) return finish(KrylovStatus::IterationLimit, "", start), false;
     // The recurrence claimed convergence that the true residual does not confirm (residual gap):

@@ -31,8 +31,7 @@ class DenseOperator {
  public:
   explicit DenseOperator(const Eigen::MatrixXd& A) : A_(&A) {
     if (A.rows() != A.cols())
-      throw SolverError("DenseOperator: the matrix is " + std::to_string(A.rows()) + " x " + std::to_string(A.cols()) +
-                        ", not square");
+      throw SolverError("DenseOperator: the matrix is " + std::to_string(A.rows()) + " x " + std::to_string(A.cols()) + ", not square");
   }
 
   Eigen::Index rows() const { return A_->rows(); }

@@ -53,13 +53,13 @@ inline PreconditionerKind parse_preconditioner(const std::string& name) {
 /// restart length, and the preconditioner (block-Jacobi by default) with its near-field radius.
 struct LinearSolverOptions {
   SolverMethod method = SolverMethod::Lu;
-  double tolerance = 1e-10;             // relative residual ||b - A x|| / ||b|| for Krylov methods
+  double tolerance = 1e-10;  // relative residual ||b - A x|| / ||b|| for Krylov methods
   int max_iterations = 1000;
-  int restart = 0;                      // GMRES(m) restart length; 0 = full GMRES
+  int restart = 0;  // GMRES(m) restart length; 0 = full GMRES
   // block_jacobi by default: A* mixes O(1) H columns with O(1/mu) G columns, and unpreconditioned
   // Krylov methods stall on that scaling (bench_krylov: GMRES(30) does not converge without it).
   PreconditionerKind preconditioner = PreconditionerKind::BlockJacobi;
-  double near_field_radius = 2.0;       // near-field preconditioner: element diameters
+  double near_field_radius = 2.0;  // near-field preconditioner: element diameters
 };
 
 /// Deprecated name (before 0.2), kept one minor version: use LinearSolverOptions.
@@ -71,16 +71,16 @@ using LinearSolverSettings [[deprecated("renamed to LinearSolverOptions in bemsu
 struct LinearSolveResult {
   SolverMethod method = SolverMethod::Lu;
   PreconditionerKind preconditioner = PreconditionerKind::None;  // None for LU
-  KrylovStatus status = KrylovStatus::NotComputed;  // LU too: Converged, Breakdown (singular) or NonFinite
-  int iterations = 0;                // 0 for LU
-  double relative_residual = 0.0;    // true residual ||b - A x|| / ||b||, recomputed
-  double setup_seconds = 0.0;        // factorisation or preconditioner build
+  KrylovStatus status = KrylovStatus::NotComputed;               // LU too: Converged, Breakdown (singular) or NonFinite
+  int iterations = 0;                                            // 0 for LU
+  double relative_residual = 0.0;                                // true residual ||b - A x|| / ||b||, recomputed
+  double setup_seconds = 0.0;                                    // factorisation or preconditioner build
   double solve_seconds = 0.0;
   // Added for the Krylov methods (solvers/krylov_result.hpp); zero or empty for LU.
-  std::string breakdown;                // status breakdown/non_finite: which quantity vanished or went non-finite
-  double initial_residual = 0.0;        // ||b - A x0|| / ||b|| (1 for a cold start)
-  int restarts = 0;                     // GMRES(m) cycles after the first; residual replacements in BiCG(Stab)
-  std::vector<double> residual_history; // the recurrence's relative residual per iteration, from x0
+  std::string breakdown;                     // status breakdown/non_finite: which quantity vanished or went non-finite
+  double initial_residual = 0.0;             // ||b - A x0|| / ||b|| (1 for a cold start)
+  int restarts = 0;                          // GMRES(m) cycles after the first; residual replacements in BiCG(Stab)
+  std::vector<double> residual_history;      // the recurrence's relative residual per iteration, from x0
   Eigen::Index preconditioner_nonzeros = 0;  // near_field: entries kept; block_jacobi: 9 per element
   double preconditioner_fill = 0.0;          // near_field: nonzeros of L + U / nonzeros kept
 };

@@ -47,9 +47,7 @@ class LowRankUpdatedLu {
   Index rank() const { return U_.cols(); }
   const std::shared_ptr<const LuFactors>& base() const { return base_; }
   /// Bytes held beyond the shared base factorisation: U, V, W (n x r each) and C (r x r, twice).
-  std::size_t bytes() const {
-    return static_cast<std::size_t>(3 * U_.size() + 2 * C_.size()) * sizeof(double);
-  }
+  std::size_t bytes() const { return static_cast<std::size_t>(3 * U_.size() + 2 * C_.size()) * sizeof(double); }
 
   /// B <- K^-1 B in place: the LU solve on the first n0 rows (only for the columns that have
   /// anything there), identity on the rest.
@@ -98,8 +96,8 @@ class LowRankUpdatedLu {
   /// (one multi-right-hand-side dgetrs instead of two: a cut step's table columns ride along);
   /// finish it with the new object's finish_solve.
   /// Throws SolverError when the new capacitance matrix is singular (A_new singular).
-  LowRankUpdatedLu updated(Index new_size, const Eigen::MatrixXd& Us, const Eigen::MatrixXd& Vs,
-                           Eigen::MatrixXd* kinv_us = nullptr, Eigen::MatrixXd* also = nullptr) const {
+  LowRankUpdatedLu updated(Index new_size, const Eigen::MatrixXd& Us, const Eigen::MatrixXd& Vs, Eigen::MatrixXd* kinv_us = nullptr,
+                           Eigen::MatrixXd* also = nullptr) const {
     if (empty()) throw SolverError("LowRankUpdatedLu::updated: no factorisation");
     if (new_size < n_) throw InvalidArgumentError("LowRankUpdatedLu::updated: the system cannot shrink");
     if (Us.rows() != new_size || Vs.rows() != new_size || Us.cols() != Vs.cols())
@@ -152,7 +150,8 @@ class LowRankUpdatedLu {
   void check_rows(Index rows, const char* where) const {
     if (empty()) throw SolverError(std::string("LowRankUpdatedLu::") + where + ": no factorisation");
     if (rows != n_)
-      throw InvalidArgumentError(std::string("LowRankUpdatedLu::") + where + ": " + std::to_string(rows) + " rows, expected " + std::to_string(n_));
+      throw InvalidArgumentError(std::string("LowRankUpdatedLu::") + where + ": " + std::to_string(rows) + " rows, expected " +
+                                 std::to_string(n_));
   }
 
   std::shared_ptr<const LuFactors> base_;

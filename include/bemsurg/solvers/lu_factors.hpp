@@ -51,7 +51,7 @@ class LuFactors {
     for (std::size_t i = 0; i < ipiv.size(); ++i) f.pivots_[i] = static_cast<int>(ipiv[i]);  // 1-based row swaps
     const bool ok = info == 0;
 #else
-    Eigen::PartialPivLU<Eigen::Ref<Eigen::MatrixXd>> lu(f.lu_);
+    Eigen::PartialPivLU<Eigen::Ref<Eigen::MatrixXd> > lu(f.lu_);
     for (Index i = 0; i < n; ++i) f.pivots_[static_cast<std::size_t>(i)] = lu.permutationP().indices()(i);  // P as indices
     const bool ok = true;
 #endif
@@ -75,7 +75,7 @@ class LuFactors {
 #ifdef BEMSURG_HAVE_BLAS
     std::vector<lapack_int> ipiv(pivots_.begin(), pivots_.end());
     const lapack_int s = LAPACKE_dgetrs_work(LAPACK_COL_MAJOR, 'N', lapack_int(n), lapack_int(B.cols()), lu_.data(), lapack_int(n),
-                                        ipiv.data(), B.data(), lapack_int(B.outerStride()));
+                                             ipiv.data(), B.data(), lapack_int(B.outerStride()));
     if (s != 0) throw SolverError("LAPACK dgetrs failed with info " + std::to_string(s));
 #else
     Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> P(n);

@@ -45,12 +45,12 @@ inline void lu_factor_and_solve_in_place(Eigen::MatrixXd& A, Eigen::MatrixXd& B,
   t0 = SteadyClock::now();
   if (B.cols() > 0) {
     const lapack_int s = LAPACKE_dgetrs_work(LAPACK_COL_MAJOR, 'N', lapack_int(n), lapack_int(B.cols()), A.data(), lapack_int(n),
-                                        pivots.data(), B.data(), lapack_int(n));
+                                             pivots.data(), B.data(), lapack_int(n));
     if (s != 0) throw SolverError("LAPACK dgetrs failed with info " + std::to_string(s));
   }
   if (solve_seconds) *solve_seconds = seconds_since(t0);
 #else
-  Eigen::PartialPivLU<Eigen::Ref<Eigen::MatrixXd>> lu(A);
+  Eigen::PartialPivLU<Eigen::Ref<Eigen::MatrixXd> > lu(A);
   if (!DenseLu::equilibrated_pivots_ok(A.diagonal(), column_max))
     throw SolverError("the system matrix A* is singular to working precision (is the body supported?)");
   if (factor_seconds) *factor_seconds = seconds_since(t0);

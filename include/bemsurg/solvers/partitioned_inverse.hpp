@@ -15,8 +15,8 @@
 
 namespace bemsurg {
 
-inline Eigen::MatrixXd grow_inverse_by_partitioning(const Eigen::MatrixXd& A0_inverse, const Eigen::MatrixXd& P,
-                                                    const Eigen::MatrixXd& Q, const Eigen::MatrixXd& S) {
+inline Eigen::MatrixXd grow_inverse_by_partitioning(const Eigen::MatrixXd& A0_inverse, const Eigen::MatrixXd& P, const Eigen::MatrixXd& Q,
+                                                    const Eigen::MatrixXd& S) {
   const Eigen::Index n = A0_inverse.rows(), m = S.rows();
   if (A0_inverse.cols() != n || P.rows() != m || P.cols() != n || Q.rows() != n || Q.cols() != m || S.cols() != m)
     throw InvalidArgumentError("grow_inverse_by_partitioning: blocks of inconsistent sizes");
@@ -27,8 +27,8 @@ inline Eigen::MatrixXd grow_inverse_by_partitioning(const Eigen::MatrixXd& A0_in
   const Eigen::MatrixXd St = schur.inverse();  // eq. 11
   Eigen::MatrixXd out(n + m, n + m);
   out.bottomRightCorner(m, m) = St;
-  out.bottomLeftCorner(m, n).noalias() = -St * PA;   // eq. 12
-  out.topRightCorner(n, m).noalias() = -AQ * St;     // eq. 12
+  out.bottomLeftCorner(m, n).noalias() = -St * PA;  // eq. 12
+  out.topRightCorner(n, m).noalias() = -AQ * St;    // eq. 12
   out.topLeftCorner(n, n) = A0_inverse;
   out.topLeftCorner(n, n).noalias() += AQ * (St * PA);  // eq. 13
   return out;

@@ -116,20 +116,18 @@ struct RelativeErrors {
   double traction = 0.0;
 };
 
-inline RelativeErrors relative_l2_errors(const TriangleMesh& mesh, const BoundaryConditions& bc,
-                                         const BoundarySolution& computed, const BoundarySolution& exact,
-                                         const std::function<bool(Index)>& include);
+inline RelativeErrors relative_l2_errors(const TriangleMesh& mesh, const BoundaryConditions& bc, const BoundarySolution& computed,
+                                         const BoundarySolution& exact, const std::function<bool(Index)>& include);
 
-inline RelativeErrors relative_l2_errors(const TriangleMesh& mesh, const BoundaryConditions& bc,
-                                         const BoundarySolution& computed, const BoundarySolution& exact) {
+inline RelativeErrors relative_l2_errors(const TriangleMesh& mesh, const BoundaryConditions& bc, const BoundarySolution& computed,
+                                         const BoundarySolution& exact) {
   return relative_l2_errors(mesh, bc, computed, exact, [](Index) { return true; });
 }
 
 /// The same errors over the elements where `include(e)` is true only (e.g. away from a box's
 /// edges, whose row of elements converges more slowly and would hide the rest's order).
-inline RelativeErrors relative_l2_errors(const TriangleMesh& mesh, const BoundaryConditions& bc,
-                                         const BoundarySolution& computed, const BoundarySolution& exact,
-                                         const std::function<bool(Index)>& include) {
+inline RelativeErrors relative_l2_errors(const TriangleMesh& mesh, const BoundaryConditions& bc, const BoundarySolution& computed,
+                                         const BoundarySolution& exact, const std::function<bool(Index)>& include) {
   double du = 0.0, nu = 0.0, dt = 0.0, nt = 0.0;
   for (Index k = 0; k < bc.num_dofs(); ++k) {
     const Index e = k / 3;

@@ -13,9 +13,7 @@ namespace {
 using Point2 = Eigen::Vector2d;
 
 /// Twice the signed area of (a, b, c): positive when counter-clockwise.
-double cross(const Point2& a, const Point2& b, const Point2& c) {
-  return (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
-}
+double cross(const Point2& a, const Point2& b, const Point2& c) { return (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x(); }
 
 bool inside(const Point2& p, const Point2& a, const Point2& b, const Point2& c) {
   return cross(a, b, p) >= 0.0 && cross(b, c, p) >= 0.0 && cross(c, a, p) >= 0.0;
@@ -79,8 +77,9 @@ void MeshBuilder::check_indices(const std::string& path, const char* face_word) 
     for (std::size_t k = 0; k < sizes_[p]; ++k) {
       const int v = corners_[first + k];
       if (v < 0 || v >= nv)
-        fail(path, lines_[p], std::string(face_word) + " refers to vertex " + std::to_string(v) + " (0-based), but the file has " +
-                                  std::to_string(nv) + " vertices");
+        fail(path, lines_[p],
+             std::string(face_word) + " refers to vertex " + std::to_string(v) + " (0-based), but the file has " + std::to_string(nv) +
+                 " vertices");
     }
 }
 
@@ -102,8 +101,8 @@ TriangleMesh MeshBuilder::build(const std::string& path, const char* face_word) 
   return TriangleMesh(std::move(V), std::move(F));
 }
 
-void MeshBuilder::triangulate(const int* poly, std::size_t n, const std::string& path, std::size_t line,
-                              const char* face_word, std::vector<int>& out) const {
+void MeshBuilder::triangulate(const int* poly, std::size_t n, const std::string& path, std::size_t line, const char* face_word,
+                              std::vector<int>& out) const {
   const auto fan = [&] {
     for (std::size_t k = 1; k + 1 < n; ++k) out.insert(out.end(), {poly[0], poly[k], poly[k + 1]});
   };
@@ -121,8 +120,9 @@ void MeshBuilder::triangulate(const int* poly, std::size_t n, const std::string&
   // Convex: the fan, as before, so element numbering of such files is unchanged.
   if (is_convex(q)) return fan();
   if (!clip_ears(poly, q, out))
-    fail(path, line, std::string(face_word) + " with " + std::to_string(n) +
-                         " corners cannot be triangulated: it crosses itself (or folds onto itself) in its plane");
+    fail(path, line,
+         std::string(face_word) + " with " + std::to_string(n) +
+             " corners cannot be triangulated: it crosses itself (or folds onto itself) in its plane");
 }
 
 }  // namespace bemsurg::mesh_formats

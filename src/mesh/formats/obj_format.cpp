@@ -23,8 +23,7 @@ TriangleMesh parse_obj(const std::string& text, const std::string& path) {
     const std::size_t line = reader.line();
     if (tok[0] == "v") {
       if (tok.size() < 4) fail(path, line, "a 'v' line needs three coordinates");
-      mesh.add_vertex(to_double(tok[1], path, line, "x"), to_double(tok[2], path, line, "y"),
-                      to_double(tok[3], path, line, "z"));
+      mesh.add_vertex(to_double(tok[1], path, line, "x"), to_double(tok[2], path, line, "y"), to_double(tok[3], path, line, "z"));
     } else if (tok[0] == "f") {
       if (tok.size() < 4) fail(path, line, "a face needs at least three vertices, got " + std::to_string(tok.size() - 1));
       polygon.clear();
@@ -34,8 +33,9 @@ TriangleMesh parse_obj(const std::string& text, const std::string& path) {
         if (i == 0) fail(path, line, "vertex index 0 is invalid (OBJ indices start at 1)");
         const long long v = i > 0 ? i - 1 : mesh.num_vertices() + i;  // negative: relative to the latest vertex
         if (i < 0 && v < 0)
-          fail(path, line, "relative vertex index " + std::to_string(i) + " reaches before the first vertex (" +
-                               std::to_string(mesh.num_vertices()) + " defined so far)");
+          fail(path, line,
+               "relative vertex index " + std::to_string(i) + " reaches before the first vertex (" + std::to_string(mesh.num_vertices()) +
+                   " defined so far)");
         polygon.push_back(checked_index(v, path, line));
       }
       mesh.add_polygon(polygon, line);
@@ -50,8 +50,8 @@ TriangleMesh parse_obj(const std::string& text, const std::string& path) {
 TriangleMesh read_obj(const std::string& path) { return parse_obj(mesh_formats::read_file(path), path); }
 
 void write_obj(const std::string& path, const TriangleMesh& mesh) {
-  std::string out = "# bemsurg triangle mesh: " + std::to_string(mesh.num_vertices()) + " vertices, " +
-                    std::to_string(mesh.num_elements()) + " faces\n";
+  std::string out =
+      "# bemsurg triangle mesh: " + std::to_string(mesh.num_vertices()) + " vertices, " + std::to_string(mesh.num_elements()) + " faces\n";
   for (Index v = 0; v < mesh.num_vertices(); ++v) {
     out += 'v';
     for (int c = 0; c < 3; ++c) {

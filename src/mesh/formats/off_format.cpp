@@ -21,8 +21,8 @@ TriangleMesh parse_off(const std::string& text, const std::string& path) {
   const std::string header(tok[0]);
   // Prefixes: ST (texture), C (colour), N (normal), 4 (homogeneous), n (dimension). The first three
   // add columns we skip; the last two change the layout.
-  const bool off_like = header.size() >= 3 && header.compare(header.size() - 3, 3, "OFF") == 0 &&
-                        header.find_first_not_of("STCN") >= header.size() - 3;
+  const bool off_like =
+      header.size() >= 3 && header.compare(header.size() - 3, 3, "OFF") == 0 && header.find_first_not_of("STCN") >= header.size() - 3;
   if (!off_like) fail(path, reader.line(), "expected an 'OFF' header (or COFF, NOFF, ...), got '" + header + "'");
   std::vector<std::string_view> counts(tok.begin() + 1, tok.end());
   if (!counts.empty() && lower(counts[0]) == "binary") fail(path, reader.line(), "binary OFF is not supported");
@@ -42,8 +42,7 @@ TriangleMesh parse_off(const std::string& text, const std::string& path) {
       fail(path, reader.line(), "file ends after " + std::to_string(v) + " of " + std::to_string(nv) + " vertices");
     if (tok.size() < 3) fail(path, reader.line(), "a vertex needs three coordinates");
     const std::size_t line = reader.line();
-    mesh.add_vertex(to_double(tok[0], path, line, "x"), to_double(tok[1], path, line, "y"),
-                    to_double(tok[2], path, line, "z"));
+    mesh.add_vertex(to_double(tok[0], path, line, "x"), to_double(tok[1], path, line, "y"), to_double(tok[2], path, line, "z"));
   }
   std::vector<long long> polygon;
   for (long long f = 0; f < nf; ++f) {
@@ -61,8 +60,9 @@ TriangleMesh parse_off(const std::string& text, const std::string& path) {
   }
   // Content after the declared faces means the counts lie (a second body would vanish).
   if (reader.next_nonempty(tok, '#'))
-    fail(path, reader.line(), "unexpected content '" + std::string(tok[0]) + "' after the " + std::to_string(nv) + " vertices and " +
-                                  std::to_string(nf) + " faces the header declares: the counts are wrong or the file is corrupt");
+    fail(path, reader.line(),
+         "unexpected content '" + std::string(tok[0]) + "' after the " + std::to_string(nv) + " vertices and " + std::to_string(nf) +
+             " faces the header declares: the counts are wrong or the file is corrupt");
   return mesh.build(path);
 }
 

@@ -43,9 +43,9 @@ struct PlyElement {
 /// What the text header declares; the data start right after its 'end_header' line.
 struct PlyHeader {
   std::vector<PlyElement> elements;
-  std::string format;           // ascii, binary_little_endian or binary_big_endian
-  std::size_t data_start = 0;   // byte offset of the first value (may be past the end)
-  std::size_t last_line = 0;    // the header's last line, for messages and ASCII line numbers
+  std::string format;          // ascii, binary_little_endian or binary_big_endian
+  std::size_t data_start = 0;  // byte offset of the first value (may be past the end)
+  std::size_t last_line = 0;   // the header's last line, for messages and ASCII line numbers
 };
 
 /// Where the mesh is in the elements: the vertex and face elements, the property index of each
@@ -59,10 +59,22 @@ struct PlyLayout {
 
 bool ply_type(std::string_view name, PlyType& type) {
   static const std::array<std::pair<const char*, PlyType>, 16> table{{
-      {"char", PlyType::Int8},      {"int8", PlyType::Int8},       {"uchar", PlyType::UInt8},   {"uint8", PlyType::UInt8},
-      {"short", PlyType::Int16},    {"int16", PlyType::Int16},     {"ushort", PlyType::UInt16}, {"uint16", PlyType::UInt16},
-      {"int", PlyType::Int32},      {"int32", PlyType::Int32},     {"uint", PlyType::UInt32},   {"uint32", PlyType::UInt32},
-      {"float", PlyType::Float32},  {"float32", PlyType::Float32}, {"double", PlyType::Float64}, {"float64", PlyType::Float64},
+      {"char", PlyType::Int8},
+      {"int8", PlyType::Int8},
+      {"uchar", PlyType::UInt8},
+      {"uint8", PlyType::UInt8},
+      {"short", PlyType::Int16},
+      {"int16", PlyType::Int16},
+      {"ushort", PlyType::UInt16},
+      {"uint16", PlyType::UInt16},
+      {"int", PlyType::Int32},
+      {"int32", PlyType::Int32},
+      {"uint", PlyType::UInt32},
+      {"uint32", PlyType::UInt32},
+      {"float", PlyType::Float32},
+      {"float32", PlyType::Float32},
+      {"double", PlyType::Float64},
+      {"float64", PlyType::Float64},
   }};
   for (const auto& [n, t] : table)
     if (name == n) {
@@ -107,14 +119,46 @@ class BinaryReader {
     }();
     if (big_endian_ == host_little) std::reverse(b, b + n);
     switch (t) {
-      case PlyType::Int8: { std::int8_t v; std::memcpy(&v, b, 1); return v; }
-      case PlyType::UInt8: { std::uint8_t v; std::memcpy(&v, b, 1); return v; }
-      case PlyType::Int16: { std::int16_t v; std::memcpy(&v, b, 2); return v; }
-      case PlyType::UInt16: { std::uint16_t v; std::memcpy(&v, b, 2); return v; }
-      case PlyType::Int32: { std::int32_t v; std::memcpy(&v, b, 4); return v; }
-      case PlyType::UInt32: { std::uint32_t v; std::memcpy(&v, b, 4); return v; }
-      case PlyType::Float32: { float v; std::memcpy(&v, b, 4); return v; }
-      case PlyType::Float64: { double v; std::memcpy(&v, b, 8); return v; }
+      case PlyType::Int8: {
+        std::int8_t v;
+        std::memcpy(&v, b, 1);
+        return v;
+      }
+      case PlyType::UInt8: {
+        std::uint8_t v;
+        std::memcpy(&v, b, 1);
+        return v;
+      }
+      case PlyType::Int16: {
+        std::int16_t v;
+        std::memcpy(&v, b, 2);
+        return v;
+      }
+      case PlyType::UInt16: {
+        std::uint16_t v;
+        std::memcpy(&v, b, 2);
+        return v;
+      }
+      case PlyType::Int32: {
+        std::int32_t v;
+        std::memcpy(&v, b, 4);
+        return v;
+      }
+      case PlyType::UInt32: {
+        std::uint32_t v;
+        std::memcpy(&v, b, 4);
+        return v;
+      }
+      case PlyType::Float32: {
+        float v;
+        std::memcpy(&v, b, 4);
+        return v;
+      }
+      case PlyType::Float64: {
+        double v;
+        std::memcpy(&v, b, 8);
+        return v;
+      }
     }
     return 0.0;
   }
@@ -218,9 +262,9 @@ void check_ply_counts(const PlyHeader& h, const std::string& data, const std::st
     if (e.count == 0) continue;
     const auto count = static_cast<unsigned long long>(e.count);
     if (count > remaining / record)
-      fail(path, e.line, "unexpected end of binary data: element '" + e.name + "' declares " + std::to_string(e.count) +
-                             " instances of at least " + std::to_string(record) + " bytes, but only " +
-                             std::to_string(remaining) + " bytes of binary data remain");
+      fail(path, e.line,
+           "unexpected end of binary data: element '" + e.name + "' declares " + std::to_string(e.count) + " instances of at least " +
+               std::to_string(record) + " bytes, but only " + std::to_string(remaining) + " bytes of binary data remain");
     remaining -= static_cast<std::size_t>(count) * record;
   }
 }
@@ -237,8 +281,7 @@ PlyLayout find_ply_layout(const PlyHeader& h, const std::string& path) {
     for (int c = 0; c < 3; ++c)
       if (!vertex_properties[p].is_list && vertex_properties[p].name == std::string(1, "xyz"[c]))
         layout.xyz[static_cast<std::size_t>(c)] = static_cast<int>(p);
-  if (*std::min_element(layout.xyz.begin(), layout.xyz.end()) < 0)
-    fail(path, 0, "the 'vertex' element lacks an x, y or z property");
+  if (*std::min_element(layout.xyz.begin(), layout.xyz.end()) < 0) fail(path, 0, "the 'vertex' element lacks an x, y or z property");
   if (layout.face) {
     const auto& face_properties = layout.face->properties;
     for (std::size_t p = 0; p < face_properties.size(); ++p)
@@ -285,8 +328,7 @@ void read_ply_instances(const PlyElement& e, const PlyLayout& layout, Value&& va
   }
 }
 
-void read_ply_ascii(const std::string& data, const PlyHeader& h, const PlyLayout& layout, MeshBuilder& mesh,
-                    const std::string& path) {
+void read_ply_ascii(const std::string& data, const PlyHeader& h, const PlyLayout& layout, MeshBuilder& mesh, const std::string& path) {
   // One element instance per line in practice, but the standard only asks for whitespace, so
   // values are taken as a stream of tokens; the line is kept for messages.
   LineReader reader(std::string_view(data).substr(std::min(h.data_start, data.size())), h.last_line + 1);
@@ -314,12 +356,12 @@ void read_ply_ascii(const std::string& data, const PlyHeader& h, const PlyLayout
       }
   }
   if (!extra.empty())
-    fail(path, reader.line(), "unexpected value '" + std::string(extra) + "' after the elements the header declares (" +
-                                  element_counts(h.elements) + "): the counts are wrong or the file is corrupt");
+    fail(path, reader.line(),
+         "unexpected value '" + std::string(extra) + "' after the elements the header declares (" + element_counts(h.elements) +
+             "): the counts are wrong or the file is corrupt");
 }
 
-void read_ply_binary(const std::string& data, const PlyHeader& h, const PlyLayout& layout, MeshBuilder& mesh,
-                     const std::string& path) {
+void read_ply_binary(const std::string& data, const PlyHeader& h, const PlyLayout& layout, MeshBuilder& mesh, const std::string& path) {
   BinaryReader reader(data, std::min(h.data_start, data.size()), h.format == "binary_big_endian", path);
   auto value = [&](PlyType t, const char* what) { return reader.read(t, what); };
   auto where = [] { return std::size_t{0}; };
@@ -327,8 +369,9 @@ void read_ply_binary(const std::string& data, const PlyHeader& h, const PlyLayou
   // Trailing bytes other than line ends or spaces mean the counts lie.
   const std::size_t end = reader.position();
   if (end < data.size() && data.find_first_not_of(" \t\r\n", end) != std::string::npos)
-    fail(path, 0, std::to_string(data.size() - end) + " bytes of binary data follow the elements the header declares (" +
-                      element_counts(h.elements) + "): the counts are wrong or the file is corrupt");
+    fail(path, 0,
+         std::to_string(data.size() - end) + " bytes of binary data follow the elements the header declares (" +
+             element_counts(h.elements) + "): the counts are wrong or the file is corrupt");
 }
 
 TriangleMesh parse_ply(const std::string& data, const std::string& path) {

@@ -18,8 +18,8 @@ using namespace mesh_formats;
 
 std::uint32_t le_u32(const char* p) {
   const auto* b = reinterpret_cast<const unsigned char*>(p);
-  return static_cast<std::uint32_t>(b[0]) | (static_cast<std::uint32_t>(b[1]) << 8) |
-         (static_cast<std::uint32_t>(b[2]) << 16) | (static_cast<std::uint32_t>(b[3]) << 24);
+  return static_cast<std::uint32_t>(b[0]) | (static_cast<std::uint32_t>(b[1]) << 8) | (static_cast<std::uint32_t>(b[2]) << 16) |
+         (static_cast<std::uint32_t>(b[3]) << 24);
 }
 
 float le_f32(const char* p) {
@@ -33,16 +33,18 @@ void parse_stl_binary(const std::string& data, const std::string& path, RowMatri
   const std::uint32_t n = le_u32(data.data() + 80);
   const std::size_t expected = 84 + 50 * static_cast<std::size_t>(n);
   if (data.size() < expected)
-    fail(path, 0, "truncated binary STL: the header announces " + std::to_string(n) + " triangles (" +
-                      std::to_string(expected) + " bytes) but the file has " + std::to_string(data.size()) + " bytes");
+    fail(path, 0,
+         "truncated binary STL: the header announces " + std::to_string(n) + " triangles (" + std::to_string(expected) +
+             " bytes) but the file has " + std::to_string(data.size()) + " bytes");
   // More bytes than the count announces: a wrong count would silently drop the rest (a second
   // body vanishes), so refuse it rather than guess which is right.
   if (data.size() > expected) {
     const std::size_t extra = data.size() - expected;
-    fail(path, 0, "binary STL: the header announces " + std::to_string(n) + " triangles (" + std::to_string(expected) +
-                      " bytes) but the file has " + std::to_string(data.size()) + " bytes: " + std::to_string(extra) +
-                      " bytes (" + std::to_string(extra / 50) + " triangles and " + std::to_string(extra % 50) +
-                      " bytes) follow the declared triangles; the triangle count at byte 80 is wrong or the file is corrupt");
+    fail(path, 0,
+         "binary STL: the header announces " + std::to_string(n) + " triangles (" + std::to_string(expected) + " bytes) but the file has " +
+             std::to_string(data.size()) + " bytes: " + std::to_string(extra) + " bytes (" + std::to_string(extra / 50) +
+             " triangles and " + std::to_string(extra % 50) +
+             " bytes) follow the declared triangles; the triangle count at byte 80 is wrong or the file is corrupt");
   }
   V.resize(3 * static_cast<Index>(n), 3);
   F.resize(n, 3);
@@ -78,8 +80,8 @@ void parse_stl_ascii(const std::string& text, const std::string& path, RowMatrix
     } else if (word == "endloop") {
       if (!in_loop) fail(path, line, "'endloop' without 'outer loop'");
       if (loop_vertices != 3)
-        fail(path, loop_line, "facet with " + std::to_string(loop_vertices) +
-                                  " vertices: STL allows triangles only (the mesh is not a triangle mesh)");
+        fail(path, loop_line,
+             "facet with " + std::to_string(loop_vertices) + " vertices: STL allows triangles only (the mesh is not a triangle mesh)");
       in_loop = false;
     } else if (word == "solid" || word == "endsolid" || word == "facet" || word == "endfacet") {
       // Structure only; the facet normal is recomputed from the vertex order.

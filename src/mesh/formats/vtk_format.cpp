@@ -52,8 +52,7 @@ class VtkSections {
       const std::size_t cell_line = reader_.line();
       polygon.clear();
       for (long long j = 0; j < k; ++j)
-        polygon.push_back(
-            checked_index(to_integer(next_token("a cell"), path_, reader_.line(), "a point index"), path_, reader_.line()));
+        polygon.push_back(checked_index(to_integer(next_token("a cell"), path_, reader_.line(), "a point index"), path_, reader_.line()));
       if (!polygons) continue;  // points and lines are not surface
       if (k < 3) fail(path_, cell_line, "a polygon needs at least three points, got " + std::to_string(k));
       mesh.add_polygon(polygon, cell_line);

@@ -53,8 +53,8 @@ BEMSURG_INLINE bool SurfaceCutter::check(Work& w, std::string& reason) const {
   w.delta = detail::cut_delta(*mesh_, *mesh);
   if (!check_locks(w, reason)) return false;
   const std::vector<Index> changed = w.delta.changed();
-  if (!check_angles(*mesh, changed, reason) || !check_self_intersection(*mesh, changed, reason) ||
-      !check_clearance(w, *mesh, reason) || !check_manifold(w, *mesh, changed, reason))
+  if (!check_angles(*mesh, changed, reason) || !check_self_intersection(*mesh, changed, reason) || !check_clearance(w, *mesh, reason) ||
+      !check_manifold(w, *mesh, changed, reason))
     return false;
   w.result = std::move(mesh);
   return true;
@@ -76,24 +76,22 @@ BEMSURG_INLINE bool SurfaceCutter::check_locks(const Work& w, std::string& reaso
   for (const auto& s : w.path) {
     const Index v = s.split ? s.left.front() : s.vertex;
     if (v < old.num_vertices() && locked_by_vertex[static_cast<std::size_t>(v)] >= 0) {
-      reason = "the cut would reach supported element " + std::to_string(locked_by_vertex[static_cast<std::size_t>(v)]) +
-               " at vertex " + std::to_string(v);
+      reason = "the cut would reach supported element " + std::to_string(locked_by_vertex[static_cast<std::size_t>(v)]) + " at vertex " +
+               std::to_string(v);
       return false;
     }
   }
   return true;
 }
 
-BEMSURG_INLINE bool SurfaceCutter::check_angles(const TriangleMesh& mesh, const std::vector<Index>& changed,
-                                                std::string& reason) const {
+BEMSURG_INLINE bool SurfaceCutter::check_angles(const TriangleMesh& mesh, const std::vector<Index>& changed, std::string& reason) const {
   for (Index f : changed) {
     const auto c = mesh.corners(f);
     const double angle = smallest_angle_degrees(c[0], c[1], c[2]);
     if (angle < options_.min_angle_degrees) {
       std::ostringstream msg;
       use_classic_locale(msg) << "element " << f << " would have an angle of " << angle << " degrees, below the minimum of "
-                              << options_.min_angle_degrees
-                              << " (a sliver: the gap is too narrow or the cut too deep here)";
+                              << options_.min_angle_degrees << " (a sliver: the gap is too narrow or the cut too deep here)";
       reason = msg.str();
       return false;
     }
@@ -135,8 +133,8 @@ BEMSURG_INLINE bool SurfaceCutter::check_clearance(const Work& w, const Triangle
           const double dist = point_triangle_distance(p, w.pos(t[0]), w.pos(t[1]), w.pos(t[2]));
           if (dist < r) {
             std::ostringstream msg;
-            use_classic_locale(msg) << "the cut would come within " << dist << " of element " << g
-                                    << " (less than the gap width " << r << "): it would break through a thin part";
+            use_classic_locale(msg) << "the cut would come within " << dist << " of element " << g << " (less than the gap width " << r
+                                    << "): it would break through a thin part";
             reason = msg.str();
             return false;
           }

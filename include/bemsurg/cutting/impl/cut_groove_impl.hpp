@@ -39,9 +39,9 @@ BEMSURG_INLINE void SurfaceCutter::rebuild_groove(Work& w) const {
     return r;
   };
   auto key_of = [L](int seg, int j, int half) {
-    if (j < L) return std::make_tuple(seg, 0, j, half);       // left wall, level j
-    if (j == L) return std::make_tuple(seg, 1, 0, half);      // bottom
-    return std::make_tuple(seg, 2, 2 * L - j, half);          // right wall
+    if (j < L) return std::make_tuple(seg, 0, j, half);   // left wall, level j
+    if (j == L) return std::make_tuple(seg, 1, 0, half);  // bottom
+    return std::make_tuple(seg, 2, 2 * L - j, half);      // right wall
   };
   auto place = [&](const std::tuple<int, int, int, int>& key, const std::array<Index, 3>& tri) {
     auto it = w.groove_faces.find(key);

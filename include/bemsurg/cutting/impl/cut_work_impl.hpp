@@ -69,16 +69,13 @@ struct SurfaceCutter::Work {
     for (std::size_t f = 0; f < F.size(); ++f)
       for (int k = 0; k < 3; ++k)
         if (F[f][static_cast<std::size_t>(k)] == v)
-          all.push_back({static_cast<Index>(f), F[f][static_cast<std::size_t>((k + 1) % 3)],
-                         F[f][static_cast<std::size_t>((k + 2) % 3)]});
+          all.push_back({static_cast<Index>(f), F[f][static_cast<std::size_t>((k + 1) % 3)], F[f][static_cast<std::size_t>((k + 2) % 3)]});
     std::vector<detail::CutFanFace> out;
     if (all.empty()) {
       reason = "vertex " + std::to_string(v) + " is used by no face";
       return out;
     }
-    auto find_a = [&](Index a) {
-      return std::find_if(all.begin(), all.end(), [&](const detail::CutFanFace& x) { return x.a == a; });
-    };
+    auto find_a = [&](Index a) { return std::find_if(all.begin(), all.end(), [&](const detail::CutFanFace& x) { return x.a == a; }); };
     auto it = start >= 0 ? find_a(start) : all.begin();
     if (it == all.end()) {
       reason = "no face runs from vertex " + std::to_string(v) + " to vertex " + std::to_string(start);
@@ -108,8 +105,8 @@ struct SurfaceCutter::Work {
   // "the surface turns by more than 40 degrees around vertex 7 (face 12): the cut would ..."
   static std::string turn_reason(double limit_degrees, Index v, Index f, const char* consequence) {
     std::ostringstream msg;
-    use_classic_locale(msg) << "the surface turns by more than " << limit_degrees << " degrees around vertex " << v
-                            << " (face " << f << "): the cut would " << consequence;
+    use_classic_locale(msg) << "the surface turns by more than " << limit_degrees << " degrees around vertex " << v << " (face " << f
+                            << "): the cut would " << consequence;
     return msg.str();
   }
 

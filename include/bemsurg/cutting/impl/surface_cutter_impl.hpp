@@ -20,8 +20,7 @@
 
 namespace bemsurg {
 
-BEMSURG_INLINE SurfaceCutter::SurfaceCutter(std::shared_ptr<const TriangleMesh> mesh, std::vector<char> locked_elements,
-                                    CutOptions options)
+BEMSURG_INLINE SurfaceCutter::SurfaceCutter(std::shared_ptr<const TriangleMesh> mesh, std::vector<char> locked_elements, CutOptions options)
     : mesh_(std::move(mesh)), locked_(std::move(locked_elements)), options_(options) {
   if (!mesh_) throw InvalidArgumentError("SurfaceCutter: the mesh is null");
   if (locked_.empty()) locked_.assign(static_cast<std::size_t>(mesh_->num_elements()), 0);
@@ -59,8 +58,7 @@ BEMSURG_INLINE SurfaceCutter::Work SurfaceCutter::start_work() const {
   w.V.resize(static_cast<std::size_t>(m.num_vertices()));
   for (Index v = 0; v < m.num_vertices(); ++v) w.V[static_cast<std::size_t>(v)] = m.vertex(v);
   w.F.resize(static_cast<std::size_t>(m.num_elements()));
-  for (Index f = 0; f < m.num_elements(); ++f)
-    w.F[static_cast<std::size_t>(f)] = {m.faces()(f, 0), m.faces()(f, 1), m.faces()(f, 2)};
+  for (Index f = 0; f < m.num_elements(); ++f) w.F[static_cast<std::size_t>(f)] = {m.faces()(f, 0), m.faces()(f, 1), m.faces()(f, 2)};
   w.groove.assign(w.F.size(), 0);
   for (const auto& kv : groove_faces_) w.groove[static_cast<std::size_t>(kv.second)] = 1;
   w.cut_vertex = cut_vertex_;
@@ -107,14 +105,13 @@ BEMSURG_INLINE bool SurfaceCutter::open(Work& w, const Vec3& from, const Vec3& d
   const Vec3 n = w.fan_normal(fan, false);
   const Vec3 along = direction - direction.dot(n) * n;
   if (along.norm() < 1e-6 * direction.norm()) {
-    reason = "the direction is along the surface normal at vertex " + std::to_string(a) +
-             ": it gives no direction to cut along the surface";
+    reason =
+        "the direction is along the surface normal at vertex " + std::to_string(a) + ": it gives no direction to cut along the surface";
     return false;
   }
   double best_dot = 0.0;
   const Index b = w.best_aligned_neighbour(a, fan, along, false, best_dot);
-  if (touches_lock(w, a, reason) || touches_lock(w, b, reason) ||
-      w.sharp_at(a, options_.max_normal_deviation_degrees, reason) ||
+  if (touches_lock(w, a, reason) || touches_lock(w, b, reason) || w.sharp_at(a, options_.max_normal_deviation_degrees, reason) ||
       w.sharp_at(b, options_.max_normal_deviation_degrees, reason))
     return false;
   const Index mid = w.split_edge_at_midpoint(a, b, reason);
@@ -154,8 +151,7 @@ BEMSURG_INLINE bool SurfaceCutter::extend(Work& w, const Vec3& direction, std::s
   double best_dot = 0.0;
   const Index b = w.best_aligned_neighbour(v, fan, along, true, best_dot);
   if (b < 0 || best_dot <= 0.0) {
-    reason = "no surface edge from the cut's end (vertex " + std::to_string(v) +
-             ") runs along the direction without re-entering the cut";
+    reason = "no surface edge from the cut's end (vertex " + std::to_string(v) + ") runs along the direction without re-entering the cut";
     return false;
   }
   // A turn of more than 90 degrees would fold the groove back onto itself.
@@ -174,8 +170,8 @@ BEMSURG_INLINE bool SurfaceCutter::extend(Work& w, const Vec3& direction, std::s
   return split_section(w, w.path.size() - 2, reason);
 }
 
-BEMSURG_INLINE bool SurfaceCutter::divide_sides(const Work& w, std::size_t i, std::vector<Index>& left,
-                                                std::vector<Index>& right, std::string& reason) const {
+BEMSURG_INLINE bool SurfaceCutter::divide_sides(const Work& w, std::size_t i, std::vector<Index>& left, std::vector<Index>& right,
+                                                std::string& reason) const {
   const Section& prev = w.path[i - 1];
   const Index v = w.path[i].vertex;
   const auto fan = w.fan(v, w.path[i + 1].vertex, reason);

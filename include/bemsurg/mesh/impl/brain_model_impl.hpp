@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/mesh/geometry.hpp"
+#include "bemsurg/mesh/mesh_generators.hpp"
 
 namespace bemsurg {
 
@@ -30,8 +30,7 @@ BEMSURG_INLINE void check_brain_options(const BrainModelOptions& o) {
   if (!(o.fissure_half_width > 0.0 && std::isfinite(o.fissure_half_width))) bad("fissure_half_width must be positive");
   if (!(o.fold_amplitude >= 0.0 && o.fold_amplitude < 0.2)) bad("fold_amplitude must lie in [0, 0.2)");
   if (!(o.fold_wavelength > 0.0 && std::isfinite(o.fold_wavelength))) bad("fold_wavelength must be positive");
-  if (o.subdivisions < 0 || o.subdivisions > 7)
-    bad("subdivisions must lie in 0..7, got " + std::to_string(o.subdivisions));
+  if (o.subdivisions < 0 || o.subdivisions > 7) bad("subdivisions must lie in 0..7, got " + std::to_string(o.subdivisions));
 }
 
 struct BrainFrame {
@@ -50,8 +49,8 @@ BEMSURG_INLINE double brain_radius(const BrainModelOptions& o, const BrainFrame&
   const double r_ellipsoid = 1.0 / s.norm();
   const Vec3 p0 = r_ellipsoid * d;  // the ellipsoid point, relative to the centre
   // Midline fissure: a Gaussian groove about the plane y = 0, deep on top, gone on the underside.
-  const double fissure = o.fissure_depth * std::exp(-(p0.y() * p0.y()) / (o.fissure_half_width * o.fissure_half_width)) *
-                         smoothstep(-0.35, 0.25, d.z());
+  const double fissure =
+      o.fissure_depth * std::exp(-(p0.y() * p0.y()) / (o.fissure_half_width * o.fissure_half_width)) * smoothstep(-0.35, 0.25, d.z());
   // Gyri: a fixed sum of crossed sinusoids (no random numbers: bit-for-bit reproducible), mirror
   // symmetric about the midline (|y| smoothed so the surface stays smooth there), faded out
   // towards the underside so the rim and the support stay clean.

@@ -18,7 +18,7 @@ BEMSURG_INLINE constexpr int kLeafSize = 4;
 BEMSURG_INLINE constexpr int kStackSize = 128;
 
 BEMSURG_INLINE bool ray_box(const Eigen::Vector3d& o, const Eigen::Vector3d& inv_d, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
-             double t_min, double t_max) {
+                            double t_min, double t_max) {
   for (int a = 0; a < 3; ++a) {
     double t0 = (lo(a) - o(a)) * inv_d(a);
     double t1 = (hi(a) - o(a)) * inv_d(a);
@@ -85,9 +85,8 @@ BEMSURG_INLINE int TriangleBvh::build(int begin, int end, std::vector<Eigen::Vec
   int axis = 0;
   (chi - clo).maxCoeff(&axis);
   const int mid = (begin + end) / 2;
-  std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end, [&](int x, int y) {
-    return centers[static_cast<std::size_t>(x)](axis) < centers[static_cast<std::size_t>(y)](axis);
-  });
+  std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end,
+                   [&](int x, int y) { return centers[static_cast<std::size_t>(x)](axis) < centers[static_cast<std::size_t>(y)](axis); });
   const int left = build(begin, mid, centers);
   const int right = build(mid, end, centers);
   nodes_[static_cast<std::size_t>(index)].left = left;
@@ -121,7 +120,7 @@ BEMSURG_INLINE void TriangleBvh::refit(const RowMatrixX3d& vertices) {
 }
 
 BEMSURG_INLINE bool TriangleBvh::intersect_ray(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, RayHit& hit, double t_max,
-                                bool front_only) const {
+                                               bool front_only) const {
   detail::g_nodes_visited = 0;
   hit = RayHit();
   if (nodes_.empty() || !(direction.squaredNorm() > 0.0) || !direction.allFinite() || !origin.allFinite()) return false;
@@ -179,7 +178,7 @@ BEMSURG_INLINE bool TriangleBvh::intersect_segment(const Eigen::Vector3d& a, con
 }
 
 BEMSURG_INLINE Index TriangleBvh::query_box(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, std::vector<Index>& out,
-                             bool no_grow) const {
+                                            bool no_grow) const {
   detail::g_nodes_visited = 0;
   Index found = 0;
   if (nodes_.empty()) return 0;
@@ -212,7 +211,7 @@ BEMSURG_INLINE Index TriangleBvh::query_box(const Eigen::Vector3d& lo, const Eig
 BEMSURG_INLINE RowMatrixX3d deformed_vertices(const TriangleMesh& mesh, const Eigen::VectorXd& element_displacement) {
   if (element_displacement.size() != mesh.num_dofs())
     throw InvalidArgumentError("deformed_vertices: " + std::to_string(element_displacement.size()) + " displacement entries, expected " +
-                std::to_string(mesh.num_dofs()));
+                               std::to_string(mesh.num_dofs()));
   const RowMatrixX3d per_element = Eigen::Map<const RowMatrixX3d>(element_displacement.data(), mesh.num_elements(), 3);
   return mesh.vertices() + mesh.element_to_vertex(per_element);
 }

@@ -18,15 +18,13 @@ BEMSURG_INLINE std::string str(double x) { return fixed_text(x, 6); }  // as "%f
 
 BEMSURG_INLINE void check_grid(const std::vector<double>& g, const char* name) {
   if (g.size() < 2)
-    throw InvalidMeshError(std::string("box_mesh_from_grid: ") + name + " needs at least two coordinates, got " +
-                           std::to_string(g.size()));
+    throw InvalidMeshError(std::string("box_mesh_from_grid: ") + name + " needs at least two coordinates, got " + std::to_string(g.size()));
   for (std::size_t i = 0; i < g.size(); ++i) {
     if (!std::isfinite(g[i]))
       throw InvalidMeshError(std::string("box_mesh_from_grid: ") + name + "[" + std::to_string(i) + "] is not finite");
     if (i > 0 && !(g[i] > g[i - 1]))
-      throw InvalidMeshError(std::string("box_mesh_from_grid: ") + name + " must be strictly increasing, but " + name +
-                             "[" + std::to_string(i) + "] = " + str(g[i]) + " <= " + name + "[" + std::to_string(i - 1) +
-                             "] = " + str(g[i - 1]));
+      throw InvalidMeshError(std::string("box_mesh_from_grid: ") + name + " must be strictly increasing, but " + name + "[" +
+                             std::to_string(i) + "] = " + str(g[i]) + " <= " + name + "[" + std::to_string(i - 1) + "] = " + str(g[i - 1]));
   }
 }
 
@@ -35,8 +33,8 @@ BEMSURG_INLINE void check_grid(const std::vector<double>& g, const char* name) {
 BEMSURG_INLINE constexpr int kMaxLines = 10000000;
 
 [[noreturn]] BEMSURG_INLINE void too_many_lines(double h_min) {
-  throw InvalidMeshError("graded_coordinates: h_min = " + str(h_min) + " would need more than " +
-                         std::to_string(kMaxLines) + " grid lines");
+  throw InvalidMeshError("graded_coordinates: h_min = " + str(h_min) + " would need more than " + std::to_string(kMaxLines) +
+                         " grid lines");
 }
 
 /// Sum of m graded steps min(h_min q^k, h_max), k = k0 .. k0 + m - 1.
@@ -101,12 +99,11 @@ BEMSURG_INLINE std::vector<double> side_offsets(double L, double h_min, double h
 /// Twelve vertices of the unit icosahedron and its twenty faces, counter-clockwise from outside.
 BEMSURG_INLINE void icosahedron(std::vector<Vec3>& v, std::vector<std::array<int, 3>>& f) {
   const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-  v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-       {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+  v = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
+       {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
   for (Vec3& p : v) p.normalize();
-  f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-       {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-       {3, 8, 9},  {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
+  f = {{0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+       {3, 9, 4},  {3, 4, 2}, {3, 2, 6}, {3, 6, 8},  {3, 8, 9},   {4, 9, 5}, {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
   // Belt and braces: orient each face outward by its own geometry rather than trust the table.
   for (auto& face : f)
     if ((v[static_cast<std::size_t>(face[1])] - v[static_cast<std::size_t>(face[0])])
@@ -127,8 +124,7 @@ BEMSURG_INLINE TriangleMesh to_mesh(const std::vector<Vec3>& v, const std::vecto
 /// Unit icosphere (vertices on the unit sphere, centred at the origin).
 BEMSURG_INLINE void unit_icosphere(int subdivisions, std::vector<Vec3>& v, std::vector<std::array<int, 3>>& f) {
   if (subdivisions < 0 || subdivisions > 10)
-    throw InvalidMeshError("icosphere: subdivisions must be in [0, 10] (20 * 4^s faces), got " +
-                           std::to_string(subdivisions));
+    throw InvalidMeshError("icosphere: subdivisions must be in [0, 10] (20 * 4^s faces), got " + std::to_string(subdivisions));
   icosahedron(v, f);
   for (int s = 0; s < subdivisions; ++s) {
     // One midpoint per edge, shared by the edge's two faces, so the result stays welded.
@@ -163,34 +159,31 @@ BEMSURG_INLINE TriangleMesh box_mesh(const Vec3& lo, const Vec3& hi, int nx, int
   std::array<std::vector<double>, 3> grid;
   for (int a = 0; a < 3; ++a) {
     if (n[static_cast<std::size_t>(a)] < 1)
-      throw InvalidMeshError("box_mesh: the number of divisions along " + std::string(1, "xyz"[a]) +
-                             " must be at least 1, got " + std::to_string(n[static_cast<std::size_t>(a)]));
+      throw InvalidMeshError("box_mesh: the number of divisions along " + std::string(1, "xyz"[a]) + " must be at least 1, got " +
+                             std::to_string(n[static_cast<std::size_t>(a)]));
     if (!(lo(a) < hi(a)))
-      throw InvalidMeshError("box_mesh: lo must be below hi in every coordinate, but lo." + std::string(1, "xyz"[a]) +
-                             " = " + detail::str(lo(a)) + " >= hi." + std::string(1, "xyz"[a]) + " = " + detail::str(hi(a)));
+      throw InvalidMeshError("box_mesh: lo must be below hi in every coordinate, but lo." + std::string(1, "xyz"[a]) + " = " +
+                             detail::str(lo(a)) + " >= hi." + std::string(1, "xyz"[a]) + " = " + detail::str(hi(a)));
     const int m = n[static_cast<std::size_t>(a)];
-    for (int i = 0; i <= m; ++i)
-      grid[static_cast<std::size_t>(a)].push_back(i == m ? hi(a) : lo(a) + (hi(a) - lo(a)) * i / m);
+    for (int i = 0; i <= m; ++i) grid[static_cast<std::size_t>(a)].push_back(i == m ? hi(a) : lo(a) + (hi(a) - lo(a)) * i / m);
   }
   return box_mesh_from_grid(grid[0], grid[1], grid[2]);
 }
 
 BEMSURG_INLINE TriangleMesh box_mesh_from_grid(const std::vector<double>& xs, const std::vector<double>& ys,
-                                const std::vector<double>& zs) {
+                                               const std::vector<double>& zs) {
   detail::check_grid(xs, "xs");
   detail::check_grid(ys, "ys");
   detail::check_grid(zs, "zs");
   const std::array<const std::vector<double>*, 3> g{{&xs, &ys, &zs}};
-  const std::array<int, 3> n{{static_cast<int>(xs.size()) - 1, static_cast<int>(ys.size()) - 1,
-                              static_cast<int>(zs.size()) - 1}};
+  const std::array<int, 3> n{{static_cast<int>(xs.size()) - 1, static_cast<int>(ys.size()) - 1, static_cast<int>(zs.size()) - 1}};
 
   // Surface grid points are numbered on first use; the map makes points on box edges and
   // corners shared between the faces that meet there.
   std::unordered_map<std::int64_t, int> id;
   std::vector<Vec3> vertices;
   auto vertex = [&](const std::array<int, 3>& ijk) {
-    const std::int64_t key =
-        (static_cast<std::int64_t>(ijk[0]) * (n[1] + 1) + ijk[1]) * static_cast<std::int64_t>(n[2] + 1) + ijk[2];
+    const std::int64_t key = (static_cast<std::int64_t>(ijk[0]) * (n[1] + 1) + ijk[1]) * static_cast<std::int64_t>(n[2] + 1) + ijk[2];
     const auto it = id.find(key);
     if (it != id.end()) return it->second;
     vertices.emplace_back((*g[0])[static_cast<std::size_t>(ijk[0])], (*g[1])[static_cast<std::size_t>(ijk[1])],
@@ -233,7 +226,7 @@ BEMSURG_INLINE TriangleMesh box_mesh_from_grid(const std::vector<double>& xs, co
 }
 
 BEMSURG_INLINE std::vector<double> graded_coordinates(double lo, double hi, double focus, double h_min, double h_max, double growth,
-                                       double fine_half_width) {
+                                                      double fine_half_width) {
   if (!(std::isfinite(lo) && std::isfinite(hi) && lo < hi))
     throw InvalidMeshError("graded_coordinates: need finite lo < hi, got lo = " + detail::str(lo) + ", hi = " + detail::str(hi));
   if (!(h_min > 0.0 && h_min <= h_max && std::isfinite(h_max)))
@@ -274,10 +267,10 @@ BEMSURG_INLINE TriangleMesh ellipsoid_mesh(const Vec3& center, const Vec3& semi_
 }
 
 BEMSURG_INLINE TriangleMesh hollow_sphere_mesh(const Vec3& center, double inner_radius, double outer_radius, int subdivisions_inner,
-                                int subdivisions_outer) {
+                                               int subdivisions_outer) {
   if (!(inner_radius > 0.0 && inner_radius < outer_radius))
-    throw InvalidMeshError("hollow_sphere_mesh: need 0 < inner_radius < outer_radius, got " + detail::str(inner_radius) +
-                           " and " + detail::str(outer_radius));
+    throw InvalidMeshError("hollow_sphere_mesh: need 0 < inner_radius < outer_radius, got " + detail::str(inner_radius) + " and " +
+                           detail::str(outer_radius));
   return merge_meshes(icosphere_mesh(center, outer_radius, subdivisions_outer),
                       flip_orientation(icosphere_mesh(center, inner_radius, subdivisions_inner)));
 }

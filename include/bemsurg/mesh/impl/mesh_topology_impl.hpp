@@ -111,8 +111,8 @@ BEMSURG_INLINE MeshTopology::MeshTopology(const TriangleMesh& mesh) {
 
 BEMSURG_INLINE Index MeshTopology::find_edge(Index a, Index b) const {
   const std::array<Index, 2> key{{std::min(a, b), std::max(a, b)}};
-  const auto it = std::lower_bound(edges_.begin(), edges_.end(), key,
-                                   [](const MeshEdge& e, const std::array<Index, 2>& k) { return e.vertices < k; });
+  const auto it =
+      std::lower_bound(edges_.begin(), edges_.end(), key, [](const MeshEdge& e, const std::array<Index, 2>& k) { return e.vertices < k; });
   return (it != edges_.end() && it->vertices == key) ? static_cast<Index>(it - edges_.begin()) : -1;
 }
 

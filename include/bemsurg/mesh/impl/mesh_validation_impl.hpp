@@ -54,9 +54,7 @@ class Collector {
     if (n < max_) report_.issues.push_back({kind, severity, index, std::move(message)});
     ++n;
   }
-  void error(MeshIssueKind kind, Index index, std::string message) {
-    add(kind, MeshIssueSeverity::Error, index, std::move(message));
-  }
+  void error(MeshIssueKind kind, Index index, std::string message) { add(kind, MeshIssueSeverity::Error, index, std::move(message)); }
 
  private:
   MeshValidationResult& report_;
@@ -119,9 +117,8 @@ BEMSURG_INLINE void check_shell_orientation(const TriangleMesh& mesh, const Mesh
                     "), so its normals point into the material; flip its faces");
     } else if (cavity && volume > 0.0) {
       out.error(MeshIssueKind::InwardShell, s,
-                shell_name(topo, s) + " is a cavity inside shell " + std::to_string(parent) +
-                    " but encloses a positive volume (" + num(volume) +
-                    "), so its normals point into the material; a cavity's normals must point into the cavity");
+                shell_name(topo, s) + " is a cavity inside shell " + std::to_string(parent) + " but encloses a positive volume (" +
+                    num(volume) + "), so its normals point into the material; a cavity's normals must point into the cavity");
     }
   }
 }
@@ -135,17 +132,14 @@ BEMSURG_INLINE std::size_t MeshValidationResult::num_errors() const {
   return n;
 }
 
-BEMSURG_INLINE std::size_t MeshValidationResult::num_warnings() const {
-  return count(MeshIssueKind::UnreferencedVertex);
-}
+BEMSURG_INLINE std::size_t MeshValidationResult::num_warnings() const { return count(MeshIssueKind::UnreferencedVertex); }
 
 BEMSURG_INLINE std::string MeshValidationResult::summary() const {
   std::ostringstream s;
   use_classic_locale(s);
   for (auto severity : {MeshIssueSeverity::Error, MeshIssueSeverity::Warning})
     for (const MeshIssue& issue : issues)
-      if (issue.severity == severity)
-        s << (severity == MeshIssueSeverity::Error ? "error: " : "warning: ") << issue.message << '\n';
+      if (issue.severity == severity) s << (severity == MeshIssueSeverity::Error ? "error: " : "warning: ") << issue.message << '\n';
   std::vector<std::size_t> stored(kNumMeshIssueKinds, 0);
   for (const MeshIssue& issue : issues) ++stored[static_cast<std::size_t>(issue.kind)];
   for (std::size_t k = 0; k < kNumMeshIssueKinds; ++k)
@@ -187,8 +181,7 @@ BEMSURG_INLINE void check_degenerate_faces(const TriangleMesh& mesh, const MeshV
   const double mean_area = area_count > 0 ? area_sum / static_cast<double>(area_count) : 0.0;
   for (Index f = 0; f < nf; ++f) {
     const bool repeats = F(f, 0) == F(f, 1) || F(f, 1) == F(f, 2) || F(f, 2) == F(f, 0);
-    const std::string corners =
-        "(" + std::to_string(F(f, 0)) + ", " + std::to_string(F(f, 1)) + ", " + std::to_string(F(f, 2)) + ")";
+    const std::string corners = "(" + std::to_string(F(f, 0)) + ", " + std::to_string(F(f, 1)) + ", " + std::to_string(F(f, 2)) + ")";
     const bool corners_finite = V.row(F(f, 0)).allFinite() && V.row(F(f, 1)).allFinite() && V.row(F(f, 2)).allFinite();
     const double normal_length = mesh.normal(f).norm();
     if (repeats) {
@@ -204,11 +197,10 @@ BEMSURG_INLINE void check_degenerate_faces(const TriangleMesh& mesh, const MeshV
                     ")): the coordinates are too large to compute with; check the mesh scale (bemsurg works in metres)");
     } else if (std::isfinite(mesh.area(f)) && !(mesh.area(f) > options.degenerate_area_tolerance * mean_area)) {
       out.error(MeshIssueKind::DegenerateFace, f,
-                "face " + std::to_string(f) + " " + corners + " has near-zero area " + detail::num(mesh.area(f)) +
-                    " (mean face area " + detail::num(mean_area) + "): the triangle is degenerate");
+                "face " + std::to_string(f) + " " + corners + " has near-zero area " + detail::num(mesh.area(f)) + " (mean face area " +
+                    detail::num(mean_area) + "): the triangle is degenerate");
     }
   }
-
 }
 
 /// Warns about unused vertices and reports coincident used ones; returns the bounding-box
@@ -226,15 +218,13 @@ BEMSURG_INLINE double check_vertex_use(const TriangleMesh& mesh, const MeshValid
     if (used[static_cast<std::size_t>(v)]) {
       used_list.push_back(v);
     } else if (options.warn_unreferenced_vertices) {
-      out.add(MeshIssueKind::UnreferencedVertex, MeshIssueSeverity::Warning, v,
-              "vertex " + std::to_string(v) + " is not used by any face");
+      out.add(MeshIssueKind::UnreferencedVertex, MeshIssueSeverity::Warning, v, "vertex " + std::to_string(v) + " is not used by any face");
     }
   }
   RowMatrixX3d used_coords(static_cast<Index>(used_list.size()), 3);
   for (std::size_t i = 0; i < used_list.size(); ++i) used_coords.row(static_cast<Index>(i)) = V.row(used_list[i]);
   const double diag = bounding_box_diagonal(used_coords);
-  const std::vector<Index> rep =
-      coincident_vertex_representatives(used_coords, options.duplicate_vertex_tolerance * diag);
+  const std::vector<Index> rep = coincident_vertex_representatives(used_coords, options.duplicate_vertex_tolerance * diag);
   for (std::size_t i = 0; i < rep.size(); ++i)
     if (rep[i] != static_cast<Index>(i)) {
       const Index a = used_list[static_cast<std::size_t>(rep[i])], b = used_list[i];
@@ -261,12 +251,10 @@ BEMSURG_INLINE void check_edges(const MeshTopology& topo, Collector& out) {
                     " faces: the mesh is not 2-manifold");
     } else if (edge.faces[0].forward == edge.faces[1].forward) {
       out.error(MeshIssueKind::InconsistentOrientation, e,
-                "faces " + std::to_string(edge.faces[0].face) + " and " + std::to_string(edge.faces[1].face) +
-                    " traverse " + detail::edge_name(edge) +
-                    " in the same direction: the orientation is inconsistent (one of them is flipped)");
+                "faces " + std::to_string(edge.faces[0].face) + " and " + std::to_string(edge.faces[1].face) + " traverse " +
+                    detail::edge_name(edge) + " in the same direction: the orientation is inconsistent (one of them is flipped)");
     }
   }
-
 }
 
 /// Reports pairs of faces that intersect (only on meshes whose faces and vertices passed).
@@ -284,13 +272,11 @@ BEMSURG_INLINE void check_self_intersections(const TriangleMesh& mesh, const Mes
     for (const auto& pr : pairs) {
       const Vec3 c = mesh.centroid(pr.first);
       out.error(MeshIssueKind::SelfIntersection, pr.first,
-                "faces " + std::to_string(pr.first) + " and " + std::to_string(pr.second) + " intersect (face " +
-                    std::to_string(pr.first) + " near (" + detail::num(c.x()) + ", " + detail::num(c.y()) + ", " +
-                    detail::num(c.z()) +
+                "faces " + std::to_string(pr.first) + " and " + std::to_string(pr.second) + " intersect (face " + std::to_string(pr.first) +
+                    " near (" + detail::num(c.x()) + ", " + detail::num(c.y()) + ", " + detail::num(c.z()) +
                     ")): the surface cuts through itself or two shells overlap, so it bounds no body");
     }
   }
-
 }
 
 }  // namespace detail
@@ -301,8 +287,7 @@ BEMSURG_INLINE MeshValidationResult validate_mesh(const TriangleMesh& mesh, cons
   detail::Collector out(report, options.max_issues_per_kind);
   const Index nv = mesh.num_vertices(), nf = mesh.num_elements();
   if (nf == 0 || nv == 0) {
-    out.error(MeshIssueKind::EmptyMesh, -1,
-              "the mesh is empty (" + std::to_string(nv) + " vertices, " + std::to_string(nf) + " faces)");
+    out.error(MeshIssueKind::EmptyMesh, -1, "the mesh is empty (" + std::to_string(nv) + " vertices, " + std::to_string(nf) + " faces)");
     return report;
   }
   const bool all_finite = detail::check_vertices_finite(mesh, out);
@@ -318,8 +303,8 @@ BEMSURG_INLINE MeshValidationResult validate_mesh(const TriangleMesh& mesh, cons
 BEMSURG_INLINE void require_valid_mesh(const TriangleMesh& mesh, const MeshValidationOptions& options) {
   const MeshValidationResult report = validate_mesh(mesh, options);
   if (report.valid()) return;
-  const auto first = std::find_if(report.issues.begin(), report.issues.end(),
-                                  [](const MeshIssue& i) { return i.severity == MeshIssueSeverity::Error; });
+  const auto first =
+      std::find_if(report.issues.begin(), report.issues.end(), [](const MeshIssue& i) { return i.severity == MeshIssueSeverity::Error; });
   // With max_issues_per_kind = 0 nothing is stored; the counts still say what went wrong.
   std::string message = "invalid mesh: " + (first != report.issues.end() ? first->message : std::string("see validate_mesh"));
   const std::size_t more = report.num_errors() - 1;

@@ -57,10 +57,8 @@ BEMSURG_INLINE OperatingRegion OperatingRegion::element_set(const TriangleMesh& 
 
 BEMSURG_INLINE double OperatingRegion::distance(const Vec3& x) const {
   switch (kind_) {
-    case Kind::Sphere:
-      return std::max(0.0, (x - center_).norm() - radius_);
-    case Kind::Box:
-      return (x - x.cwiseMax(lo_).cwiseMin(hi_)).norm();
+    case Kind::Sphere: return std::max(0.0, (x - center_).norm() - radius_);
+    case Kind::Box: return (x - x.cwiseMax(lo_).cwiseMin(hi_)).norm();
     case Kind::Elements: {
       double best = std::numeric_limits<double>::infinity();
       for (Index t = 0; t < triangles_.rows(); t += 3) {
@@ -96,15 +94,14 @@ BEMSURG_INLINE void OperatingRegion::require_meets_surface(const TriangleMesh& m
     for (Index v = 0; v < mesh.num_vertices() && !meets; ++v) meets = distance(mesh.vertex(v)) <= slack;
     for (Index e = 0; e < mesh.num_elements() && !meets; ++e) {
       const auto c = mesh.corners(e);
-      meets = distance(mesh.centroid(e)) <= slack || distance(0.5 * (c[0] + c[1])) <= slack ||
-              distance(0.5 * (c[1] + c[2])) <= slack || distance(0.5 * (c[2] + c[0])) <= slack;
+      meets = distance(mesh.centroid(e)) <= slack || distance(0.5 * (c[0] + c[1])) <= slack || distance(0.5 * (c[1] + c[2])) <= slack ||
+              distance(0.5 * (c[2] + c[0])) <= slack;
     }
   } else {
     meets = true;  // made of the surface's own elements (checked in element_set)
   }
   if (!meets)
-    throw InvalidArgumentError("operating region: " + describe() +
-                               " does not meet the surface of the body (tools could never act there)");
+    throw InvalidArgumentError("operating region: " + describe() + " does not meet the surface of the body (tools could never act there)");
 }
 
 BEMSURG_INLINE std::string OperatingRegion::describe() const {
@@ -124,9 +121,7 @@ BEMSURG_INLINE std::string OperatingRegion::describe() const {
       v(hi_);
       s << ")";
       break;
-    case Kind::Elements:
-      s << "element set (" << triangles_.rows() / 3 << " elements)";
-      break;
+    case Kind::Elements: s << "element set (" << triangles_.rows() / 3 << " elements)"; break;
   }
   return s.str();
 }

@@ -127,7 +127,7 @@ BEMSURG_INLINE bool faces_intersect(const TriangleMesh& mesh, Index f, Index g, 
 
 namespace detail {
 BEMSURG_INLINE std::vector<std::pair<Index, Index>> si_search(const TriangleMesh& mesh, const std::vector<Index>* subset,
-                                                      const SelfIntersectionOptions& options) {
+                                                              const SelfIntersectionOptions& options) {
   std::vector<std::pair<Index, Index>> pairs;
   if (mesh.num_elements() < 2) return pairs;
   const auto box = mesh.bounding_box();
@@ -172,13 +172,12 @@ BEMSURG_INLINE std::vector<std::pair<Index, Index>> si_search(const TriangleMesh
 }  // namespace detail
 
 BEMSURG_INLINE std::vector<std::pair<Index, Index>> find_self_intersections(const TriangleMesh& mesh,
-                                                                    const SelfIntersectionOptions& options) {
+                                                                            const SelfIntersectionOptions& options) {
   return detail::si_search(mesh, nullptr, options);
 }
 
-BEMSURG_INLINE std::vector<std::pair<Index, Index>> find_self_intersections(const TriangleMesh& mesh,
-                                                                    const std::vector<Index>& faces,
-                                                                    const SelfIntersectionOptions& options) {
+BEMSURG_INLINE std::vector<std::pair<Index, Index>> find_self_intersections(const TriangleMesh& mesh, const std::vector<Index>& faces,
+                                                                            const SelfIntersectionOptions& options) {
   for (Index f : faces)
     if (f < 0 || f >= mesh.num_elements())
       throw InvalidArgumentError("find_self_intersections: face " + std::to_string(f) + " does not exist (the mesh has " +

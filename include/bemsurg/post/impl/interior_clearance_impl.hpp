@@ -17,7 +17,7 @@ BEMSURG_INLINE double min_clearance_fraction(const QuadratureOptions& options) {
 }
 
 BEMSURG_INLINE ClearanceViolation find_point_too_close(const TriangleMesh& mesh, const RowMatrixX3d& points,
-                                               const QuadratureOptions& options) {
+                                                       const QuadratureOptions& options) {
   const double fraction = min_clearance_fraction(options);
   ClearanceViolation v;
   for (Index k = 0; k < points.rows(); ++k) {
@@ -44,8 +44,8 @@ BEMSURG_INLINE std::string describe_clearance_violation(const ClearanceViolation
   std::ostringstream s;
   use_classic_locale(s).precision(3);
   s << "is " << v.distance << " from element " << v.element << " (longest edge " << v.element_size << "), closer than "
-    << min_clearance_fraction(options) << " x " << v.element_size << " = " << v.required
-    << ", where the quadrature (mid_ratio " << options.mid_ratio << ", max_depth " << options.max_depth
+    << min_clearance_fraction(options) << " x " << v.element_size << " = " << v.required << ", where the quadrature (mid_ratio "
+    << options.mid_ratio << ", max_depth " << options.max_depth
     << ") cannot resolve the near-singular integrals; move it further inside, or raise quadrature.max_depth "
        "(each level halves the distance; docs/design.md §4)";
   return s.str();

@@ -12,7 +12,7 @@
 namespace bemsurg {
 
 BEMSURG_INLINE InteriorEvaluator::InteriorEvaluator(const TriangleMesh& mesh, const Material& material, const Eigen::Vector3d& gravity,
-                                     const QuadratureOptions& options)
+                                                    const QuadratureOptions& options)
     : mesh_(mesh), material_(material), body_force_(material.density * gravity), quadrature_(options) {
   material_.validate();
 }
@@ -22,8 +22,8 @@ BEMSURG_INLINE void InteriorEvaluator::require_clearance(const RowMatrixX3d& poi
   if (v.point < 0) return;
   std::ostringstream s;
   use_classic_locale(s).precision(10);
-  s << "InteriorEvaluator: point " << v.point << " (" << points(v.point, 0) << ", " << points(v.point, 1) << ", "
-    << points(v.point, 2) << ") " << describe_clearance_violation(v, quadrature_.options());
+  s << "InteriorEvaluator: point " << v.point << " (" << points(v.point, 0) << ", " << points(v.point, 1) << ", " << points(v.point, 2)
+    << ") " << describe_clearance_violation(v, quadrature_.options());
   throw InvalidArgumentError(s.str());
 }
 
@@ -59,8 +59,7 @@ BEMSURG_INLINE StressRows InteriorEvaluator::stress(const RowMatrixX3d& points, 
           const Eigen::Vector3d& ue) {
         const KernelGradient gU = grad.displacement(r);
         const KernelGradient gT = grad.traction(r, n);
-        for (int b = 0; b < 3; ++b)
-          du.col(b) += w * (gU[static_cast<std::size_t>(b)] * te - gT[static_cast<std::size_t>(b)] * ue);
+        for (int b = 0; b < 3; ++b) du.col(b) += w * (gU[static_cast<std::size_t>(b)] * te - gT[static_cast<std::size_t>(b)] * ue);
         if (has_gravity) du += w * grad.gravity(r, n, body_force_);
       },
       [&](Index k, const Eigen::Matrix3d& du) {

@@ -17,7 +17,7 @@ namespace bemsurg {
 namespace detail {
 // C(m x n) = alpha * A(m x k) B(k x n) + beta * C; column-major with leading dimensions.
 BEMSURG_INLINE void gemm(Index m, Index n, Index k, double alpha, const double* A, Index lda, const double* B, Index ldb, double beta,
-          double* C, Index ldc) {
+                         double* C, Index ldc) {
   for (Index j = 0; j < n; ++j) {
     double* c = C + j * ldc;
     if (beta == 0.0)
@@ -35,7 +35,7 @@ BEMSURG_INLINE void gemm(Index m, Index n, Index k, double alpha, const double* 
 }  // namespace detail
 
 BEMSURG_INLINE CapacitanceContact::CapacitanceContact(std::shared_ptr<const TriangleMesh> mesh_ptr,
-                                              std::shared_ptr<const GreensTable> table_ptr, Index capacity)
+                                                      std::shared_ptr<const GreensTable> table_ptr, Index capacity)
     : mesh_(std::move(mesh_ptr)), table_(std::move(table_ptr)), capacity_(capacity) {
   if (!mesh_ || !table_) throw ContactError("CapacitanceContact: the mesh or the Green's-function table is missing (null)");
   const TriangleMesh& mesh = *mesh_;
@@ -132,8 +132,9 @@ BEMSURG_INLINE bool CapacitanceContact::invert_into(double* M, double* inv, Inde
 
 namespace detail {
 [[noreturn]] BEMSURG_INLINE void throw_singular_contact() {
-  throw SolverError("CapacitanceContact: the contact rows are dependent (the same element and direction twice, or "
-                    "rows on supported elements): the small system G_CC is singular");
+  throw SolverError(
+      "CapacitanceContact: the contact rows are dependent (the same element and direction twice, or "
+      "rows on supported elements): the small system G_CC is singular");
 }
 }  // namespace detail
 
@@ -141,15 +142,14 @@ BEMSURG_INLINE void CapacitanceContact::add_rows(const ContactRow* rows, Index m
   if (m <= 0) return;
   if (k_ + m > capacity_)
     throw CapacityError("CapacitanceContact: " + std::to_string(k_ + m) + " contact rows exceed the capacity of " +
-                std::to_string(capacity_) + " (construct with a larger capacity)");
+                        std::to_string(capacity_) + " (construct with a larger capacity)");
   // Validate first: a throw must leave the set as it was.
   for (Index i = 0; i < m; ++i) {
     const Index e = rows[i].element;
-    if (e < 0 || e >= mesh_->num_elements())
-      throw ContactError("CapacitanceContact: element " + std::to_string(e) + " is out of range");
+    if (e < 0 || e >= mesh_->num_elements()) throw ContactError("CapacitanceContact: element " + std::to_string(e) + " is out of range");
     if (table_->region_slot(e) < 0)
       throw ContactError("CapacitanceContact: element " + std::to_string(e) +
-                  " is outside the table's region (no column was precomputed for it)");
+                         " is outside the table's region (no column was precomputed for it)");
     if (rows_of_[static_cast<std::size_t>(e)] > 0)
       throw ContactError("CapacitanceContact: element " + std::to_string(e) + " is already in the contact set");
     for (Index j = 0; j < i; ++j)
@@ -225,8 +225,8 @@ BEMSURG_INLINE bool CapacitanceContact::add_rows_unchecked(const ContactRow* row
 }
 
 BEMSURG_INLINE void CapacitanceContact::add_bonded(Index element, int tag) {
-  const ContactRow r[3] = {{element, Eigen::Vector3d::UnitX(), tag}, {element, Eigen::Vector3d::UnitY(), tag},
-                           {element, Eigen::Vector3d::UnitZ(), tag}};
+  const ContactRow r[3] = {
+      {element, Eigen::Vector3d::UnitX(), tag}, {element, Eigen::Vector3d::UnitY(), tag}, {element, Eigen::Vector3d::UnitZ(), tag}};
   add_rows(r, 3);
 }
 

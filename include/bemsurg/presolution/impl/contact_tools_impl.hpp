@@ -48,7 +48,7 @@ BEMSURG_INLINE const char* to_string(ContactStatus status) noexcept {
 }
 
 BEMSURG_INLINE ToolContactSolver::ToolContactSolver(std::shared_ptr<const TriangleMesh> mesh, std::shared_ptr<const GreensTable> table,
-                                            Index capacity_rows)
+                                                    Index capacity_rows)
     : mesh_(mesh),
       table_(table),
       contact_(std::move(mesh), std::move(table), capacity_rows),  // throws for null / mismatched snapshots
@@ -139,8 +139,7 @@ BEMSURG_INLINE bool ToolContactSolver::engage(int tool, const Eigen::Vector3d& a
       RayHit hit;
       if (!bvh_.intersect_ray(at - L * t.direction, t.direction, hit, 2.0 * L, true)) return false;
       if (table_->region_slot(hit.element) < 0)
-        throw ContactError("contact tool: the tool touches element " + std::to_string(hit.element) +
-                    ", outside the table's region");
+        throw ContactError("contact tool: the tool touches element " + std::to_string(hit.element) + ", outside the table's region");
       t.origin = hit.point;
       t.candidates.push_back(hit.element);
       if (t.spec.shape == ToolShape::Pinch && t.spec.radius > 0.0) {

@@ -19,10 +19,9 @@ BEMSURG_INLINE std::string short_number(double x) {
 }  // namespace detail
 
 BEMSURG_INLINE ContactDepthCheck check_contact_depth(const TriangleMesh& mesh, const Eigen::Vector3d& direction, double depth,
-                                             double tool_radius, const ContactDepthLimits& limits) {
+                                                     double tool_radius, const ContactDepthLimits& limits) {
   using detail::short_number;
-  if (!std::isfinite(depth) || depth < 0.0)
-    throw ContactError("contact depth " + short_number(depth) + " must be finite and non-negative");
+  if (!std::isfinite(depth) || depth < 0.0) throw ContactError("contact depth " + short_number(depth) + " must be finite and non-negative");
   const double dn = direction.stableNorm();
   if (!(dn > 0.0) || !std::isfinite(dn)) throw ContactError("contact depth check: the push direction must be finite and nonzero");
   const Eigen::Vector3d d = direction / dn;
@@ -42,8 +41,8 @@ BEMSURG_INLINE ContactDepthCheck check_contact_depth(const TriangleMesh& mesh, c
   if (c.body_strain > limits.max_body_strain)
     throw ContactError(pushed + ", " + short_number(100.0 * c.body_strain) + " % of the body's extent along the push (" +
                        short_number(c.body_extent) + "): beyond the small-strain range of linear elasticity (at most " +
-                       short_number(100.0 * limits.max_body_strain) + " %, depth <= " +
-                       short_number(limits.max_body_strain * c.body_extent) + "); docs/design.md §6");
+                       short_number(100.0 * limits.max_body_strain) +
+                       " %, depth <= " + short_number(limits.max_body_strain * c.body_extent) + "); docs/design.md §6");
   if (c.tool_strain > limits.max_tool_strain)
     throw ContactError(pushed + ", " + short_number(c.tool_strain) + " times the tool radius " + short_number(tool_radius) +
                        ": beyond the contact model's range (at most " + short_number(limits.max_tool_strain) +
@@ -54,8 +53,8 @@ BEMSURG_INLINE ContactDepthCheck check_contact_depth(const TriangleMesh& mesh, c
                 short_number(c.body_extent) + "): above " + short_number(100.0 * limits.warn_body_strain) +
                 " % strain linear elasticity is only approximate";
   else if (c.tool_strain > limits.warn_tool_strain)
-    c.warning = pushed + ", " + short_number(c.tool_strain) + " times the tool radius " + short_number(tool_radius) +
-                ": above " + short_number(limits.warn_tool_strain) + " radius the small-strain contact is only approximate";
+    c.warning = pushed + ", " + short_number(c.tool_strain) + " times the tool radius " + short_number(tool_radius) + ": above " +
+                short_number(limits.warn_tool_strain) + " radius the small-strain contact is only approximate";
   return c;
 }
 

@@ -11,16 +11,15 @@
 #include <cstring>
 #include <memory>
 
+#include "bemsurg/assembly/cut_change.hpp"
 #include "bemsurg/assembly/influence_assembler.hpp"
 #include "bemsurg/assembly/linear_system.hpp"
-#include "bemsurg/assembly/cut_change.hpp"
 #include "bemsurg/error.hpp"
 #include "bemsurg/memory_budget.hpp"
 #include "bemsurg/quadrature/quadrature_cost.hpp"
 #include "bemsurg/solvers/dense_lu.hpp"
 #include "bemsurg/solvers/lu_in_place.hpp"
 #include "bemsurg/timing.hpp"
-
 
 namespace bemsurg {
 
@@ -47,13 +46,12 @@ BEMSURG_INLINE std::uint64_t hash_conditions(const BoundaryConditions& bc) {
 }
 
 BEMSURG_INLINE std::uint64_t hash_quadrature(const QuadratureOptions& q) {
-  const double v[6] = {q.far_ratio, q.mid_ratio, double(q.mid_order), double(q.max_depth), double(q.polar_order),
-                       q.polar_max_angle};
+  const double v[6] = {q.far_ratio, q.mid_ratio, double(q.mid_order), double(q.max_depth), double(q.polar_order), q.polar_max_angle};
   return fnv1a64(v, sizeof(v));
 }
 
 BEMSURG_INLINE GreensTableKey make_greens_table_key(const TriangleMesh& mesh, const Material& material, const BoundaryConditions& base,
-                                     const Eigen::Vector3d& gravity, const QuadratureOptions& quadrature) {
+                                                    const Eigen::Vector3d& gravity, const QuadratureOptions& quadrature) {
   GreensTableKey key;
   key.mesh_hash = hash_mesh(mesh);
   key.conditions_hash = hash_conditions(base);
@@ -81,12 +79,12 @@ BEMSURG_INLINE double GreensTable::estimate_bytes(Index num_elements, Index regi
 BEMSURG_INLINE double GreensTable::default_memory_limit_bytes() { return bemsurg::default_memory_limit_bytes(); }
 
 BEMSURG_INLINE GreensTable GreensTable::compute(const TriangleMesh& mesh, const Material& material, const BoundaryConditions& base,
-                                 const GreensTableOptions& options) {
+                                                const GreensTableOptions& options) {
   return compute(std::make_shared<const TriangleMesh>(mesh), material, base, options);
 }
 
 BEMSURG_INLINE GreensTable GreensTable::compute(std::shared_ptr<const TriangleMesh> mesh_ptr, const Material& material,
-                                        const BoundaryConditions& base, const GreensTableOptions& options) {
+                                                const BoundaryConditions& base, const GreensTableOptions& options) {
   if (!mesh_ptr) throw InvalidArgumentError("GreensTable: no mesh");
   const TriangleMesh& mesh = *mesh_ptr;
   material.validate();
@@ -124,8 +122,8 @@ BEMSURG_INLINE GreensTable GreensTable::compute(std::shared_ptr<const TriangleMe
   if (need > limit)
     throw ResourceError("GreensTable: the precomputation for " + std::to_string(E) + " elements (" + std::to_string(n) +
                         " equations) with a region of " + std::to_string(R) + " elements needs about " + format_gib(need) +
-                        " (A* and G: " + format_gib(8.0 * 2.0 * double(n) * double(n)) + "; table: " +
-                        format_gib(8.0 * double(n) * 3.0 * double(R)) + "), more than the limit of " + format_gib(limit) +
+                        " (A* and G: " + format_gib(8.0 * 2.0 * double(n) * double(n)) +
+                        "; table: " + format_gib(8.0 * double(n) * 3.0 * double(R)) + "), more than the limit of " + format_gib(limit) +
                         "; restrict the region to where tools act, or coarsen the mesh away from it");
   require_assembly_quadrature_within(mesh, options.quadrature, "GreensTable");  // docs/design.md §4, §10
 
@@ -180,7 +178,7 @@ BEMSURG_INLINE void GreensTable::set_columns_from_solution(Eigen::MatrixXd&& X) 
     if (base_kinds_[static_cast<std::size_t>(k)] == BcKind::Displacement) reaction_dofs_.push_back(k);
   const Index S = static_cast<Index>(reaction_dofs_.size());
   reactions_ = large_dense_matrix(S, X.cols());  // first touched below: advise huge pages
-  for (Index c = 0; c < X.cols(); ++c)  // column by column: both matrices are column-major
+  for (Index c = 0; c < X.cols(); ++c)           // column by column: both matrices are column-major
     for (Index i = 0; i < S; ++i) {
       double& x = X(reaction_dofs_[static_cast<std::size_t>(i)], c);
       reactions_(i, c) = x;
@@ -198,8 +196,8 @@ BEMSURG_INLINE BoundaryConditions GreensTable::base_conditions() const {
 }
 
 BEMSURG_INLINE std::shared_ptr<const GreensTable> GreensTable::updated(std::shared_ptr<const TriangleMesh> after, const MeshDelta& delta,
-                                                               const GreensTableUpdateOptions& options,
-                                                               GreensTableUpdateResult* report) const {
+                                                                       const GreensTableUpdateOptions& options,
+                                                                       GreensTableUpdateResult* report) const {
   const auto t_start = SteadyClock::now();
   if (!has_factorization())
     throw InvalidArgumentError("GreensTable::updated: this table kept no factorisation (it was read from a file); recompute it");
@@ -211,7 +209,7 @@ BEMSURG_INLINE std::shared_ptr<const GreensTable> GreensTable::updated(std::shar
 }
 
 BEMSURG_INLINE std::vector<Index> GreensTable::region_after_cut(const TriangleMesh& after, const MeshDelta& delta,
-                                                        const GreensTableUpdateOptions& options) const {
+                                                                const GreensTableUpdateOptions& options) const {
   std::vector<Index> region = region_;
   Index free_count = 0;
   for (Index e = 0; e < key_.num_elements; ++e) free_count += is_free(e) ? 1 : 0;
@@ -234,8 +232,8 @@ BEMSURG_INLINE std::vector<Index> GreensTable::region_after_cut(const TriangleMe
 }
 
 BEMSURG_INLINE std::shared_ptr<const GreensTable> GreensTable::recomputed_after(std::shared_ptr<const TriangleMesh> after,
-                                                                        const MeshDelta& delta,
-                                                                        const GreensTableUpdateOptions& options) const {
+                                                                                const MeshDelta& delta,
+                                                                                const GreensTableUpdateOptions& options) const {
   if (!mesh_) throw InvalidArgumentError("GreensTable::recomputed_after: this table has no mesh (read from a file)");
   if (!after) throw InvalidArgumentError("GreensTable::recomputed_after: no mesh");
   check_mesh_delta(delta, *mesh_, *after);
@@ -353,9 +351,12 @@ BEMSURG_INLINE Eigen::MatrixXd GreensTable::correction_coefficients_transposed(c
   for (Index j = 0; j < d; ++j) {  // T_D: a supported dof's row is its reactions
     const Index k = change.dofs[static_cast<std::size_t>(j)];
     const auto it = std::lower_bound(reaction_dofs_.begin(), reaction_dofs_.end(), k);
-    if (k >= n) CTt.col(d + j).setZero();
-    else if (it != reaction_dofs_.end() && *it == k) CTt.col(d + j) = reactions_.row(it - reaction_dofs_.begin()).transpose();
-    else CTt.col(d + j) = columns_.row(k).transpose();
+    if (k >= n)
+      CTt.col(d + j).setZero();
+    else if (it != reaction_dofs_.end() && *it == k)
+      CTt.col(d + j) = reactions_.row(it - reaction_dofs_.begin()).transpose();
+    else
+      CTt.col(d + j) = columns_.row(k).transpose();
   }
   return CTt;
 }
@@ -385,15 +386,17 @@ BEMSURG_INLINE Eigen::MatrixXd GreensTable::columns_after_cut(const CutChange& c
   T.rightCols(3 * (R1 - R0)).setZero();
   if (d > 0) T.leftCols(3 * R0).noalias() += ZZ * CTt.transpose();  // one GEMM: both halves of Z
   for (std::size_t i = 0; i < fresh.table_cols.size(); ++i) {
-    if (fresh.table_cols[i] < 3 * R0) T.col(fresh.table_cols[i]) += F.col(static_cast<Index>(i));
-    else T.col(fresh.table_cols[i]) = F.col(static_cast<Index>(i));
+    if (fresh.table_cols[i] < 3 * R0)
+      T.col(fresh.table_cols[i]) += F.col(static_cast<Index>(i));
+    else
+      T.col(fresh.table_cols[i]) = F.col(static_cast<Index>(i));
   }
   return T;
 }
 
 BEMSURG_INLINE std::shared_ptr<const GreensTable> GreensTable::updated(std::shared_ptr<const TriangleMesh> after, const MeshDelta& delta,
-                                                               const CutChange& change, const GreensTableUpdateOptions& options,
-                                                               GreensTableUpdateResult* report) const {
+                                                                       const CutChange& change, const GreensTableUpdateOptions& options,
+                                                                       GreensTableUpdateResult* report) const {
   const auto t_start = SteadyClock::now();
   check_update(after.get(), delta, change);
   const BoundaryConditions before = base_conditions();
@@ -447,7 +450,7 @@ BEMSURG_INLINE std::shared_ptr<const GreensTable> GreensTable::updated(std::shar
 }
 
 BEMSURG_INLINE GreensTable::GreensTable(GreensTableKey key, std::vector<Index> region, Eigen::VectorXd base_displacement,
-                         Eigen::VectorXd base_traction, std::vector<BcKind> base_kinds, Eigen::MatrixXd columns)
+                                        Eigen::VectorXd base_traction, std::vector<BcKind> base_kinds, Eigen::MatrixXd columns)
     : key_(key),
       region_(std::move(region)),
       base_displacement_(std::move(base_displacement)),
@@ -455,8 +458,8 @@ BEMSURG_INLINE GreensTable::GreensTable(GreensTableKey key, std::vector<Index> r
       base_kinds_(std::move(base_kinds)),
       columns_(std::move(columns)) {
   const Index n = 3 * key_.num_elements;
-  if (base_displacement_.size() != n || base_traction_.size() != n || static_cast<Index>(base_kinds_.size()) != n ||
-      columns_.rows() != n || columns_.cols() != 3 * static_cast<Index>(region_.size()))
+  if (base_displacement_.size() != n || base_traction_.size() != n || static_cast<Index>(base_kinds_.size()) != n || columns_.rows() != n ||
+      columns_.cols() != 3 * static_cast<Index>(region_.size()))
     throw ResourceError("GreensTable: stored parts have inconsistent sizes");
   base_values_.resize(n);
   for (Index k = 0; k < n; ++k)

@@ -14,7 +14,7 @@
 namespace bemsurg {
 
 BEMSURG_INLINE QuadratureCostEstimate estimate_assembly_quadrature(const TriangleMesh& mesh, const QuadratureOptions& options,
-                                                            double limit_points, Index max_sampled_sources) {
+                                                                   double limit_points, Index max_sampled_sources) {
   QuadratureCostEstimate est;
   const Index E = mesh.num_elements();
   if (E == 0) return est;
@@ -44,20 +44,18 @@ BEMSURG_INLINE QuadratureCostEstimate estimate_assembly_quadrature(const Triangl
   return est;
 }
 
-BEMSURG_INLINE void require_assembly_quadrature_within(const TriangleMesh& mesh, const QuadratureOptions& options,
-                                               const std::string& who) {
+BEMSURG_INLINE void require_assembly_quadrature_within(const TriangleMesh& mesh, const QuadratureOptions& options, const std::string& who) {
   const QuadratureCostEstimate reference = estimate_assembly_quadrature(mesh, QuadratureOptions(), 1e300);
   const double limit = std::max(kQuadratureCostFloor, kQuadratureCostFactor * reference.points);
   const QuadratureCostEstimate est = estimate_assembly_quadrature(mesh, options, limit);
   if (!(est.points > limit)) return;
   std::ostringstream m;
   use_classic_locale(m).precision(3);
-  m << who << ": the quadrature options (far_ratio " << options.far_ratio << ", mid_ratio " << options.mid_ratio
-    << ", mid_order " << options.mid_order << ", max_depth " << options.max_depth << ") would take "
-    << (est.exceeded ? "more than " : "about ") << est.points << " kernel evaluations on " << mesh.num_elements()
-    << " elements (" << est.points_per_pair << " per element pair, against " << reference.points_per_pair
-    << " with the default options), above the limit " << limit << " (the larger of " << kQuadratureCostFloor << " and "
-    << kQuadratureCostFactor << " x the defaults' " << reference.points
+  m << who << ": the quadrature options (far_ratio " << options.far_ratio << ", mid_ratio " << options.mid_ratio << ", mid_order "
+    << options.mid_order << ", max_depth " << options.max_depth << ") would take " << (est.exceeded ? "more than " : "about ") << est.points
+    << " kernel evaluations on " << mesh.num_elements() << " elements (" << est.points_per_pair << " per element pair, against "
+    << reference.points_per_pair << " with the default options), above the limit " << limit << " (the larger of " << kQuadratureCostFloor
+    << " and " << kQuadratureCostFactor << " x the defaults' " << reference.points
     << "); lower mid_ratio (it drives the near-field splitting), max_depth or mid_order (docs/design.md §4)";
   throw ResourceError(m.str());
 }

@@ -12,7 +12,6 @@
 
 #include "bemsurg/error.hpp"
 #include "bemsurg/number_text.hpp"
-#include "bemsurg/timing.hpp"
 #include "bemsurg/solvers/bicg.hpp"
 #include "bemsurg/solvers/bicgstab.hpp"
 #include "bemsurg/solvers/block_jacobi_preconditioner.hpp"
@@ -21,13 +20,14 @@
 #include "bemsurg/solvers/identity_preconditioner.hpp"
 #include "bemsurg/solvers/linear_operator.hpp"
 #include "bemsurg/solvers/near_field_preconditioner.hpp"
+#include "bemsurg/timing.hpp"
 
 namespace bemsurg {
 namespace detail {
 
 template <template <class, class> class Solver, class Preconditioner>
-BEMSURG_INLINE Eigen::VectorXd run_krylov(const DenseOperator& A, const Preconditioner& M, const Eigen::VectorXd& b, const KrylovOptions& ks,
-                           const Eigen::VectorXd& x0, LinearSolveResult& summary) {
+BEMSURG_INLINE Eigen::VectorXd run_krylov(const DenseOperator& A, const Preconditioner& M, const Eigen::VectorXd& b,
+                                          const KrylovOptions& ks, const Eigen::VectorXd& x0, LinearSolveResult& summary) {
   Solver<DenseOperator, Preconditioner> solver(ks);
   solver.compute(A, M);
   Eigen::VectorXd x = x0;
@@ -41,15 +41,15 @@ BEMSURG_INLINE Eigen::VectorXd run_krylov(const DenseOperator& A, const Precondi
   summary.residual_history = report.residual_history;
   summary.solve_seconds = report.seconds;
   if (!report.converged())
-    throw SolverError(std::string(to_string(summary.method)) + " (preconditioner " + to_string(summary.preconditioner) + ") did not converge to relative residual " +
-                      scientific_text(ks.tolerance, 3) + ": " + report.summary());
+    throw SolverError(std::string(to_string(summary.method)) + " (preconditioner " + to_string(summary.preconditioner) +
+                      ") did not converge to relative residual " + scientific_text(ks.tolerance, 3) + ": " + report.summary());
   return x;
 }
 
 template <template <class, class> class Solver>
-BEMSURG_INLINE Eigen::VectorXd run_with_preconditioner(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const LinearSolverOptions& settings,
-                                        const KrylovOptions& ks, LinearSolveResult& summary, const TriangleMesh* mesh,
-                                        const Eigen::VectorXd& x0) {
+BEMSURG_INLINE Eigen::VectorXd run_with_preconditioner(const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
+                                                       const LinearSolverOptions& settings, const KrylovOptions& ks,
+                                                       LinearSolveResult& summary, const TriangleMesh* mesh, const Eigen::VectorXd& x0) {
   const DenseOperator op(A);
   const auto setup_start = SteadyClock::now();
   if (settings.preconditioner == PreconditionerKind::None) {
@@ -66,8 +66,9 @@ BEMSURG_INLINE Eigen::VectorXd run_with_preconditioner(const Eigen::MatrixXd& A,
   if (settings.preconditioner == PreconditionerKind::NearField) {
 #ifndef BEMSURG_HAVE_NEAR_FIELD
     (void)mesh;
-    throw SolverError("the near_field preconditioner is compiled into bemsurg::bemsurg (it needs SuiteSparse); "
-                      "this program uses the header-only core: link bemsurg::bemsurg or choose block_jacobi");
+    throw SolverError(
+        "the near_field preconditioner is compiled into bemsurg::bemsurg (it needs SuiteSparse); "
+        "this program uses the header-only core: link bemsurg::bemsurg or choose block_jacobi");
 #else
     if (!mesh) throw SolverError("the near_field preconditioner needs the mesh (element centroids and diameters); none was given");
     const NearFieldPreconditioner M(A, *mesh, settings.near_field_radius);
@@ -91,17 +92,16 @@ BEMSURG_INLINE void require_finite_system(const Eigen::MatrixXd& A, const Eigen:
   if (DenseLu::first_non_finite(A, row, col)) {
     summary.status = KrylovStatus::NonFinite;
     summary.breakdown = "non-finite system matrix";
-    throw SolverError("the system matrix A* has a non-finite entry (" + number_text(A(row, col)) + " at row " +
-                      std::to_string(row) + ", column " + std::to_string(col) + ": element " + std::to_string(row / 3) +
-                      ", unknown of element " + std::to_string(col / 3) + ")" + likely);
+    throw SolverError("the system matrix A* has a non-finite entry (" + number_text(A(row, col)) + " at row " + std::to_string(row) +
+                      ", column " + std::to_string(col) + ": element " + std::to_string(row / 3) + ", unknown of element " +
+                      std::to_string(col / 3) + ")" + likely);
   }
   for (Eigen::Index k = 0; k < b.size(); ++k)
     if (!std::isfinite(b(k))) {
       summary.status = KrylovStatus::NonFinite;
       summary.breakdown = "non-finite right-hand side";
-      throw SolverError("the right-hand side has a non-finite entry (" + number_text(b(k)) + " at row " + std::to_string(k) +
-                        ": element " + std::to_string(k / 3) + ", component " + "xyz"[k % 3] +
-                        "); check the prescribed values and gravity" + likely);
+      throw SolverError("the right-hand side has a non-finite entry (" + number_text(b(k)) + " at row " + std::to_string(k) + ": element " +
+                        std::to_string(k / 3) + ", component " + "xyz"[k % 3] + "); check the prescribed values and gravity" + likely);
     }
 }
 
@@ -133,14 +133,13 @@ BEMSURG_INLINE Eigen::VectorXd solve_lu(const Eigen::MatrixXd& A, const Eigen::V
 }  // namespace detail
 
 BEMSURG_INLINE Eigen::VectorXd solve_linear_system(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const LinearSolverOptions& settings,
-                                    LinearSolveResult& summary, const TriangleMesh* mesh, const Eigen::VectorXd& x0) {
+                                                   LinearSolveResult& summary, const TriangleMesh* mesh, const Eigen::VectorXd& x0) {
   summary = LinearSolveResult();
   summary.method = settings.method;
   summary.preconditioner = settings.method == SolverMethod::Lu ? PreconditionerKind::None : settings.preconditioner;
   summary.status = KrylovStatus::NotComputed;
   if (A.rows() != A.cols())
-    throw SolverError("solve_linear_system: the matrix is " + std::to_string(A.rows()) + " x " + std::to_string(A.cols()) +
-                      ", not square");
+    throw SolverError("solve_linear_system: the matrix is " + std::to_string(A.rows()) + " x " + std::to_string(A.cols()) + ", not square");
   if (b.size() != A.rows())
     throw SolverError("solve_linear_system: the right-hand side has " + std::to_string(b.size()) + " entries, the matrix " +
                       std::to_string(A.rows()) + " rows");
