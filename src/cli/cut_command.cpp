@@ -129,6 +129,36 @@ std::vector<bemsurg::Index> table_region(const bemsurg::TriangleMesh& mesh, cons
   return region;
 }
 
+/// report.json's entry for a step that was refused (docs/cli.md, `bemsurg cut`).
+nlohmann::json refused_step_json(const std::string& reason, bemsurg::Index equations, bemsurg::CutUpdateMethod update, double seconds) {
+  return {{"accepted", false},
+          {"reason", reason},
+          {"added", 0},
+          {"modified", 0},
+          {"removed", 0},
+          {"equations", equations},
+          {"update", to_string(update)},
+          {"iterations", 0},
+          {"seconds", seconds},
+          {"integration_seconds", 0.0}};
+}
+
+/// report.json's entry for an accepted step.
+nlohmann::json accepted_step_json(const bemsurg::MeshDelta& delta, const bemsurg::CutStepResult& r, bemsurg::CutUpdateMethod update,
+                                  double seconds) {
+  return {{"accepted", true},
+          {"added", delta.added.size()},
+          {"modified", delta.modified.size()},
+          {"removed", delta.removed.size()},
+          {"equations", 3 * delta.elements_after},
+          {"update", to_string(update)},
+          {"iterations", r.iterations},
+          {"seconds", seconds},
+          {"integration_seconds", r.integration_seconds},
+          {"rank", r.rank},
+          {"refactor_started", r.refactor_started}};
+}
+
 }  // namespace
 
 int run_cut(int argc, char** argv) {
@@ -189,30 +219,11 @@ int run_cut(int argc, char** argv) {
     }
     if (!reason.empty()) {
       refused = "step " + std::to_string(i + 1) + " refused: " + reason;
-      steps.push_back({{"accepted", false},
-                       {"reason", reason},
-                       {"added", 0},
-                       {"modified", 0},
-                       {"removed", 0},
-                       {"equations", system.table()->num_dofs()},
-                       {"update", to_string(o.update)},
-                       {"iterations", 0},
-                       {"seconds", seconds_since(t0)},
-                       {"integration_seconds", 0.0}});
+      steps.push_back(refused_step_json(reason, system.table()->num_dofs(), o.update, seconds_since(t0)));
       break;
     }
     const double seconds = seconds_since(t0);
-    steps.push_back({{"accepted", true},
-                     {"added", st.delta.added.size()},
-                     {"modified", st.delta.modified.size()},
-                     {"removed", st.delta.removed.size()},
-                     {"equations", 3 * st.delta.elements_after},
-                     {"update", to_string(o.update)},
-                     {"iterations", r.iterations},
-                     {"seconds", seconds},
-                     {"integration_seconds", r.integration_seconds},
-                     {"rank", r.rank},
-                     {"refactor_started", r.refactor_started}});
+    steps.push_back(accepted_step_json(st.delta, r, o.update, seconds));
     if (!o.quiet)
       std::cout << "  step " << i + 1 << ": +" << st.delta.added.size() << " elements, " << st.delta.modified.size() << " modified, "
                 << 3 * st.delta.elements_after << " equations, " << std::setprecision(3) << seconds << " s (integration "
