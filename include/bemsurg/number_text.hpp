@@ -63,39 +63,26 @@ inline std::string number_text(double x) {
   return s;
 }
 
-/// x with `digits` digits after the point ("%.*f" without the locale), for tables read by people.
-inline std::string fixed_text(double x, int digits) {
+namespace detail {
+/// to_chars with a precision, clamped to what a double can show; the shortest text when it fails.
+inline std::string formatted_number(double x, std::chars_format format, int digits, int min_digits) {
   char buffer[352];  // DBL_MAX in fixed notation has 309 digits before the point
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, x, std::chars_format::fixed,
-                                    digits < 0    ? 0
-                                    : digits > 17 ? 17
-                                                  : digits);
+  const int precision = digits < min_digits ? min_digits : digits > 17 ? 17 : digits;
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, x, format, precision);
   if (result.ec != std::errc()) return number_text(x);
   return std::string(buffer, result.ptr);
 }
+}  // namespace detail
+
+/// x with `digits` digits after the point ("%.*f" without the locale), for tables read by people.
+inline std::string fixed_text(double x, int digits) { return detail::formatted_number(x, std::chars_format::fixed, digits, 0); }
 
 /// x with `digits` significant digits ("%.*g" without the locale).
-inline std::string general_text(double x, int digits) {
-  char buffer[64];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, x, std::chars_format::general,
-                                    digits < 1    ? 1
-                                    : digits > 17 ? 17
-                                                  : digits);
-  if (result.ec != std::errc()) return number_text(x);
-  return std::string(buffer, result.ptr);
-}
+inline std::string general_text(double x, int digits) { return detail::formatted_number(x, std::chars_format::general, digits, 1); }
 
 /// x in scientific notation with `digits` digits after the point ("%.*e" without the locale:
 /// "1.234e-05"), for residuals and tolerances in messages and printed tables.
-inline std::string scientific_text(double x, int digits) {
-  char buffer[64];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, x, std::chars_format::scientific,
-                                    digits < 0    ? 0
-                                    : digits > 17 ? 17
-                                                  : digits);
-  if (result.ec != std::errc()) return number_text(x);
-  return std::string(buffer, result.ptr);
-}
+inline std::string scientific_text(double x, int digits) { return detail::formatted_number(x, std::chars_format::scientific, digits, 0); }
 
 /// Makes a stream write and read numbers the same in every locale ("C": point, no grouping),
 /// whatever std::locale::global() says. Call it on every stream that writes a file or a
