@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "bemsurg/mesh/geometry.hpp"
+#include "bemsurg/mesh/impl/mesh_generators_impl.hpp"  // detail::unit_icosphere, detail::to_mesh
 #include "bemsurg/mesh/mesh_generators.hpp"
 
 namespace bemsurg {
