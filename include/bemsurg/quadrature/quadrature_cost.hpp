@@ -25,8 +25,8 @@ struct QuadratureCostEstimate {
 
 /// The refusal threshold: an assembly is refused when its options would take more than
 /// kQuadratureCostFactor times the kernel evaluations of the default options on the same mesh AND
-/// more than kQuadratureCostFloor evaluations (1e9, 10-20 s of assembly on this project's 2-core
-/// machine at ~10 ns a point). Relative, so that a large mesh with sensible options (whose memory
+/// more than kQuadratureCostFloor evaluations (1e9: seconds of assembly at the kernel rates
+/// benchmarks/bench_assembly reports). Relative, so that a large mesh with sensible options (whose memory
 /// check passed) is never refused for its size; floored, so that small meshes may be integrated
 /// as finely as anyone likes while it costs seconds.
 constexpr double kQuadratureCostFactor = 20.0;
@@ -42,7 +42,7 @@ QuadratureCostEstimate estimate_assembly_quadrature(const TriangleMesh& mesh, co
 /// Throws ResourceError with the estimate, the limit and the options that drive it when the
 /// assembly of `mesh` with `options` needs more kernel evaluations than the threshold above.
 /// `who` names the caller in the message ("solve_elastostatic"). Costs at most about as much as
-/// counting to the limit (0.2 s measured for 80 elements at mid_ratio 1000), far less for ordinary options.
+/// counting to the limit (a fraction of a second even for pathological options), far less for ordinary ones.
 void require_assembly_quadrature_within(const TriangleMesh& mesh, const QuadratureOptions& options, const std::string& who);
 
 }  // namespace bemsurg

@@ -5,8 +5,8 @@
 // Eigen's PartialPivLU in place. Memory: n^2 doubles for L and U (stored in A's storage) plus n
 // pivots. The singularity test is DenseLu's (column-equilibrated pivots, scale-invariant).
 // The LAPACKE *_work entry points: the plain ones scan the whole n x n matrix for NaN on every
-// call (n^2 reads per solve, ~100 ms per call at n = 9,000, more than the solve of a few columns
-// after a cut); finiteness is checked once, before factorising, by column_maxima.
+// call (n^2 reads per solve, which at n in the thousands costs more than the solve of a few columns
+// after a cut; benchmarks/bench_cut measures the solves); finiteness is checked once, before factorising, by column_maxima.
 #pragma once
 
 #include <Eigen/Core>
