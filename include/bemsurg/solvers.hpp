@@ -2,7 +2,7 @@
 #pragma once
 
 /// \defgroup solvers Solvers
-/// \brief Dense LU (in place, low-rank updated, partitioned inverse), the Krylov methods GMRES, BiCGStab and BiCG with their preconditioners, and one entry point solve_linear_system. The near-field preconditioner needs SuiteSparse and is compiled into bemsurg::bemsurg only.
+/// \brief Dense LU (in place, low-rank updated, partitioned inverse), the Krylov methods GMRES, BiCGStab and BiCG with their preconditioners, and one entry point solve_linear_system. The near-field preconditioner needs SuiteSparse and is compiled into bemsurg::numerics (part of bemsurg::bemsurg) only.
 ///
 /// Headers (each can be included on its own for faster builds):
 /// - bicg.hpp

@@ -8,7 +8,7 @@
 // Compiled, unlike the rest of the numerical core (src/solvers/near_field_preconditioner.cpp):
 // it is the one part that needs SuiteSparse, so UMFPACK stays out of this header and a program
 // that uses the core from headers alone needs no SuiteSparse (it then has no near-field
-// preconditioner: BEMSURG_HAVE_NEAR_FIELD is defined only by the bemsurg::bemsurg target, and
+// preconditioner: BEMSURG_HAVE_NEAR_FIELD is defined only by bemsurg::numerics (and so bemsurg::bemsurg), and
 // solve_linear_system says so when asked for one). The factor lives behind a pointer. apply() uses workspace owned by the object (umfpack_di_wsolve allocates
 // nothing), so it is const but not safe to call from two threads on one object at once.
 #pragma once
