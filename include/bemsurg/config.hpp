@@ -5,7 +5,7 @@
 // declaring header includes its definitions (the impl/ header beside it), marked `inline`, and a
 // program needs no compiled bemsurg.
 //
-// Separately compiled (bemsurg::bemsurg defines BEMSURG_SEPARATE_COMPILATION for itself and its
+// Separately compiled (bemsurg::numerics, under bemsurg::bemsurg, defines BEMSURG_SEPARATE_COMPILATION for itself and its
 // users): the declaring headers stop at the declarations, and the library compiles each impl/
 // header once, in the source file of the same module (src/<module>/<name>.cpp). Every program that
 // links the library then parses and optimises the numerical core once instead of once per file:
