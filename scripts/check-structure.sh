@@ -13,11 +13,26 @@ status=0
 
 python3 scripts/module-graph.py || status=1
 
-too_long=$(git ls-files -co --exclude-standard include src examples | grep -E '\.(hpp|cpp|h)$' |
-  while read -r f; do [ -f "$f" ] && n=$(wc -l < "$f") && [ "$n" -gt 600 ] && echo "  $f: $n lines"; done || true)
+# The file lists come from git; an empty list (git refusing the checkout, say) is a failure, not
+# a pass with nothing checked.
+sources_list=$(mktemp)
+trap 'rm -f "$sources_list"' EXIT
+git ls-files -co --exclude-standard include src examples tests benchmarks | grep -E '\.(hpp|cpp|h)$' > "$sources_list" || true
+if [ ! -s "$sources_list" ]; then
+  echo "check-structure: git lists no C++ source file; cannot check (is this a git checkout git trusts?)" >&2
+  exit 1
+fi
+
+too_long=""
+while read -r f; do
+  case "$f" in include/* | src/* | examples/*) ;; *) continue ;; esac
+  [ -f "$f" ] || continue
+  n=$(wc -l < "$f")
+  if [ "$n" -gt 600 ]; then too_long+="  $f: $n lines"$'\n'; fi
+done < "$sources_list"
 if [ -n "$too_long" ]; then
   echo "check-structure: files over 600 lines (split them by job):" >&2
-  echo "$too_long" >&2
+  printf '%s' "$too_long" >&2
   status=1
 else
   echo "check-structure: no source file over 600 lines"
@@ -33,6 +48,10 @@ if [ -z "$format" ]; then
   status=1
 else
   mapfile -t sources < <(git ls-files include src examples tests benchmarks | grep -E '\.(hpp|cpp|h)$')
+  if [ "${#sources[@]}" -eq 0 ]; then
+    echo "check-structure: no tracked source to check the format of" >&2
+    exit 1
+  fi
   if "$format" --style=file --dry-run --Werror "${sources[@]}" 2> /tmp/bemsurg-format.log; then
     echo "check-structure: ${#sources[@]} files formatted as .clang-format says"
   else

@@ -22,6 +22,10 @@ from pathlib import Path
 # Lowest first. A module may include only modules before it (docs/design.md, "Module order").
 ORDER = ["core", "mesh", "kernels", "quadrature", "solvers", "assembly", "elastostatics", "post",
          "presolution", "cutting", "verification", "io", "haptics", "cli"]
+# Edges the order allows but only through the headers listed: the haptics adapter links
+# bemsurg::numerics alone (CMakeLists.txt), so of io it may use only the action model, whose
+# definitions are compiled there (src/io/action_model.cpp), never the JSON readers.
+RESTRICTED = {("haptics", "io"): {"io/action_script.hpp"}}
 # Headers that gather others on purpose and so belong to no layer.
 AGGREGATORS = {"bemsurg.hpp"}
 INCLUDE = re.compile(r'^\s*#\s*include\s*"bemsurg/([^"]+)"')
@@ -72,6 +76,10 @@ def collect(root):
                 unknown.append(f"{path.relative_to(root)}:{number}: includes '{m.group(1)}' of no known module")
             elif a != b:
                 edges[(a, b)].append((path.relative_to(root).as_posix(), number))
+                allowed = RESTRICTED.get((a, b))
+                if allowed is not None and m.group(1) not in allowed:
+                    unknown.append(f"{path.relative_to(root)}:{number}: {a} may include only {sorted(allowed)} of {b}, "
+                                   f"not '{m.group(1)}'")
     return edges, unknown
 
 

@@ -295,3 +295,27 @@ TEST_CASE("messages quote numbers with a decimal point and no digit grouping in 
   });
   CHECK_THAT(refused, Catch::Contains("has 12000000 elements"));
 }
+
+// number_text.hpp itself, in whatever locale the process has: what every text input and output
+// of bemsurg goes through. Written out against the C library's "C"-locale behaviour it replaces.
+TEST_CASE("parse_number reads exactly one number and the writers print it as the C locale would", "[locale]") {
+  using bemsurg::parse_number;
+  CHECK(parse_number<double>("0.45") == 0.45);
+  CHECK(parse_number<double>("+1e-3") == 1e-3);
+  CHECK(parse_number<double>("-2.5E2") == -250.0);
+  CHECK(parse_number<int>("+12") == 12);
+  CHECK(parse_number<long long>("-9000000000") == -9000000000LL);
+  for (const char* bad : {"", "+", "++1", "+-1", "0,45", " 1", "1 ", "1.5x", "0x10", "--1"}) {
+    INFO("text '" << bad << "'");
+    CHECK_FALSE(parse_number<double>(bad).has_value());
+  }
+  CHECK_FALSE(parse_number<int>("1.5").has_value());
+  CHECK_FALSE(parse_number<int>("99999999999").has_value());  // out of int's range
+  CHECK_FALSE(parse_number<unsigned>("-1").has_value());
+  // Writers: shortest round trip, and the printf forms "%.*f", "%.*g", "%.*e" without a locale.
+  CHECK(bemsurg::number_text(0.1) == "0.1");
+  CHECK(parse_number<double>(bemsurg::number_text(1.0 / 3.0)) == 1.0 / 3.0);
+  CHECK(bemsurg::fixed_text(1234.5, 3) == "1234.500");
+  CHECK(bemsurg::general_text(1e-9, 3) == "1e-09");
+  CHECK(bemsurg::scientific_text(12345.678, 2) == "1.23e+04");
+}

@@ -67,7 +67,7 @@ BEMSURG_INLINE Eigen::VectorXd run_with_preconditioner(const Eigen::MatrixXd& A,
 #ifndef BEMSURG_HAVE_NEAR_FIELD
     (void)mesh;
     throw SolverError(
-        "the near_field preconditioner is compiled into bemsurg::bemsurg (it needs SuiteSparse); "
+        "the near_field preconditioner is compiled into bemsurg::numerics, part of bemsurg::bemsurg (it needs SuiteSparse); "
         "this program uses the header-only core: link bemsurg::bemsurg or choose block_jacobi");
 #else
     if (!mesh) throw SolverError("the near_field preconditioner needs the mesh (element centroids and diameters); none was given");
