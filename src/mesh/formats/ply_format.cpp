@@ -119,46 +119,14 @@ class BinaryReader {
     }();
     if (big_endian_ == host_little) std::reverse(b, b + n);
     switch (t) {
-      case PlyType::Int8: {
-        std::int8_t v;
-        std::memcpy(&v, b, 1);
-        return v;
-      }
-      case PlyType::UInt8: {
-        std::uint8_t v;
-        std::memcpy(&v, b, 1);
-        return v;
-      }
-      case PlyType::Int16: {
-        std::int16_t v;
-        std::memcpy(&v, b, 2);
-        return v;
-      }
-      case PlyType::UInt16: {
-        std::uint16_t v;
-        std::memcpy(&v, b, 2);
-        return v;
-      }
-      case PlyType::Int32: {
-        std::int32_t v;
-        std::memcpy(&v, b, 4);
-        return v;
-      }
-      case PlyType::UInt32: {
-        std::uint32_t v;
-        std::memcpy(&v, b, 4);
-        return v;
-      }
-      case PlyType::Float32: {
-        float v;
-        std::memcpy(&v, b, 4);
-        return v;
-      }
-      case PlyType::Float64: {
-        double v;
-        std::memcpy(&v, b, 8);
-        return v;
-      }
+      case PlyType::Int8: return load<std::int8_t>(b);
+      case PlyType::UInt8: return load<std::uint8_t>(b);
+      case PlyType::Int16: return load<std::int16_t>(b);
+      case PlyType::UInt16: return load<std::uint16_t>(b);
+      case PlyType::Int32: return load<std::int32_t>(b);
+      case PlyType::UInt32: return load<std::uint32_t>(b);
+      case PlyType::Float32: return load<float>(b);
+      case PlyType::Float64: return load<double>(b);
     }
     return 0.0;
   }
@@ -166,6 +134,14 @@ class BinaryReader {
   std::size_t position() const { return pos_; }
 
  private:
+  /// The value of type T whose bytes (already in host order) start at b.
+  template <typename T>
+  static double load(const unsigned char* b) {
+    T v;
+    std::memcpy(&v, b, sizeof v);
+    return static_cast<double>(v);
+  }
+
   const std::string& data_;
   std::size_t pos_;
   bool big_endian_;
