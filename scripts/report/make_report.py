@@ -1,0 +1,199 @@
+"""The benchmark report's driver (called by scripts/run-benchmarks.sh; docs/benchmarks.md).
+
+  make_report.py --out DIR --build DIR [--quick] [--only PART] [--render-only]
+
+Runs every part in scripts/report/parts/ (ordered by ORDER; --only: the one whose NAME is given),
+then renders report.md from whatever data DIR holds: a part that was not run in this call keeps
+the section of its last run in DIR, a part that never ran says so. Exits 1 when a part failed
+(its section says why) so that a broken benchmark cannot pass unnoticed.
+"""
+
+import argparse
+import datetime
+import importlib.util
+import json
+import os
+import platform
+import re
+import subprocess
+import sys
+import time
+import traceback
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+import report_lib  # noqa: E402
+
+
+def load_parts():
+    parts = []
+    for path in sorted((HERE / "parts").glob("*.py")):
+        if path.name.startswith("_"):
+            continue
+        spec = importlib.util.spec_from_file_location("report_part_" + path.stem, path)
+        module = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+        for attr in ("NAME", "TITLE", "ORDER", "run", "render"):
+            if not hasattr(module, attr):
+                raise SystemExit(f"make_report: {path} lacks {attr} (scripts/report/report_lib.py says what a part has)")
+        parts.append(module)
+    names = [p.NAME for p in parts]
+    if len(set(names)) != len(names):
+        raise SystemExit(f"make_report: two parts share a NAME: {names}")
+    return sorted(parts, key=lambda p: p.ORDER)
+
+
+def _cmd(args, default="unknown"):
+    try:
+        return subprocess.run(args, capture_output=True, text=True, timeout=20).stdout.strip() or default
+    except (OSError, subprocess.SubprocessError):
+        return default
+
+
+def _package_version(pkg):
+    return _cmd(["dpkg-query", "-W", "-f=${Version}", pkg])
+
+
+def machine_header(ctx):
+    """The facts a reader needs to compare this report with another one."""
+    cpu = "unknown"
+    try:
+        m = re.search(r"^model name\s*:\s*(.+)$", Path("/proc/cpuinfo").read_text(), re.M)
+        cpu = m.group(1).strip() if m else cpu
+    except OSError:
+        pass
+    mem = "unknown"
+    try:
+        kb = int(re.search(r"^MemTotal:\s*(\d+)", Path("/proc/meminfo").read_text(), re.M).group(1))
+        mem = f"{kb / 2**20:.1f} GiB"
+    except (OSError, AttributeError):
+        pass
+    eigen = "unknown"
+    macros = Path("/usr/include/eigen3/Eigen/src/Core/util/Macros.h")
+    if macros.exists():
+        t = macros.read_text()
+        v = [re.search(rf"#define EIGEN_{k}_VERSION (\d+)", t) for k in ("WORLD", "MAJOR", "MINOR")]
+        if all(v):
+            eigen = ".".join(x.group(1) for x in v)
+    compiler = "unknown"
+    cache = ctx.build / "CMakeCache.txt"
+    if cache.exists():
+        m = re.search(r"^CMAKE_CXX_COMPILER:\w+=(.+)$", cache.read_text(), re.M)
+        if m:
+            compiler = _cmd([m.group(1), "--version"]).splitlines()[0]
+    blas = _cmd(["readlink", "-f", "/usr/lib/x86_64-linux-gnu/libblas.so.3"])
+    commit = _cmd(["git", "-C", str(ctx.repo), "rev-parse", "--short=12", "HEAD"])
+    dirty = _cmd(["git", "-C", str(ctx.repo), "status", "--porcelain", "--untracked-files=no"], default="")
+    threads = os.environ.get("OMP_NUM_THREADS", f"{os.cpu_count()} (OpenMP default: one per core)")
+    return {
+        "date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
+        "mode": ctx.mode,
+        "commit": commit + (" (with uncommitted changes)" if dirty else ""),
+        "cpu": cpu,
+        "cores": str(os.cpu_count()),
+        "memory": mem,
+        "os": _cmd(["sh", "-c", ". /etc/os-release && echo $PRETTY_NAME"], platform.platform()),
+        "compiler": compiler,
+        "eigen": eigen,
+        "openblas": _package_version("libopenblas0") if _package_version("libopenblas0") != "unknown" else _package_version("libopenblas0-pthread"),
+        "suitesparse": _package_version("libsuitesparse-dev"),
+        "blas_backend": blas,
+        "threads": threads,
+        "calculix": _package_version("calculix-ccx"),
+        "gmsh": _package_version("libgmsh-dev"),
+        "matplotlib": _cmd([sys.executable, "-c", "import matplotlib; print(matplotlib.__version__)"]),
+    }
+
+
+HEADER_ROWS = [("Date", "date"), ("Mode", "mode"), ("Commit", "commit"), ("CPU", "cpu"), ("Cores", "cores"),
+               ("Memory", "memory"), ("System", "os"), ("Compiler", "compiler"), ("Eigen", "eigen"),
+               ("OpenBLAS", "openblas"), ("SuiteSparse", "suitesparse"), ("BLAS back end (libblas.so.3)", "blas_backend"),
+               ("Threads", "threads"), ("CalculiX (ccx)", "calculix"), ("Gmsh", "gmsh"), ("matplotlib", "matplotlib")]
+
+
+RENDER_FAILED = set()  # parts whose render() raised in this call (not kept in status.json)
+
+
+def write_report(ctx, parts, header, status):
+    lines = ["# bemsurg benchmark report", "",
+             "Generated by `scripts/run-benchmarks.sh" + (" --quick" if ctx.quick else "") + "` "
+             "(docs/benchmarks.md says how to regenerate and read it). Every figure and chart below comes from "
+             "this run's CSV files, written beside this page; ratios compare measurements of the same run.", "",
+             "| | |", "|---|---|"]
+    lines += [f"| {label} | {header.get(key, 'unknown')} |" for label, key in HEADER_ROWS]
+    if ctx.quick:
+        lines += ["", "**Quick mode**: small sizes and few repeats, to check that every chart renders. "
+                  "The figures are not the published ones (docs/report.md holds the full run)."]
+    lines += ["", "Contents: " + ", ".join(f"[{p.TITLE}](#{_anchor(p.TITLE)})" for p in parts), ""]
+    for p in parts:
+        lines += [f"## {p.TITLE}", ""]
+        st = status.get(p.NAME)
+        if st and st.get("error"):
+            lines += [f"**This part failed in the last run**: `{st['error'].splitlines()[0]}` (DIR/logs/{p.NAME}.log).", ""]
+        try:
+            lines += [p.render(ctx).rstrip(), ""]
+        except FileNotFoundError as e:
+            lines += [f"*Not run yet* (`scripts/run-benchmarks.sh --only {p.NAME}`): {Path(e.filename).name} is missing.", ""]
+        except Exception:  # a rendering bug must not hide the other parts
+            lines += ["**Rendering failed:**", "", "```", traceback.format_exc(limit=3).strip(), "```", ""]
+            RENDER_FAILED.add(p.NAME)
+        if st and st.get("seconds") is not None:
+            lines += [f"<sub>Part `{p.NAME}`: {st['seconds']:.0f} s in the run of {st['date']}.</sub>", ""]
+    (ctx.out / "report.md").write_text("\n".join(lines))
+
+
+def _anchor(title):
+    a = re.sub(r"[^\w\- ]", "", title.lower()).strip().replace(" ", "-")
+    return a
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--out", required=True)
+    ap.add_argument("--build", required=True)
+    ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--only", default=None)
+    ap.add_argument("--render-only", action="store_true", help="draw the charts and report.md from DIR's data, run nothing")
+    a = ap.parse_args()
+    ctx = report_lib.Context(a.out, a.build, HERE.parent.parent, a.quick)
+    parts = load_parts()
+    if a.only and a.only not in [p.NAME for p in parts]:
+        raise SystemExit(f"run-benchmarks: --only {a.only}: no such part; the parts are: {', '.join(p.NAME for p in parts)}")
+    status_path = ctx.out / "status.json"
+    status = json.loads(status_path.read_text()) if status_path.exists() else {}
+    if status.get("_mode") not in (None, ctx.mode):
+        report_lib.warn(f"{ctx.out} holds a {status['_mode']} run; parts not run now keep their {status['_mode']} data")
+    status["_mode"] = ctx.mode
+    failed = []
+    for p in parts:
+        if a.render_only or (a.only and p.NAME != a.only):
+            continue
+        print(f"run-benchmarks: part {p.NAME} ({p.TITLE})", flush=True)
+        start = time.monotonic()
+        entry = {"date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"), "mode": ctx.mode}
+        try:
+            p.run(ctx)
+        except Exception as e:  # noqa: BLE001: record, report, keep going with the other parts
+            entry["error"] = str(e)
+            failed.append(p.NAME)
+            report_lib.warn(f"part {p.NAME} failed: {e}")
+            traceback.print_exc()
+        entry["seconds"] = time.monotonic() - start
+        print(f"run-benchmarks: part {p.NAME} took {entry['seconds']:.0f} s", flush=True)
+        status[p.NAME] = entry
+        status_path.write_text(json.dumps(status, indent=1))
+    header = machine_header(ctx)
+    (ctx.out / "machine.json").write_text(json.dumps(header, indent=1))
+    write_report(ctx, parts, header, status)
+    status_path.write_text(json.dumps(status, indent=1))
+    broken = failed + sorted(RENDER_FAILED)
+    print(f"run-benchmarks: wrote {ctx.out / 'report.md'}")
+    if broken:
+        report_lib.warn("failed: " + ", ".join(sorted(set(broken))))
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,62 @@
+#!/usr/bin/env bash
+# The benchmark report (docs/benchmarks.md, docs/report.md): builds what it needs, runs the
+# benchmark programs part by part, writes their CSV under DIR, draws the charts with Debian's
+# matplotlib and writes DIR/report.md.
+#
+#   scripts/run-benchmarks.sh [--quick] [--out DIR] [--build DIR] [--only PART] [--publish]
+#
+#   --quick     small runs of every part (about 3 minutes on 2 cores; CI runs it)
+#   --out DIR   where results, charts and report.md go (default results/, not committed)
+#   --build DIR reuse an existing Release tree (default: configure and build build-bench/)
+#   --only PART run one part (chart family) and redraw the report from what DIR holds
+#   --publish   with a full run: copy report.md and its charts to docs/report.md, docs/images/report/
+set -euo pipefail
+cd "$(dirname "$0")/.."
+quick=0 out=results build="" only="" publish=0
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --quick) quick=1 ;;
+    --out) out=${2:?--out needs a folder}; shift ;;
+    --build) build=${2:?--build needs a folder}; shift ;;
+    --only) only=${2:?--only needs a part name}; shift ;;
+    --publish) publish=1 ;;
+    -h|--help) sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    *) echo "run-benchmarks: unknown option '$1' (--help lists them)" >&2; exit 2 ;;
+  esac
+  shift
+done
+if [ "$publish" = 1 ] && { [ "$quick" = 1 ] || [ -n "$only" ]; }; then
+  echo "run-benchmarks: --publish takes a full run of every part (not --quick, not --only)" >&2
+  exit 2
+fi
+
+bash scripts/setup-deps.sh > /dev/null
+start=$(date +%s)
+if [ -z "$build" ]; then
+  build=build-bench
+  cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DBEMSURG_BUILD_TESTS=OFF -DBEMSURG_BUILD_BENCHMARKS=ON \
+    -DBEMSURG_WARNINGS_AS_ERRORS="${BEMSURG_WARNINGS_AS_ERRORS:-OFF}" > /dev/null
+fi
+if ! grep -q '^CMAKE_BUILD_TYPE:STRING=Release$' "$build/CMakeCache.txt" 2>/dev/null; then
+  echo "run-benchmarks: $build is not a configured Release tree (timings of another build type mislead)" >&2
+  exit 2
+fi
+cmake --build "$build" -j"${JOBS:-2}" --target bemsurg_benchmarks
+echo "run-benchmarks: build took $(( $(date +%s) - start )) s"
+
+args=(--out "$out" --build "$build")
+[ "$quick" = 1 ] && args+=(--quick)
+[ -n "$only" ] && args+=(--only "$only")
+# Debian's python3 (python3-matplotlib): another python3 may come first on PATH.
+status=0
+/usr/bin/python3 scripts/report/make_report.py "${args[@]}" || status=$?
+echo "run-benchmarks: finished in $(( $(date +%s) - start )) s (status $status)"
+[ "$status" = 0 ] || exit "$status"
+
+if [ "$publish" = 1 ]; then
+  rm -rf docs/images/report
+  mkdir -p docs/images/report
+  cp "$out"/images/*.png docs/images/report/
+  sed 's#](images/#](images/report/#g' "$out/report.md" > docs/report.md
+  echo "run-benchmarks: published docs/report.md and docs/images/report/"
+fi
