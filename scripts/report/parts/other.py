@@ -92,14 +92,14 @@ def _force_section(ctx, d):
            "needs, *with tractions* also solves the contact tractions; *bare* is the baseline (the same poses and one "
            "3 × k product with a fixed matrix, measured in the same run). Targets (docs/contact.md): p99.9 ≤ 20 µs with "
            "7 and ≤ 50 µs with 50 contact elements.", "",
-           "| n | contact elements | with tractions | force only | bare | force only / bare | set change (median µs) | full field (median ms) |",
+           "| n | contact elements | with tractions | force only | bare | force only / bare | set change (median µs) | full field (median) |",
            "|---|---|---|---|---|---|---|---|"]
     missed = []
     for r in rows:
         trip = lambda p: f"{_us(r[p + '_median_us'])} / {_us(r[p + '_p99_us'])} / {_us(r[p + '_p999_us'])}"  # noqa: E731
         out.append(f"| {r['equations']} | {r['contact_elements']} | {trip('with_tractions')} | {trip('force_only')} | "
                    f"{trip('bare')} | {r['force_only_over_bare']:.2f} | {_us(r['set_change_median_us'])} | "
-                   f"{r['full_field_median_ms']:.3g} |")
+                   f"{rl.seconds_text(r['full_field_median_ms'] / 1e3)} |")
         limit = {7: 20.0, 50: 50.0}.get(r["contact_elements"])
         if limit and r["with_tractions_p999_us"] > limit:
             missed.append(f"with {r['contact_elements']} elements the p99.9 with tractions is "
