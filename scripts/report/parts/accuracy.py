@@ -78,8 +78,15 @@ def run(ctx):
 
 
 # ---- render helpers -----------------------------------------------------------------------------
+FAILED = ("failed", "error", "iteration_limit", "breakdown", "stagnation", "non_finite", "not_computed")
+
+
 def _ok(r):
-    return r.get("status") == "converged" and r.get("total_s")
+    return r.get("status") not in FAILED and r.get("total_s")
+
+
+def _bytes(b):
+    return f"{b / 2**30:.3g} GiB" if b and b >= 2**30 else rl.bytes_text(b)
 
 
 def _label(r):
@@ -158,7 +165,7 @@ def _order_text(rows):
     errs = ", ".join(f"{k[-1]} {fine[k]:.2%}" for k, _ in ERRORS if fine.get(k))
     return (f"Observed order over the mesh levels (least-squares slope of log error on log mean h, "
             f"{min(r['elements'] for r in lev)}–{fine['elements']} elements): {', '.join(parts)}. "
-            f"The finest level gives {errs} in {rl.seconds_text(fine['total_s'])} and {rl.bytes_text(_memory(fine))}.")
+            f"The finest level gives {errs} in {rl.seconds_text(fine['total_s'])} and {_bytes(_memory(fine))}.")
 
 
 def _times(x):
@@ -222,7 +229,7 @@ def _section(ctx, problem, rows):
                 _figure(ctx, problem, rows, "peak_rss_bytes", "peak resident memory (MiB)", 2.0 ** -20, f"accuracy_{slug}_memory")):
         if img:
             lines += [img, ""]
-    costs = {"total_s": ("total time", rl.seconds_text), "memory": ("peak memory", rl.bytes_text)}
+    costs = {"total_s": ("total time", rl.seconds_text), "memory": ("peak memory", _bytes)}
     ok = [dict(r, memory=_memory(r)) for r in rows if _ok(r)]
     for key, text in ERRORS:
         if any(r.get(key) for r in ok):
