@@ -1,0 +1,212 @@
+// bench_work_precision: accuracy against cost (issue 24, item 2: work-precision diagrams). One
+// configuration per process, so that the peak resident memory the report's driver reads from
+// wait4 belongs to that configuration alone (scripts/report/parts/accuracy.py runs the list).
+//   bench_work_precision --list [--quick]          the configurations, one line of arguments each
+//   bench_work_precision --problem P --study S --level L --quadrature Q --solver M --tolerance T
+//                        --mesh uniform --json PATH  runs one and writes its metrics
+//   bench_work_precision --quick --json PATH        the smoke test: the smallest level of each problem
+// Baseline of the one-factor-at-a-time studies: default QuadratureOptions, LU, uniform mesh
+// (work_precision_setup.hpp). Errors: relative L2 of what was solved against the closed form, as
+// verification::relative_l2_errors (u where traction is prescribed and t where u is).
+#include <sys/resource.h>
+
+#include <cmath>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bemsurg/elastostatic_solver.hpp"
+#include "bemsurg/timing.hpp"
+#include "bench_support.hpp"
+#include "work_precision_setup.hpp"
+
+using namespace bemsurg;
+using namespace bemsurg::work_precision;
+
+namespace {
+
+const char* const kBaseline = "default QuadratureOptions, LU, uniform mesh";
+
+long long peak_rss_bytes() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return 1024LL * usage.ru_maxrss;  // Linux: KiB
+}
+
+// This process's own peak resident memory (VmHWM of /proc/self/status; -1 where there is none).
+// getrusage's and wait4's ru_maxrss also hold the parent's resident size at fork (Linux keeps it
+// across exec), so a driver of 60 MiB shows 60 MiB for a run of 15: VmHWM is the new image's alone.
+long long peak_hwm_bytes() {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line))
+    if (line.rfind("VmHWM:", 0) == 0) {
+      const std::size_t a = line.find_first_of("0123456789"), b = line.find_first_not_of("0123456789", a);
+      const std::optional<long long> kib = a == std::string::npos ? std::nullopt : parse_number<long long>(line.substr(a, b - a));
+      return kib ? 1024LL * *kib : -1;  // "VmHWM:   15360 kB"
+    }
+  return -1;
+}
+
+nlohmann::json finite_or_null(double x, bool measured) { return measured && std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(); }
+
+LinearSolverOptions solver_options(const Config& c) {
+  LinearSolverOptions o;
+  o.method = parse_solver_method(c.solver);
+  if (o.method == SolverMethod::BiCg) throw InvalidArgumentError("--solver bicg: this benchmark compares lu, gmres and bicgstab");
+  if (o.method != SolverMethod::Lu) {
+    if (!(c.tolerance > 0.0 && c.tolerance < 1.0)) throw InvalidArgumentError("--tolerance: a Krylov solver needs one in (0, 1)");
+    o.tolerance = c.tolerance;
+    o.preconditioner = PreconditionerKind::BlockJacobi;  // the default, said here: the report names it
+  }
+  return o;
+}
+
+// The timings of repeated solves of one problem (the machines are shared: bench_support.hpp) and
+// the last solution. Up to `max_repeats` solves, stopping once 10 s have been spent, so the large
+// levels run once and the small ones give medians. A solve that throws SolverError (a Krylov
+// method stopping short) ends the repeats with status "failed" and no solution.
+struct Repeated {
+  std::optional<ElastostaticSolution> solution;
+  std::string status;
+  std::vector<double> assembly, factor, solve, total;
+};
+
+Repeated solve_repeated(const ElastostaticProblem& p, const LinearSolverOptions& options, int max_repeats) {
+  Repeated out;
+  const SteadyClock::time_point first = SteadyClock::now();
+  while (static_cast<int>(out.total.size()) < max_repeats && (out.total.empty() || seconds_since(first) < 10.0)) {
+    const SteadyClock::time_point start = SteadyClock::now();
+    try {
+      out.solution = solve_elastostatic(p, options);
+    } catch (const SolverError& e) {
+      out.solution.reset();
+      out.status = "failed";
+      std::cerr << "bench_work_precision: " << e.what() << "\n";
+      return out;
+    }
+    out.total.push_back(seconds_since(start));
+    const ElastostaticResult& r = out.solution->report;
+    out.assembly.push_back(r.assembly_seconds + r.system_seconds);
+    out.factor.push_back(r.solver.setup_seconds);
+    out.solve.push_back(r.solver.solve_seconds);
+    out.status = to_string(r.solver.status);
+  }
+  return out;
+}
+
+// Runs one configuration and returns its JSON object (parameters and metrics). A Krylov solve
+// that stops short throws SolverError from solve_elastostatic; it is recorded with its status
+// and no errors, so the list still completes and the chart shows what converged.
+nlohmann::json run_config(const Config& c, int max_repeats) {
+  const Material m{1.0, 0.3, 1.0};
+  const Setup s = make_setup(c, m);
+  const auto prescribed = [&](Index e) { return s.displacement_prescribed_at(s.mesh.centroid(e)); };
+  const ElastostaticProblem p{s.mesh, m, s.gravity, verification::exact_trace_conditions(s.mesh, s.field, prescribed),
+                              quadrature_setting(c.quadrature)};
+  const LinearSolverOptions options = solver_options(c);
+  nlohmann::json j = {{"problem", c.problem},
+                      {"study", c.study},
+                      {"level", c.level},
+                      {"quadrature", c.quadrature},
+                      {"solver", c.solver},
+                      {"tolerance", c.tolerance},
+                      {"mesh", c.mesh},
+                      {"baseline", kBaseline},
+                      {"preconditioner", c.solver == "lu" ? "none" : "block_jacobi"}};
+  j["elements"] = s.mesh.num_elements();
+  j["equations"] = 3 * s.mesh.num_elements();
+  j["mean_h"] = s.mesh.diameters().mean();
+  const Repeated run = solve_repeated(p, options, max_repeats);
+  if (run.solution) {
+    const ElastostaticResult& r = run.solution->report;
+    const verification::RelativeErrors err = verification::relative_l2_errors(p.mesh, p.boundary_conditions, run.solution->boundary,
+                                                                              verification::exact_traces(p.mesh, s.field));
+    // An error is measured where some element has that quantity unknown (both problems here do).
+    bool any_u = false, any_t = false;
+    for (Index e = 0; e < s.mesh.num_elements(); ++e) (prescribed(e) ? any_t : any_u) = true;
+    j["error_u"] = finite_or_null(err.displacement, any_u);
+    j["error_t"] = finite_or_null(err.traction, any_t);
+    j["assembly_s"] = bench::median(run.assembly);  // H, G, gravity, and the column swap into A*
+    j["factor_s"] = bench::median(run.factor);
+    j["solve_s"] = bench::median(run.solve);
+    j["iterations"] = r.solver.iterations;
+    j["relative_residual"] = r.solver.relative_residual;
+  }
+  j["total_s"] = bench::median(run.total);  // the wall time of solve_elastostatic
+  j["repeats"] = run.total.size();
+  j["status"] = run.status;
+  j["peak_rss_bytes"] = peak_rss_bytes();
+  j["peak_hwm_bytes"] = peak_hwm_bytes();
+  std::cerr << arguments(c) << ": " << s.mesh.num_elements() << " elements, " << run.status << ", u "
+            << j.value("error_u", nlohmann::json()).dump() << ", t " << j.value("error_t", nlohmann::json()).dump() << ", "
+            << fixed_text(bench::median(run.total), 3) << " s (median of " << run.total.size() << ")\n";
+  return j;
+}
+
+bool errors_finite(const nlohmann::json& run) {
+  for (const char* k : {"error_u", "error_t"})
+    if (!run.contains(k) || !(run[k].is_null() || std::isfinite(run[k].get<double>()))) return false;
+  return run.value("status", "") == "converged" && !(run["error_u"].is_null() && run["error_t"].is_null());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  bool quick = false, list = false;
+  int repeats = 3;
+  std::string json_path;
+  Config c;
+  c.level = 0;
+  cli::OptionParser parser =
+      bench::command_line("bench_work_precision",
+                          "Accuracy against cost of the BEM on closed-form problems, one configuration per process (issue 24, item 2).\n"
+                          "--list prints the configurations (one line of arguments each); --problem ... runs one; --quick alone runs the\n"
+                          "smallest level of every problem (the smoke test).\n",
+                          quick, json_path);
+  parser.flag("--list", list, "print the configurations, one per line, and exit (with --quick: the quick ones)");
+  parser.value("--problem", "NAME", c.problem, "lame, kelvin or bar");
+  parser.value("--study", "NAME", c.study, "levels, quadrature or solver (a label the report groups by)");
+  parser.value("--level", "L", c.level, "mesh level, from 1");
+  parser.value("--quadrature", "NAME", c.quadrature, "cheap, baseline or fine");
+  parser.value("--solver", "NAME", c.solver, "lu, gmres or bicgstab (block-Jacobi preconditioned)");
+  parser.value("--tolerance", "T", c.tolerance, "Krylov relative residual (0 for lu)");
+  parser.value("--mesh", "KIND", c.mesh, "uniform");
+  parser.value("--repeats", "N", repeats, "solve up to N times (stopping after 10 s) and report median times");
+  if (const std::optional<int> status = cli::parse_command_line(parser, argc, argv)) return *status;
+  if (repeats < 1) {
+    std::cerr << "bench_work_precision: --repeats: expected a number >= 1, got " << repeats << "\n";
+    return 2;
+  }
+  try {
+    if (list) {
+      for (const Config& k : all_configs(quick)) std::cout << arguments(k) << "\n";
+      return 0;
+    }
+    nlohmann::json result;
+    if (c.problem.empty()) {
+      // The smoke test: the smallest level of each problem, all finite or exit 1.
+      result = {{"benchmark", "bench_work_precision"}, {"quick", quick}, {"baseline", kBaseline}, {"runs", nlohmann::json::array()}};
+      bool ok = true;
+      for (const char* p : {"lame", "kelvin", "bar"}) {
+        Config k;
+        k.problem = p;
+        result["runs"].push_back(run_config(k, 1));  // one solve each: seconds under ASan too
+        ok = ok && errors_finite(result["runs"].back());
+      }
+      if (!bench::write_json_file(json_path, result, "bench_work_precision")) return 1;
+      if (!ok) std::cerr << "bench_work_precision: a run did not converge or gave a non-finite error\n";
+      return ok ? 0 : 1;
+    }
+    if (c.level == 0) c.level = 1;
+    result = run_config(c, repeats);
+    result["benchmark"] = "bench_work_precision";
+    return bench::write_json_file(json_path, result, "bench_work_precision") ? 0 : 1;
+  } catch (const Error& e) {
+    std::cerr << "bench_work_precision: " << e.what() << "\n";
+    return 2;
+  }
+}
