@@ -1,0 +1,337 @@
+"""The finite-element peer of the benchmark report (issue 24; scripts/report/parts/peer.py): CalculiX
+(Debian's calculix-ccx) on quadratic tetrahedra (C3D10) that Gmsh meshes from one fixed surface.
+
+  calculix_peer.py mesh --surface BODY.stl --out DIR --h H --h-edge HE --patch-radius R
+                        [--young E --poisson NU --density RHO --gravity G]
+
+meshes the volume bounded by the surface (Gmsh: classify the triangles, re-parametrise, mesh with
+size H, HE within a band around the clamped patch's edge, second order), writes DIR/job.inp and
+DIR/mesh.npz (nodes and the 6-node surface triangles, to evaluate the displacement at any surface
+point). Then ``ccx -i job`` (run by the part, which times it) writes job.dat; ``read_result``
+parses it and ``evaluate`` interpolates the surface displacement at given points.
+
+The clamped patch is the one bench_organ_gravity clamps: the points of the plane z = 0 with
+x^2 + y^2 <= R^2 (here: the nodes, corner and mid-edge, that lie there); a radius past the flat
+face clamps the whole face, whose rim Gmsh keeps as a crease, so every level clamps exactly the
+same region (a disc inside the face zig-zags between nodes: levels 3 % apart). Gravity pulls along -z.
+
+Needs /usr/bin/python3 with Debian's python3-gmsh for ``mesh``; the rest needs numpy only.
+"""
+
+import argparse
+import json
+import math
+import re
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+# Gmsh's 10-node tetrahedron (element type 11) numbers its mid-edge nodes 4:(0,1) 5:(1,2) 6:(0,2)
+# 7:(0,3) 8:(2,3) 9:(1,3) (Gmsh manual, "Node ordering"); CalculiX's C3D10, as Abaqus', has
+# 8:(1,3) and 9:(2,3) (ccx 2.20 manual, section 6.2.6). So the last two swap.
+GMSH_TO_CCX_TET10 = [0, 1, 2, 3, 4, 5, 6, 7, 9, 8]
+CCX_TET10_EDGES = [(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)]  # of nodes 4..9
+PLANE_TOLERANCE = 1e-7  # m: a node on the plane z = 0 (the re-parametrised flat face is exact to ~1e-17)
+
+
+def mesh(surface, out, h, h_edge, patch_radius, young, poisson, density, gravity):
+    """Gmsh: volume mesh of the closed surface, written as a CalculiX deck. Returns a summary dict."""
+    import gmsh  # Debian's python3-gmsh: imported here so that the rest works without it
+
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    start = time.monotonic()
+    gmsh.initialize([], False)
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.merge(str(surface))
+        # 40 degrees: the rim of the flat face is a crease (55-65 degrees, brain_model_impl.hpp), the folds are not.
+        gmsh.model.mesh.classifySurfaces(40 * math.pi / 180, True, True, math.pi)
+        gmsh.model.mesh.createGeometry()
+        loop = gmsh.model.geo.addSurfaceLoop([t for _, t in gmsh.model.getEntities(2)])
+        gmsh.model.geo.addVolume([loop])
+        gmsh.model.geo.synchronize()
+        band = 3.0 * h  # grade from HE on the clamped region's edge to H at this distance
+        edge = _clamped_edge(surface, patch_radius)
+
+        def size(dim, tag, x, y, z):  # gmsh 4.8: no current size argument
+            return h_edge + (h - h_edge) * min(1.0, edge(x, y, z) / band)
+
+        gmsh.model.mesh.setSizeCallback(size)
+        for k, v in (("Mesh.MeshSizeFromPoints", 0), ("Mesh.MeshSizeFromCurvature", 0), ("Mesh.MeshSizeExtendFromBoundary", 0),
+                     ("Mesh.MeshSizeMin", h_edge), ("Mesh.MeshSizeMax", h), ("Mesh.Algorithm", 6), ("Mesh.Algorithm3D", 1),
+                     ("Mesh.ElementOrder", 2), ("Mesh.SecondOrderLinear", 0), ("Mesh.Optimize", 1)):
+            gmsh.option.setNumber(k, v)
+        gmsh.model.mesh.generate(3)
+        tags, xyz, _ = gmsh.model.mesh.getNodes()
+        xyz = xyz.reshape(-1, 3)
+        _, tet_nodes = gmsh.model.mesh.getElementsByType(11)
+        _, tri_nodes = gmsh.model.mesh.getElementsByType(9)
+    finally:
+        gmsh.finalize()
+    mesh_s = time.monotonic() - start
+    # Renumber the nodes 1..N (ccx wants them; Gmsh's tags may have gaps).
+    index = np.zeros(int(tags.max()) + 1, dtype=np.int64)
+    index[tags.astype(np.int64)] = np.arange(len(tags))
+    tets = index[tet_nodes.astype(np.int64)].reshape(-1, 10)[:, GMSH_TO_CCX_TET10]
+    tris = index[tri_nodes.astype(np.int64)].reshape(-1, 6)
+    tets = _positive(xyz, tets)
+    _check_mid_edges(xyz, tets)
+    straightened = _untangle(xyz, tets)
+    on_patch = (np.abs(xyz[:, 2]) <= PLANE_TOLERANCE) & (np.hypot(xyz[:, 0], xyz[:, 1]) <= patch_radius)
+    surface_nodes = np.unique(tris)
+    patch_load = gravity_on_nodes(xyz, tets, np.nonzero(on_patch)[0], density, gravity)
+    _write_deck(out / "job.inp", xyz, tets, np.nonzero(on_patch)[0], surface_nodes, young, poisson, density, gravity)
+    np.savez_compressed(out / "mesh.npz", xyz=xyz, tris=tris, surface_nodes=surface_nodes)
+    return {"peak_rss_bytes": peak_rss_bytes(), "nodes": len(xyz), "elements": len(tets), "surface_triangles": len(tris), "patch_nodes": int(on_patch.sum()),
+            "straightened_elements": straightened,
+            "patch_node_load_n": patch_load,
+            "mesh_s": mesh_s, "h": h, "h_edge": h_edge}
+
+
+def peak_rss_bytes(status="/proc/self/status"):
+    """This process's own peak resident memory (VmHWM). Not getrusage's ru_maxrss: Linux carries the
+    high-water mark across fork and exec, so a child of a large driver would report the driver's."""
+    m = re.search(r"^VmHWM:\s*(\d+) kB", Path(status).read_text(), re.M)
+    return int(m.group(1)) * 1024 if m else None
+
+
+def run_ccx(workdir):
+    """ccx -i job in workdir: wall seconds and ccx's peak memory (ru_maxrss of a child of this small
+    process, so that the floor it inherits is this process's, not a large caller's)."""
+    import os
+    import subprocess
+    start = time.monotonic()
+    with open(Path(workdir) / "ccx.log", "w") as log:
+        proc = subprocess.Popen(["ccx", "-i", "job"], cwd=workdir, stdout=log, stderr=subprocess.STDOUT)
+        _, status, usage = os.wait4(proc.pid, 0)
+    seconds = time.monotonic() - start
+    code = os.waitstatus_to_exitcode(status)
+    if code != 0:
+        tail = "\n".join((Path(workdir) / "ccx.log").read_text().splitlines()[-12:])
+        raise RuntimeError(f"calculix_peer: ccx exited with {code} in {workdir}:\n{tail}")
+    return {"ccx_s": seconds, "peak_rss_bytes": usage.ru_maxrss * 1024}
+
+
+def _clamped_edge(surface, patch_radius):
+    """Distance (approximate) to the clamped region's edge: the circle of radius R on the plane z = 0,
+    or, where R reaches past the flat face, the face's rim, taken as the ellipse through its extreme
+    points (the brain's flat face is one: brain_model_impl.hpp)."""
+    v = np.array([[float(x) for x in line.split()[1:4]] for line in Path(surface).read_text().splitlines()
+                  if line.lstrip().startswith("vertex")])
+    flat = v[np.abs(v[:, 2]) <= PLANE_TOLERANCE]
+    a, b = np.abs(flat[:, 0]).max(), np.abs(flat[:, 1]).max()
+    if patch_radius < min(a, b):
+        return lambda x, y, z: math.hypot(math.hypot(x, y) - patch_radius, z)
+    return lambda x, y, z: math.hypot(min(a, b) * (math.hypot(x / a, y / b) - 1.0), z)
+
+
+def _positive(xyz, tets):
+    """ccx needs a positive Jacobian: node 3 on the side of face 0-1-2 its right-hand normal points to."""
+    p = xyz[tets[:, :4]]
+    det = np.einsum("ij,ij->i", np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), p[:, 3] - p[:, 0])
+    flip = det < 0
+    if flip.any():  # swap corners 1, 2 and with them the mid-edge nodes (0,1)<->(0,2), (1,3)<->(2,3)
+        tets = tets.copy()
+        tets[flip] = tets[flip][:, [0, 2, 1, 3, 6, 5, 4, 7, 9, 8]]
+    return tets
+
+
+def _check_mid_edges(xyz, tets):
+    """The renumbering is right when every mid-edge node lies near the middle of its ccx edge."""
+    p = xyz[tets]
+    for k, (a, b) in enumerate(CCX_TET10_EDGES):
+        mid = 0.5 * (p[:, a] + p[:, b])
+        length = np.linalg.norm(p[:, a] - p[:, b], axis=1)
+        off = np.linalg.norm(p[:, 4 + k] - mid, axis=1) / length
+        if np.median(off) > 1e-3:  # a wrong numbering puts most of them a quarter edge or more away
+            raise RuntimeError(f"calculix_peer: mid-edge node {5 + k} is not on edge {a + 1}-{b + 1} (C3D10 numbering)")
+
+
+# Where the Jacobian of a curved C3D10 is checked: its corners and the 4-point rule ccx integrates with.
+_A, _B = 0.1381966011250105, 0.5854101966249685
+_SAMPLES = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1], [_A, _A, _A], [_B, _A, _A], [_A, _B, _A], [_A, _A, _B]])
+
+
+def _shape(r, s, t):
+    """C3D10 shape functions (10) and their derivatives d/d(r, s, t) (10 x 3) at one point."""
+    lam = np.array([1 - r - s - t, r, s, t])
+    dlam = np.array([[-1, -1, -1], [1, 0, 0], [0, 1, 0], [0, 0, 1]], float)  # dL_i / d(r, s, t)
+    n = [lam[i] * (2 * lam[i] - 1) for i in range(4)] + [4 * lam[a] * lam[b] for a, b in CCX_TET10_EDGES]
+    dn = [(4 * lam[i] - 1) * dlam[i] for i in range(4)] + [4 * (lam[a] * dlam[b] + lam[b] * dlam[a]) for a, b in CCX_TET10_EDGES]
+    return np.array(n), np.array(dn)
+
+
+def _dets(xyz, tets, samples):
+    """det J of each C3D10 (rows) at each sample point (columns)."""
+    p = xyz[tets]  # (n, 10, 3)
+    return np.stack([np.linalg.det(np.einsum("nic,id->ncd", p, _shape(*q)[1])) for q in samples], axis=1)
+
+
+def _jacobian_dets(xyz, tets):
+    """det J at the corners and the 4 Gauss points over the straight tet's det."""
+    c = xyz[tets[:, :4]]
+    lin = np.einsum("ij,ij->i", np.cross(c[:, 1] - c[:, 0], c[:, 2] - c[:, 0]), c[:, 3] - c[:, 0])
+    return _dets(xyz, tets, _SAMPLES) / lin[:, None]
+
+
+def gravity_on_nodes(xyz, tets, nodes, density, gravity):
+    """The consistent gravity load (N, along -z, as a magnitude) that lands on the given nodes: ccx's RF
+    there is the internal force alone, so RF + this load is what balances the weight."""
+    dets = _dets(xyz, tets, _SAMPLES[4:])
+    mask = np.zeros(len(xyz), bool)
+    mask[nodes] = True
+    total = 0.0
+    for k, q in enumerate(_SAMPLES[4:]):
+        n, _ = _shape(*q)
+        total += ((dets[:, k:k + 1] / 24.0) * n[None, :] * mask[tets]).sum()  # 4-point rule: weights 1/24
+    return density * gravity * total
+
+
+def _untangle(xyz, tets, floor=0.05):
+    """Gmsh curves the boundary elements onto the surface; on a coarse mesh of a folded surface a
+    few of them fold over (ccx: "nonpositive jacobian"). Their mid-edge nodes go back to the
+    straight edges' middles (the surface is then flat there, within h^2 / 8 of the true one)."""
+    moved = set()
+    for _ in range(10):
+        bad = np.nonzero(_jacobian_dets(xyz, tets).min(axis=1) < floor)[0]
+        if len(bad) == 0:
+            return len(moved)
+        for k, (a, b) in enumerate(CCX_TET10_EDGES):
+            xyz[tets[bad, 4 + k]] = 0.5 * (xyz[tets[bad, a]] + xyz[tets[bad, b]])
+        moved.update(bad.tolist())
+    raise RuntimeError("calculix_peer: elements still tangled after straightening their edges")
+
+
+def _write_deck(path, xyz, tets, fixed, surface_nodes, young, poisson, density, gravity):
+    if len(fixed) == 0:
+        raise RuntimeError("calculix_peer: no node lies on the clamped patch")
+    lines = ["** bemsurg organ peer (scripts/report/calculix_peer.py): C3D10 from Gmsh", "*NODE, NSET=NALL"]
+    # ccx reads at most 20 characters a field: 13 significant digits fit.
+    lines += [f"{i + 1}, {x:.12e}, {y:.12e}, {z:.12e}" for i, (x, y, z) in enumerate(xyz.tolist())]
+    lines.append("*ELEMENT, TYPE=C3D10, ELSET=EALL")
+    # Eleven entries: a data line holds at most 16, so one line each.
+    lines += [f"{e + 1}, " + ", ".join(str(n + 1) for n in row) for e, row in enumerate(tets.tolist())]
+    lines += _nset("FIX", fixed) + _nset("NSURF", surface_nodes)
+    lines += ["*MATERIAL, NAME=TISSUE", "*ELASTIC", f"{young!r}, {poisson!r}", "*DENSITY", f"{density!r}",
+              "*SOLID SECTION, ELSET=EALL, MATERIAL=TISSUE",
+              "*BOUNDARY", "FIX, 1, 3",
+              "*STEP", "*STATIC",
+              "*DLOAD", f"EALL, GRAV, {gravity!r}, 0., 0., -1.",
+              "*NODE PRINT, NSET=NSURF", "U",
+              "*NODE PRINT, NSET=FIX, TOTALS=ONLY", "RF",
+              "*EL PRINT, ELSET=EALL, TOTALS=ONLY", "EVOL",
+              "*END STEP", ""]
+    Path(path).write_text("\n".join(lines))
+
+
+def _nset(name, nodes):
+    ids = [str(n + 1) for n in nodes]
+    return [f"*NSET, NSET={name}"] + [", ".join(ids[i:i + 16]) for i in range(0, len(ids), 16)]
+
+
+def read_result(workdir):
+    """job.dat: the surface nodes' displacements (N x 3, NaN off the surface), the total reaction
+    force on the patch (3) and the total volume ccx integrated."""
+    d = np.load(Path(workdir) / "mesh.npz")
+    u = np.full((len(d["xyz"]), 3), np.nan)
+    reaction, volume, section = None, None, None
+    for line in (Path(workdir) / "job.dat").read_text().splitlines():
+        s = line.strip()
+        if not s:
+            continue
+        if re.match(r"^[a-z]", s):
+            section = "u" if s.startswith("displacements") else "rf" if s.startswith("total force") else \
+                "vol" if s.startswith("total volume") else None
+            continue
+        v = s.split()
+        if section == "u":
+            u[int(v[0]) - 1] = [float(x) for x in v[1:4]]
+        elif section == "rf":
+            reaction = [float(x) for x in v[:3]]
+        elif section == "vol":
+            volume = float(v[0])
+    if reaction is None or volume is None or np.isnan(u[d["surface_nodes"]]).any():
+        raise RuntimeError(f"calculix_peer: {workdir}/job.dat lacks displacements, the reaction or the volume")
+    return u, np.array(reaction), volume
+
+
+def evaluate(workdir, u, points, k=8, chunk=2048):
+    """The displacement at surface points: the closest of the k surface triangles whose centroids
+    are nearest, its quadratic (6-node) interpolation at the point's projection."""
+    d = np.load(Path(workdir) / "mesh.npz")
+    xyz, tris = d["xyz"], d["tris"]
+    a, b, c = xyz[tris[:, 0]], xyz[tris[:, 1]], xyz[tris[:, 2]]
+    cen = (a + b + c) / 3
+    cc = np.einsum("ij,ij->i", cen, cen)
+    out = np.empty((len(points), 3))
+    for s in range(0, len(points), chunk):
+        q = points[s:s + chunk]
+        d2 = cc[None, :] - 2 * q @ cen.T
+        cand = np.argpartition(d2, min(k, len(cen) - 1), axis=1)[:, :k]  # (m, k)
+        lam, dist = _project(q[:, None, :], a[cand], b[cand], c[cand])
+        best = np.argmin(dist, axis=1)
+        rows = np.arange(len(q))
+        t = tris[cand[rows, best]]  # (m, 6)
+        l0, l1, l2 = (lam[rows, best, i] for i in range(3))
+        n = np.stack([l0 * (2 * l0 - 1), l1 * (2 * l1 - 1), l2 * (2 * l2 - 1), 4 * l0 * l1, 4 * l1 * l2, 4 * l2 * l0], axis=1)
+        out[s:s + chunk] = np.einsum("mi,mij->mj", n, u[t])
+    return out
+
+
+def _project(p, a, b, c):
+    """Barycentric coordinates of p's projection on triangles abc, clipped into the triangle (a
+    close stand-in for the closest point near the surface), and the distance to that point."""
+    e0, e1, w = b - a, c - a, p - a
+    d00, d01, d11 = (e0 * e0).sum(-1), (e0 * e1).sum(-1), (e1 * e1).sum(-1)
+    d20, d21 = (w * e0).sum(-1), (w * e1).sum(-1)
+    den = d00 * d11 - d01 * d01
+    l1 = (d11 * d20 - d01 * d21) / den
+    l2 = (d00 * d21 - d01 * d20) / den
+    lam = np.clip(np.stack([1 - l1 - l2, l1, l2], axis=-1), 0, None)
+    lam /= lam.sum(-1, keepdims=True)
+    x = lam[..., :1] * a + lam[..., 1:2] * b + lam[..., 2:] * c
+    return lam, np.linalg.norm(p - x, axis=-1)
+
+
+def relative_l2(u, ref, weights):
+    """sqrt(sum w |u - ref|^2 / sum w |ref|^2): the report's surface displacement error."""
+    return float(math.sqrt((weights * ((u - ref) ** 2).sum(1)).sum() / (weights * (ref ** 2).sum(1)).sum()))
+
+
+def read_stl_centroids(path):
+    """Centroids and areas of an ASCII STL's triangles: the fixed points the FE levels are compared at."""
+    v = np.array([[float(x) for x in line.split()[1:4]] for line in Path(path).read_text().splitlines()
+                  if line.lstrip().startswith("vertex")]).reshape(-1, 3, 3)
+    area = 0.5 * np.linalg.norm(np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0]), axis=1)
+    return v.mean(axis=1), area
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    sub = ap.add_subparsers(dest="command", required=True)
+    m = sub.add_parser("mesh")
+    m.add_argument("--surface", required=True)
+    m.add_argument("--out", required=True)
+    m.add_argument("--h", type=float, required=True)
+    m.add_argument("--h-edge", type=float, required=True)
+    m.add_argument("--patch-radius", type=float, required=True)
+    m.add_argument("--young", type=float, default=3000.0)
+    m.add_argument("--poisson", type=float, default=0.45)
+    m.add_argument("--density", type=float, default=1000.0)
+    m.add_argument("--gravity", type=float, default=9.81)
+    c = sub.add_parser("ccx")
+    c.add_argument("--dir", required=True)
+    a = ap.parse_args()
+    if a.command == "ccx":
+        print(json.dumps(run_ccx(a.dir)))
+        return 0
+    info = mesh(a.surface, a.out, a.h, a.h_edge, a.patch_radius, a.young, a.poisson, a.density, a.gravity)
+    print(json.dumps(info))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
