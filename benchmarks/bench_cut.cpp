@@ -1,5 +1,5 @@
 // bench_cut: the system and table updates of cutting (docs/cutting.md; Wang et al. 2007 §5.3).
-//   1. The paper's Table 1: soft boxes of n = 1080, 1272 and 1584 equations (quick: 324) standing
+//   1. The paper's Table 1: soft boxes of n = 1080, 1272 and 1584 equations (quick: 384) standing
 //      on their base under gravity; a "new cut" (the first step on the uncut body) and an "extended
 //      cut" (the next step along the same path), re-solved by GMRES (no restart), BiCGStab and BiCG
 //      warm-started from the previous solution (block-Jacobi, tolerance 1e-12), printed beside the
@@ -9,16 +9,26 @@
 //      nearest the cut, or all when fewer), against n: median over the steps of one cut (opening
 //      and five extensions), the refactorisation it replaces (re-assembly, LU, table) and the
 //      agreement of the two (largest relative difference of base state and table).
+//      Beside it, the step's flop floor: changed_columns d = 3 (modified + added elements), the
+//      rows and columns of A* the step changes (its correction has rank 2d; docs/cutting.md),
+//      rounded mean over the steps; any exact update applies the inverse to at least those d
+//      columns, 2 n^2 d flops, priced at the rate of a bare dgemm (n x n times n x d, median of 5)
+//      measured in the same run: flop_floor_seconds = 2 n^2 d / dgemm rate.
 //   3. Narrow gaps: the solution on a cut mesh with default quadrature against a much finer one,
 //      as gap width / edge length shrinks (kMinimumGapRatio in cutting/gap_limit.hpp).
-//   bench_cut [--quick] [--json PATH] [--equations N1,N2,...] [--repeats R] [--no-gap] [--no-table1] [--no-latency] [--fresh-pages]
+//   bench_cut [--quick] [--json PATH] [--csv-dir DIR] [--equations N1,N2,...] [--table1-equations N1,...]
+//             [--repeats R] [--no-gap] [--no-table1] [--no-latency] [--fresh-pages]
 // JSON: "table1": [{"equations", "scenario", "method", "seconds", "iterations", ...}],
-//       "latency": [{"equations", "region_elements", "exact_seconds", "refactor_seconds", "agreement", ...}],
+//       "latency": [{"equations", "region_elements", "exact_seconds", "refactor_seconds", "agreement",
+//                    "changed_columns", "dgemm_gflops", "flop_floor_seconds", ...}],
 //       "gap": [{"gap_ratio", "difference_vs_fine_quadrature", ...}].
+// --csv-dir DIR: table1.csv, latency.csv (the JSON's fields, one column each) and run.csv.
 #include <Eigen/Core>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -230,59 +240,92 @@ std::array<int, 3> block_near(long long equations) {
   return best;
 }
 
+/// One latency size: the cut's steps on the box nearest `N` equations, each timed, and the
+/// refactorisation after the last. Its own scope, so that its tables are freed before the next
+/// measurement (n = 15,000: 1.8 GB per LU).
+json latency_point(int N) {
+  const auto c = block_near(N);
+  const Body body = make_body(c[0], c[1], c[2]);
+  const int extensions = 5;
+  const std::vector<Step> steps = cut_steps(body, extensions);
+  auto t = precompute(body, 1000);
+  const double precompute_s = t->timings().assembly_seconds + t->timings().factorization_seconds + t->timings().table_seconds;
+  std::vector<double> exact, integ, sys, tab;
+  double changed = 0.0;
+  Index rank = 0;
+  std::shared_ptr<const GreensTable> before_last;
+  for (const Step& s : steps) {
+    GreensTableUpdateResult r;
+    before_last = t;
+    t = t->updated(s.mesh, s.delta, {}, &r);
+    exact.push_back(r.total_seconds);
+    integ.push_back(r.integration_seconds);
+    sys.push_back(r.system_seconds);
+    tab.push_back(r.table_seconds);
+    changed += double(s.delta.modified.size() + s.delta.added.size()) / double(steps.size());
+    rank = r.rank;
+  }
+  const auto t0 = SteadyClock::now();
+  auto ref = before_last->recomputed_after(steps.back().mesh, steps.back().delta);
+  const double refactor_s = seconds_since(t0);
+  return {{"equations", body.mesh->num_dofs()},
+          {"block", {c[0], c[1], c[2]}},
+          {"region_elements", before_last->region().size()},
+          {"steps", steps.size()},
+          {"changed_elements_per_step", changed},
+          // d = 3 (|M| + |N|): the rows and columns of A* a step changes (docs/cutting.md).
+          {"changed_columns", std::lround(3.0 * changed)},
+          {"exact_seconds", median(exact)},
+          {"exact_seconds_all", exact},
+          {"integration_seconds", median(integ)},
+          {"system_seconds", median(sys)},
+          {"table_seconds", median(tab)},
+          {"refactor_seconds", refactor_s},
+          {"precompute_seconds", precompute_s},
+          {"agreement", table_difference(*t, *ref)},
+          {"final_rank", rank}};
+}
+
+/// GFLOP/s of a bare dgemm, an n x n matrix times an n x k one (Eigen's product: OpenBLAS with
+/// BEMSURG_HAVE_BLAS), median of `repeats`: the rate the step's flop floor is priced at.
+double dgemm_gflops(Index n, Index k, int repeats) {
+  const Eigen::MatrixXd a = Eigen::MatrixXd::Constant(n, n, 0.5) + Eigen::MatrixXd::Identity(n, n);
+  const Eigen::MatrixXd b = Eigen::MatrixXd::Constant(n, k, 0.25);
+  Eigen::MatrixXd c(n, k);
+  c.noalias() = a * b;  // warm-up: first touches, threads started
+  std::vector<double> secs;
+  for (int r = 0; r < repeats; ++r) {
+    const auto t0 = SteadyClock::now();
+    c.noalias() = a * b;
+    secs.push_back(seconds_since(t0));
+  }
+  return 2.0 * double(n) * double(n) * double(k) / std::max(1e-12, median(secs)) * 1e-9;
+}
+
 void latency(const std::vector<int>& equations, json& out) {
   std::printf("\nCut-step latency, exact update of system + table (region: 1,000 free elements nearest the cut)\n");
-  std::printf("%7s %7s %8s %11s %11s %11s %9s %11s %9s %6s\n", "n", "region", "d/step", "exact s", "integr. s", "system s", "table s",
-              "refactor s", "agree", "rank");
+  std::printf("%7s %7s %5s %10s %10s %10s %9s %10s %8s %9s %5s %8s %9s\n", "n", "region", "d", "exact s", "integr. s", "system s",
+              "table s", "refactor s", "agree", "rank", "GF/s", "floor s", "ex/floor");
   for (int N : equations) {
-    const auto c = block_near(N);
-    const Body body = make_body(c[0], c[1], c[2]);
-    const int extensions = 5;
-    const std::vector<Step> steps = cut_steps(body, extensions);
-    auto t = precompute(body, 1000);
-    const double precompute_s = t->timings().assembly_seconds + t->timings().factorization_seconds + t->timings().table_seconds;
-    std::vector<double> exact, integ, sys, tab;
-    double changed = 0.0;
-    Index rank = 0;
-    std::shared_ptr<const GreensTable> before_last;
-    for (const Step& s : steps) {
-      GreensTableUpdateResult r;
-      before_last = t;
-      t = t->updated(s.mesh, s.delta, {}, &r);
-      exact.push_back(r.total_seconds);
-      integ.push_back(r.integration_seconds);
-      sys.push_back(r.system_seconds);
-      tab.push_back(r.table_seconds);
-      changed += double(s.delta.modified.size() + s.delta.added.size()) / double(steps.size());
-      rank = r.rank;
-    }
-    const auto t0 = SteadyClock::now();
-    auto ref = before_last->recomputed_after(steps.back().mesh, steps.back().delta);
-    const double refactor_s = seconds_since(t0);
-    const double agreement = table_difference(*t, *ref);
-    const Index n = body.mesh->num_dofs();
-    std::printf("%7lld %7zu %8s %11s %11s %11s %9s %11s %9s %6lld\n", static_cast<long long>(n), t->region().size(),
-                fixed_text(changed, 1).c_str(), fixed_text(median(exact), 4).c_str(), fixed_text(median(integ), 4).c_str(),
-                fixed_text(median(sys), 4).c_str(), fixed_text(median(tab), 4).c_str(), fixed_text(refactor_s, 3).c_str(),
-                scientific_text(agreement, 1).c_str(), static_cast<long long>(rank));
-    out.push_back({{"equations", n},
-                   {"block", {c[0], c[1], c[2]}},
-                   {"region_elements", before_last->region().size()},
-                   {"steps", steps.size()},
-                   {"changed_elements_per_step", changed},
-                   {"exact_seconds", median(exact)},
-                   {"exact_seconds_all", exact},
-                   {"integration_seconds", median(integ)},
-                   {"system_seconds", median(sys)},
-                   {"table_seconds", median(tab)},
-                   {"refactor_seconds", refactor_s},
-                   {"precompute_seconds", precompute_s},
-                   {"agreement", agreement},
-                   {"final_rank", rank}});
+    json row = latency_point(N);
+    const Index n = row["equations"].get<Index>(), k = std::max<Index>(1, row["changed_columns"].get<Index>());
+    const double rate = dgemm_gflops(n, k, 5);
+    const double floor_s = 2.0 * double(n) * double(n) * double(k) / (rate * 1e9);
+    row["dgemm_gflops"] = rate;
+    row["flop_floor_seconds"] = floor_s;
+    const double ex = row["exact_seconds"].get<double>();
+    std::printf("%7lld %7zu %5lld %10s %10s %10s %9s %10s %8s %9lld %5s %8s %9s\n", static_cast<long long>(n),
+                row["region_elements"].get<std::size_t>(), static_cast<long long>(k), fixed_text(ex, 4).c_str(),
+                fixed_text(row["integration_seconds"].get<double>(), 4).c_str(), fixed_text(row["system_seconds"].get<double>(), 4).c_str(),
+                fixed_text(row["table_seconds"].get<double>(), 4).c_str(), fixed_text(row["refactor_seconds"].get<double>(), 3).c_str(),
+                scientific_text(row["agreement"].get<double>(), 1).c_str(), static_cast<long long>(row["final_rank"].get<Index>()),
+                fixed_text(rate, 1).c_str(), fixed_text(floor_s, 4).c_str(), fixed_text(ex / floor_s, 1).c_str());
+    out.push_back(row);
   }
   std::printf(
       "  targets (medians): exact <= 0.020 s at n = 1,584 and <= 0.25 s at n = 9,000. Agreement: max relative\n"
-      "  difference of base state and table from a full refactorisation after the last step.\n");
+      "  difference of base state and table from a full refactorisation after the last step. d: changed columns\n"
+      "  per step; floor: 2 n^2 d flops at the dgemm rate (GF/s, n x n times n x d) measured here.\n");
 }
 
 void gap_study(bool quick, json& out) {
@@ -346,18 +389,87 @@ double load_average() {
   return in ? l : -1.0;
 }
 
+/// The boxes of Table 1 by equation count: the paper's three (Wang et al. 2007, Table 1) and the
+/// quick run's 384. Empty when `equations` names another count.
+std::optional<std::array<int, 3>> table1_block(int equations) {
+  switch (equations) {
+    case 384: return std::array<int, 3>{4, 4, 2};
+    case 1080: return std::array<int, 3>{6, 3, 8};
+    case 1272: return std::array<int, 3>{2, 8, 9};
+    case 1584: return std::array<int, 3>{6, 6, 8};
+    default: return std::nullopt;
+  }
+}
+
+/// Rows of JSON objects as CSV under `columns` (one column per parameter, then the metrics:
+/// docs/benchmarks.md, "The report's data"): numbers as their shortest round-trip text in every
+/// locale (number_text.hpp), a missing value as an empty cell.
+bool write_csv(const std::string& path, const json& rows, const std::vector<std::string>& columns) {
+  std::string text;
+  for (std::size_t i = 0; i < columns.size(); ++i) text += (i ? "," : "") + columns[i];
+  text += "\n";
+  for (const json& r : rows) {
+    for (std::size_t i = 0; i < columns.size(); ++i) {
+      if (i) text += ",";
+      const auto v = r.find(columns[i]);
+      if (v == r.end() || v->is_null()) continue;
+      if (v->is_string())
+        text += v->get<std::string>();
+      else if (v->is_number_integer())
+        append_integer(text, v->get<long long>());
+      else if (v->is_boolean())
+        text += v->get<bool>() ? "1" : "0";
+      else
+        append_number(text, v->get<double>());
+    }
+    text += "\n";
+  }
+  std::ofstream out(path);
+  use_classic_locale(out);
+  out << text;
+  if (!out) std::cerr << "bench_cut: cannot write " << path << "\n";
+  return static_cast<bool>(out);
+}
+
+/// --csv-dir: table1.csv, latency.csv (the box's cells as nx, ny, nz) and run.csv (the run's
+/// threads, back end and load), what scripts/report/parts/{table1,cut_latency}.py read.
+bool write_csv_dir(const std::string& dir, const json& report) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  json latency_rows = json::array();
+  for (json r : report["latency"]) {
+    const char* cells[3] = {"nx", "ny", "nz"};
+    for (std::size_t i = 0; i < 3; ++i) r[cells[i]] = r["block"][i];
+    latency_rows.push_back(r);
+  }
+  const json run = json::array({report});
+  return write_csv(dir + "/table1.csv", report["table1"],
+                   {"equations", "scenario", "method", "equations_after", "seconds", "iterations", "integration_seconds",
+                    "agreement_vs_refactor", "paper_seconds", "paper_iterations"}) &&
+         write_csv(dir + "/latency.csv", latency_rows,
+                   {"equations", "nx", "ny", "nz", "region_elements", "steps", "changed_elements_per_step", "changed_columns",
+                    "exact_seconds", "integration_seconds", "system_seconds", "table_seconds", "refactor_seconds", "precompute_seconds",
+                    "agreement", "final_rank", "dgemm_gflops", "flop_floor_seconds"}) &&
+         write_csv(dir + "/run.csv", run,
+                   {"mode", "threads", "dense_backend", "repeats", "freed_memory_reused", "load_average_at_start", "load_average_at_end"});
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   bool quick = false, no_gap = false, no_table1 = false, no_latency = false, fresh_pages = false;
   int repeats = 3;
   std::string json_path;
-  std::vector<int> equations;
+  std::string csv_dir;
+  std::vector<int> equations, table1_equations;
   cli::OptionParser parser = bench::command_line(
       "bench_cut", "The system and table updates of cutting against the paper's Table 1 (docs/cutting.md).\n", quick, json_path);
   parser.value("--equations", "N1,N2,...", equations, "sizes of the latency study")
       .at_least(1)
-      .default_text("1584,4752,9000,15000; --quick: 1000");
+      .default_text("1584,4752,9000,12000; --quick: 1000 (the smallest box: 1,344)");
+  parser.value("--table1-equations", "N1,...", table1_equations, "sizes of Table 1: 1080, 1272, 1584 (the paper's) or 384")
+      .default_text("1080,1272,1584; --quick: 384");
+  parser.value("--csv-dir", "DIR", csv_dir, "write table1.csv, latency.csv and run.csv to DIR (the benchmark report's data)");
   parser.value("--repeats", "R", repeats, "timings per figure (median; --quick: 1)").at_least(1);
   parser.flag("--no-gap", no_gap, "leave out the narrow-gap study");
   parser.flag("--no-table1", no_table1, "leave out Table 1");
@@ -369,9 +481,17 @@ int main(int argc, char** argv) {
   // system (bemsurg/memory_budget.hpp); --fresh-pages measures without it.
   const bool reused = reuse_memory && reuse_freed_memory();
   if (quick) repeats = 1;
-  if (equations.empty()) equations = quick ? std::vector<int>{1000} : std::vector<int>{1584, 4752, 9000, 15000};
-  std::vector<std::array<int, 3>> sizes = {{4, 4, 2}};    // n = 384
-  if (!quick) sizes = {{6, 3, 8}, {2, 8, 9}, {6, 6, 8}};  // n = 1080, 1272, 1584
+  if (equations.empty()) equations = quick ? std::vector<int>{1000} : std::vector<int>{1584, 4752, 9000, 12000};
+  if (table1_equations.empty()) table1_equations = quick ? std::vector<int>{384} : std::vector<int>{1080, 1272, 1584};
+  std::vector<std::array<int, 3>> sizes;
+  for (int n : table1_equations) {
+    const auto block = table1_block(n);
+    if (!block) {
+      std::cerr << "bench_cut: --table1-equations: " << n << " is not one of 384, 1080, 1272, 1584\n";
+      return 2;
+    }
+    sizes.push_back(*block);
+  }
   int threads = 1;
 #ifdef _OPENMP
   threads = omp_get_max_threads();
@@ -406,5 +526,6 @@ int main(int argc, char** argv) {
   report["load_average_at_end"] = load_average();
   std::printf("load average at the end: %s\n", fixed_text(load_average(), 2).c_str());
   if (!bench::write_json_file(json_path, report, "bench_cut")) return 1;
+  if (!csv_dir.empty() && !write_csv_dir(csv_dir, report)) return 1;
   return 0;
 }
