@@ -17,10 +17,11 @@ TITLE = "Precompute against n"
 ORDER = 50
 
 FULL_SIZES = [5, 7, 9, 12, 15]  # n = 780, 1596, 2700, 4896, 7740 (a few minutes on 2 cores)
-QUICK_SIZES = [4, 5, 6]  # n = 480, 780, 1152 (seconds)
+QUICK_SIZES = [4, 6, 8, 10]  # n = 480, 1152, 2112, 3360 (seconds)
 # docs/benchmarks.md ("bench_assembly", "bench_contact"): the targets, judged at the largest n.
 ASSEMBLY_TARGET = 0.5  # assembly / bare dgetrf
 PRECOMPUTE_TARGET = 1.5  # (assembly + factorisation + table) / (bare dgetrf + dgetrs)
+TARGET_N = 6720  # the size the targets are stated at (issue 9)
 
 COLUMNS = ["N", "equations", "elements", "assembly_s", "factorization_s", "table_s", "precompute_s", "bare_factorization_s",
            "bare_solve_s", "bare_s", "precompute_over_bare", "assembly_over_bare_factorization", "factorization_over_bare"]
@@ -91,9 +92,16 @@ def render(ctx):
                      f"{rl.seconds_text(r['bare_solve_s'])} | {r['precompute_over_bare']:.2f} | "
                      f"{r['assembly_over_bare_factorization']:.2f} | {r['factorization_over_bare']:.2f} |")
     lines.append("")
-    lines.append(f"Fitted exponents: assembly {_exp_text(exps['assembly_s'])} (expected ≈ 2), factorisation "
+    lines.append(f"Fitted exponents over all sizes: assembly {_exp_text(exps['assembly_s'])} (expected ≈ 2), factorisation "
                  f"{_exp_text(exps['factorization_s'])} and bare dgetrf {_exp_text(exps['bare_factorization_s'])} "
                  f"(expected ≈ 3), whole precompute {_exp_text(exps['precompute_s'])}.")
+    if len(rows) >= 4:  # the large-n end alone, where fixed costs and BLAS's ramp-up matter less
+        big = rows[-3:]
+        fit = {k: _exp_text(rl.fit_exponent([r["equations"] for r in big], [r[k] for r in big]))
+               for k in ("assembly_s", "factorization_s", "bare_factorization_s", "precompute_s")}
+        lines[-1] += (f" Over the three largest (n = {big[0]['equations']}–{big[-1]['equations']}): assembly "
+                      f"{fit['assembly_s']}, factorisation {fit['factorization_s']}, bare dgetrf "
+                      f"{fit['bare_factorization_s']}, whole precompute {fit['precompute_s']}.")
     if rows:
         lines += ["", _verdict(rows)]
     return "\n".join(lines)
@@ -121,5 +129,7 @@ def _verdict(rows):
         out.append("At smaller n the targets are missed at " + ", ".join(
             f"n = {r['equations']} (assembly {r['assembly_over_bare_factorization']:.2f}×, precompute "
             f"{r['precompute_over_bare']:.2f}×)" for r in small)
-            + ": there the O(n²) assembly is not yet small beside the O(n³) LU (the targets are stated for n ≈ 6720).")
+            + ": there the O(n²) assembly is not yet small beside the O(n³) LU.")
+    if big["equations"] < TARGET_N:
+        out.append(f"(The targets are stated for n ≈ {TARGET_N}; this run's largest n is {big['equations']}.)")
     return " ".join(out)
