@@ -25,8 +25,11 @@
 // bench_contact / bench_assembly, not here. The cut is a stand-in too: a new table snapshot (the
 // old one copied and softened by 2 %) built on the simulation side and swapped in between ticks.
 //
-// usage: bench_haptic_loop [--quick] [--json PATH] [--spin-us US]  (how long the loop spins before
-// each deadline instead of sleeping in the default configuration; default 150 us)
+// usage: bench_haptic_loop [--quick] [--json PATH] [--spin-us US] [--samples-dir DIR]
+//   --spin-us: how long the loop spins before each deadline instead of sleeping in the default
+//   configuration (default 150 us); --samples-dir: write the raw per-tick jitter of the sessions and
+//   empty loops, the bare clock's longest gap per 1 ms slot and the loops' quantiles as CSV
+//   (haptic_samples.hpp says what the files hold; the benchmark report draws their CDFs)
 #include <pthread.h>
 #include <sched.h>
 
@@ -47,6 +50,7 @@
 #include "bemsurg/haptics/session.hpp"
 #include "bemsurg/io/action_script.hpp"
 #include "bench_support.hpp"
+#include "haptic_samples.hpp"
 #include "support/half_space_table.hpp"
 
 using namespace bemsurg;
@@ -140,12 +144,17 @@ struct BareClock {
   /// comparable figure for "overruns", this one for "ticks not rendered".
   std::uint64_t slots_lost_1khz = 0;
   std::vector<std::pair<double, double>> long_gaps;  // (start s, length ms) of the first gaps >= 1 ms
+  /// With record_slots: per 1 ms slot, the longest gap ending in it (a slot wholly inside a gap
+  /// gets that gap): how late a 1 kHz tick in that slot could have started.
+  std::vector<double> slot_max_gap_us;
 };
 
-BareClock bare_clock(double seconds, int priority) {
+BareClock bare_clock(double seconds, int priority, bool record_slots) {
   BareClock r;
   r.seconds = seconds;
   r.long_gaps.reserve(64);
+  // Reserved up front: the timing thread must not allocate (no push_back past the capacity).
+  if (record_slots) r.slot_max_gap_us.reserve(static_cast<std::size_t>(seconds * 1000.0) + 16);
   std::thread thread([&] {
     if (priority > 0) {  // as HapticLoop::run does
       sched_param p{};
@@ -156,6 +165,9 @@ BareClock bare_clock(double seconds, int priority) {
     const auto t0 = Clock::now();
     const auto end = t0 + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
     auto prev = t0;
+    std::int64_t slot = 0;
+    double slot_max = 0.0;
+    std::vector<double>& slots = r.slot_max_gap_us;
     for (;;) {
       const auto now = Clock::now();
       ++r.reads;
@@ -170,6 +182,16 @@ BareClock bare_clock(double seconds, int priority) {
             r.long_gaps.emplace_back(std::chrono::duration<double>(prev - t0).count(), gap / 1000.0);
         }
         r.max_gap_us = std::max(r.max_gap_us, gap);
+      }
+      if (record_slots) {
+        const std::int64_t s = (now - t0) / std::chrono::milliseconds(1);
+        if (s != slot) {
+          if (slots.size() < slots.capacity()) slots.push_back(slot_max);
+          for (std::int64_t k = slot + 1; k < s && slots.size() < slots.capacity(); ++k) slots.push_back(gap);
+          slot = s;
+          slot_max = 0.0;
+        }
+        slot_max = std::max(slot_max, gap);
       }
       prev = now;
       if (now >= end) break;
@@ -241,13 +263,21 @@ int main(int argc, char** argv) {
   bool quick = false;
   std::string json_path;
   double spin_us = 150.0;
+  std::string samples_dir;
   cli::OptionParser parser =
       bench::command_line("bench_haptic_loop",
                           "The haptic loop's rate, jitter and force time in a scripted session against the empty loop\n"
                           "(docs/haptics.md).\n",
                           quick, json_path);
   parser.value("--spin-us", "US", spin_us, "microseconds the loop spins before each tick instead of sleeping").at_least(0.0);
+  parser.value("--samples-dir", "DIR", samples_dir,
+               "write the per-tick jitter and the bare clock's gaps there as CSV (haptic_samples.hpp)");
   if (const std::optional<int> status = cli::parse_command_line(parser, argc, argv)) return *status;
+  bench::SampleFiles samples(samples_dir);
+  if (!samples.good()) {
+    std::fprintf(stderr, "bench_haptic_loop: cannot write into %s\n", samples_dir.c_str());
+    return 1;
+  }
   const Model model = build_model(quick);
   std::printf("bench_haptic_loop: %ld elements, %ld table columns (%s MB), fine edge %s mm\n",
               static_cast<long>(model.mesh->num_elements()), static_cast<long>(model.table->columns().cols()),
@@ -268,37 +298,54 @@ int main(int argc, char** argv) {
   // deadline pushed back by a skipped slot does not make it sleep either).
   auto busy_spin_us = [](double rate) { return 2.0e6 / rate; };
 
-  auto run = [&](double rate, bool with_cuts, double spin, double script_scale) {
+  auto run = [&](double rate, bool with_cuts, double spin, double script_scale, haptics::SessionObserver* observer = nullptr) {
     haptics::SessionOptions o = options;
     o.loop.spin_us = spin;
     const ActionScript script = load_action_script_from_string(script_text(rate, script_scale, with_cuts), ".", "bench");
     haptics::Session session(model.mesh, model.table, script, o);
-    return session.run();
+    return session.run(observer);
   };
   const double script_seconds = load_action_script_from_string(script_text(1000.0, scale, true), ".", "bench").duration;
-  auto run_empty = [&](double rate, double spin) {
+  auto run_empty = [&](double rate, double spin, haptics::SessionObserver* observer) {
     haptics::SessionOptions o = options;
     o.loop.spin_us = spin;
     o.graphics_hz = 0.0;
     o.cut_hook = nullptr;
     haptics::Session session(model.mesh, model.table, load_action_script_from_string(air_script(rate, script_seconds), ".", "empty"), o);
-    return session.run();
+    return session.run(observer);
   };
 
   // 1. Platform baseline, before the session: the bare clock, then the empty loop in both spin
   //    settings, each for the session script's duration.
-  const BareClock bare = bare_clock(script_seconds, options.loop.realtime_priority);
+  const BareClock bare = bare_clock(script_seconds, options.loop.realtime_priority, samples.enabled());
   const double busy_us = busy_spin_us(1000.0);
-  const haptics::SessionResult empty_default = run_empty(1000.0, spin_us);
-  const haptics::SessionResult empty_busy = run_empty(1000.0, busy_us);
+  // The per-tick jitter, when asked for (--samples-dir): from the trace, on the simulation side.
+  bench::JitterRecorder rec_empty_default(1000.0, script_seconds), rec_empty_busy(1000.0, script_seconds);
+  bench::JitterRecorder rec_default(1000.0, 2.0 * script_seconds), rec_busy(1000.0, 2.0 * script_seconds);
+  auto recorder = [&](bench::JitterRecorder& r) { return samples.enabled() ? &r : nullptr; };
+  const haptics::SessionResult empty_default = run_empty(1000.0, spin_us, recorder(rec_empty_default));
+  const haptics::SessionResult empty_busy = run_empty(1000.0, busy_us, recorder(rec_empty_busy));
   if (empty_default.loop.faults != 0 || empty_busy.loop.faults != 0 || empty_default.models_built < 1) {
     std::fprintf(stderr, "bench_haptic_loop: the empty loop did not run cleanly\n");
     return 1;
   }
 
   // 2. The session at 1 kHz in real time, sleep-then-spin (the library default) and busy.
-  const haptics::SessionResult main_default = run(1000.0, true, spin_us, scale);
-  const haptics::SessionResult main_busy = run(1000.0, true, busy_us, scale);
+  const haptics::SessionResult main_default = run(1000.0, true, spin_us, scale, recorder(rec_default));
+  const haptics::SessionResult main_busy = run(1000.0, true, busy_us, scale, recorder(rec_busy));
+  samples.jitter("bare_clock", "max_gap_per_1ms_slot", bare.slot_max_gap_us);
+  samples.jitter("empty_loop", "sleep_spin", rec_empty_default.values_us());
+  samples.jitter("empty_loop", "busy", rec_empty_busy.values_us());
+  samples.jitter("session", "sleep_spin", rec_default.values_us());
+  samples.jitter("session", "busy", rec_busy.values_us());
+  samples.loop("empty_loop", "sleep_spin", empty_default.loop);
+  samples.loop("empty_loop", "busy", empty_busy.loop);
+  samples.loop("session", "sleep_spin", main_default.loop);
+  samples.loop("session", "busy", main_busy.loop);
+  if (!samples.good()) {
+    std::fprintf(stderr, "bench_haptic_loop: writing the samples into %s failed\n", samples_dir.c_str());
+    return 1;
+  }
 
   // Which configuration the top-level keys report. Decided once from measurements (docs/
   // haptics.md, "Measured": medians of 3 full runs), not per run, so the keys mean the same thing

@@ -7,11 +7,13 @@
 //         it change, as after an incremental cut), from the previous solution;
 // with iterations, median seconds of repeated solves, the true residual recomputed from x and the
 // error against dense LU; ratios are ours / Eigen's for the same method and preconditioner.
-//   bench_krylov [--quick] [--json PATH] [--csv PATH] [--tolerance T] [--repeats R]
+//   bench_krylov [--quick] [--json PATH] [--csv PATH] [--tolerance T] [--repeats R] [--equations N1,N2,...]
 // --quick: one small system (a few seconds, the CI smoke test). Full: the paper's sizes
-// n = 1080, 1272, 1584 (plus the small one). JSON fields: docs/benchmarks.md "bench_krylov".
+// n = 1080, 1272, 1584 (plus the small one). --equations: only the systems of these sizes (any of
+// 324, 1080, 1272, 1584; the benchmark report's shorter full run). JSON fields: docs/benchmarks.md "bench_krylov".
 #include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
@@ -252,16 +254,29 @@ int main(int argc, char** argv) {
   bool quick = false;
   std::string json_path, csv_path;
   Options o;
+  std::vector<int> equations;
   cli::OptionParser parser = bench::command_line(
       "bench_krylov", "bemsurg's Krylov solvers against Eigen's and the dense LU on BEM systems (docs/solvers.md).\n", quick, json_path);
   parser.value("--csv", "PATH", csv_path, "write one row per solve to PATH as CSV");
   parser.value("--tolerance", "T", o.tolerance, "on ||b - A x|| / ||b||").above(0.0);
   parser.value("--repeats", "R", o.repeats, "solves per figure (median; --quick: at most 3)").at_least(1);
+  parser.value("--equations", "N1,N2,...", equations, "only the systems of these sizes (of 324, 1080, 1272, 1584)")
+      .at_least(1)
+      .default_text("all four; --quick: 324");
   if (const std::optional<int> status = cli::parse_command_line(parser, argc, argv)) return *status;
   if (quick) o.repeats = std::min(o.repeats, 3);
   // (nx, ny, nz) cells: 4 (nx ny + ny nz + nz nx) elements, 3 unknowns each.
-  std::vector<std::array<int, 3>> sizes = {{3, 3, 3}};                       // n = 324
-  if (!quick) sizes.insert(sizes.end(), {{6, 3, 8}, {2, 8, 9}, {6, 6, 8}});  // n = 1080, 1272, 1584 (Table 1)
+  const std::vector<std::array<int, 3>> boxes = {{3, 3, 3}, {6, 3, 8}, {2, 8, 9}, {6, 6, 8}};  // n = 324; 1080, 1272, 1584 (Table 1)
+  auto unknowns = [](const std::array<int, 3>& c) { return 12 * (c[0] * c[1] + c[1] * c[2] + c[2] * c[0]); };
+  std::vector<std::array<int, 3>> sizes;
+  for (const auto& c : boxes)
+    if (equations.empty() ? (!quick || unknowns(c) == 324) : std::count(equations.begin(), equations.end(), unknowns(c)) > 0)
+      sizes.push_back(c);
+  for (int n : equations)
+    if (std::none_of(boxes.begin(), boxes.end(), [&](const std::array<int, 3>& c) { return unknowns(c) == n; })) {
+      std::cerr << "bench_krylov: --equations " << n << ": no such system (324, 1080, 1272, 1584)\n";
+      return 2;
+    }
   int threads = 1;
 #ifdef _OPENMP
   threads = omp_get_max_threads();
