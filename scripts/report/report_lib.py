@@ -104,10 +104,12 @@ class Context:
         out_path = self.out / "logs" / (part + ".stdout.tmp")
         err_path = self.out / "logs" / (part + ".stderr.tmp")
         start = time.monotonic()
+        hwm = 0
         with open(out_path, "w") as so, open(err_path, "w") as se:
             proc = subprocess.Popen([str(a) for a in args], stdout=so, stderr=se, env=full_env)
             deadline = None if timeout is None else start + timeout
             while True:
+                hwm = max(hwm, _vm_hwm_bytes(proc.pid))
                 pid, status, usage = os.wait4(proc.pid, os.WNOHANG)
                 if pid != 0:
                     break
@@ -125,7 +127,11 @@ class Context:
         if proc.returncode != 0:
             tail = "\n".join(stderr.strip().splitlines()[-15:])
             raise PartFailed(f"{' '.join(map(str, args))} exited with {proc.returncode}:\n{tail}")
-        return stdout, seconds, usage.ru_maxrss * 1024  # Linux: KiB
+        # The peak is the child's own VmHWM, polled every 10 ms (the kernel keeps it per address
+        # space: it starts afresh at exec). wait4's ru_maxrss is not used when a poll succeeded:
+        # Linux carries the high-water mark across fork and exec, so a small program would report
+        # the driver's own size. A program that ends before the first poll falls back to it.
+        return stdout, seconds, (hwm if hwm > 0 else usage.ru_maxrss * 1024)  # ru_maxrss: KiB
 
     # ---- cached references ------------------------------------------------------------------
     def cache(self, name, key):
@@ -141,6 +147,18 @@ class Context:
     @staticmethod
     def mark_cached(d):
         (Path(d) / "done").write_text(time.strftime("%Y-%m-%dT%H:%M:%S") + "\n")
+
+
+def _vm_hwm_bytes(pid):
+    """The process's peak resident memory so far (/proc/PID/status VmHWM), 0 when unreadable."""
+    try:
+        with open(f"/proc/{pid}/status") as f:
+            for line in f:
+                if line.startswith("VmHWM:"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        pass
+    return 0
 
 
 def file_digest(*paths):
