@@ -155,6 +155,8 @@ def main():
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--only", default=None)
     ap.add_argument("--render-only", action="store_true", help="draw the charts and report.md from DIR's data, run nothing")
+    ap.add_argument("--require-complete", action="store_true",
+                    help="fail unless DIR holds a full run of every part without a failure (what --publish needs)")
     a = ap.parse_args()
     ctx = report_lib.Context(a.out, a.build, HERE.parent.parent, a.quick)
     parts = load_parts()
@@ -189,6 +191,12 @@ def main():
     status_path.write_text(json.dumps(status, indent=1))
     broken = failed + sorted(RENDER_FAILED)
     print(f"run-benchmarks: wrote {ctx.out / 'report.md'}")
+    if a.require_complete:
+        incomplete = [p.NAME for p in parts if not isinstance(status.get(p.NAME), dict)
+                      or status[p.NAME].get("mode") != "full" or status[p.NAME].get("error")]
+        if ctx.quick or incomplete:
+            report_lib.warn("not publishing: no full, successful run of " + ", ".join(incomplete or ["(quick mode)"]))
+            return 1
     if broken:
         report_lib.warn("failed: " + ", ".join(sorted(set(broken))))
         return 1

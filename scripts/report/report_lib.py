@@ -274,7 +274,7 @@ def cheapest_table(rows, error_key, cost_keys, describe, thresholds=THRESHOLDS):
     for t in thresholds:
         ok = [r for r in rows if r.get(error_key) is not None and r[error_key] <= t and r.get(first)]
         if not ok:
-            lines.append(f"| {t:.0%} | none of the configurations measured reaches it |" + " |" * (len(cost_keys) - 1))
+            lines.append(f"| {t:.0%} | none of the configurations measured reaches it |" + " |" * len(cost_keys))
             continue
         best = min(ok, key=lambda r: r[first])
         cells = " | ".join(fmt(best.get(k)) for k, (_, fmt) in cost_keys.items())
