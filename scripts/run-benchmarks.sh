@@ -10,9 +10,11 @@
 #   --build DIR reuse an existing Release tree (default: configure and build build-bench/)
 #   --only PART run one part (chart family) and redraw the report from what DIR holds
 #   --publish   with a full run: copy report.md and its charts to docs/report.md, docs/images/report/
+#   --render-only  run nothing: redraw the charts and report.md from DIR's data (with --publish:
+#               only when DIR holds a full run of every part without a failure)
 set -euo pipefail
 cd "$(dirname "$0")/.."
-quick=0 out=results build="" only="" publish=0
+quick=0 out=results build="" only="" publish=0 render_only=0
 while [ $# -gt 0 ]; do
   case "$1" in
     --quick) quick=1 ;;
@@ -20,7 +22,8 @@ while [ $# -gt 0 ]; do
     --build) build=${2:?--build needs a folder}; shift ;;
     --only) only=${2:?--only needs a part name}; shift ;;
     --publish) publish=1 ;;
-    -h|--help) sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    --render-only) render_only=1 ;;
+    -h|--help) sed -n '2,15p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "run-benchmarks: unknown option '$1' (--help lists them)" >&2; exit 2 ;;
   esac
   shift
@@ -32,21 +35,28 @@ fi
 
 bash scripts/setup-deps.sh > /dev/null
 start=$(date +%s)
-if [ -z "$build" ]; then
+if [ "$render_only" = 1 ]; then
+  :  # nothing to build or run
+elif [ -z "$build" ]; then
   build=build-bench
   cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DBEMSURG_BUILD_TESTS=OFF -DBEMSURG_BUILD_BENCHMARKS=ON \
     -DBEMSURG_WARNINGS_AS_ERRORS="${BEMSURG_WARNINGS_AS_ERRORS:-OFF}" > /dev/null
 fi
-if ! grep -q '^CMAKE_BUILD_TYPE:STRING=Release$' "$build/CMakeCache.txt" 2>/dev/null; then
+if [ "$render_only" = 1 ]; then
+  build=${build:-build-bench}
+elif ! grep -q '^CMAKE_BUILD_TYPE:STRING=Release$' "$build/CMakeCache.txt" 2>/dev/null; then
   echo "run-benchmarks: $build is not a configured Release tree (timings of another build type mislead)" >&2
   exit 2
+else
+  cmake --build "$build" -j"${JOBS:-2}" --target bemsurg_benchmarks
+  echo "run-benchmarks: build took $(( $(date +%s) - start )) s"
 fi
-cmake --build "$build" -j"${JOBS:-2}" --target bemsurg_benchmarks
-echo "run-benchmarks: build took $(( $(date +%s) - start )) s"
 
 args=(--out "$out" --build "$build")
 [ "$quick" = 1 ] && args+=(--quick)
 [ -n "$only" ] && args+=(--only "$only")
+[ "$render_only" = 1 ] && args+=(--render-only)
+[ "$publish" = 1 ] && args+=(--require-complete)
 # Debian's python3 (python3-matplotlib): another python3 may come first on PATH.
 status=0
 /usr/bin/python3 scripts/report/make_report.py "${args[@]}" || status=$?

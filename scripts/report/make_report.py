@@ -122,6 +122,11 @@ def write_report(ctx, parts, header, status):
              "this run's CSV files, written beside this page; ratios compare measurements of the same run.", "",
              "| | |", "|---|---|"]
     lines += [f"| {label} | {header.get(key, 'unknown')} |" for label, key in HEADER_ROWS]
+    timed = [(p.NAME, status[p.NAME]["seconds"]) for p in parts
+             if isinstance(status.get(p.NAME), dict) and status[p.NAME].get("seconds") is not None]
+    if timed:
+        lines += ["", f"Time of the parts' runs (the CalculiX reference counts only when it was not cached): "
+                  f"{sum(t for _, t in timed) / 60:.1f} min in all — " + ", ".join(f"{n} {t:.0f} s" for n, t in timed) + "."]
     if ctx.quick:
         lines += ["", "**Quick mode**: small sizes and few repeats, to check that every chart renders. "
                   "The figures are not the published ones (docs/report.md holds the full run)."]

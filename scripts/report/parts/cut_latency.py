@@ -20,7 +20,7 @@ ORDER = 40
 
 GOALS = [(1584, 0.020, "20 ms at n = 1,584"), (9000, 0.25, "0.25 s at n = 9,000")]  # docs/cutting.md, "Timing"
 QUICK_EQUATIONS = "1344,1800,2400"  # 1,344: the smallest box with room for the cut (bench_cut's block_near)
-FULL_EQUATIONS = "1584,3000,4752,9000,12000"
+FULL_EQUATIONS = "1584,3000,4752,9000,12000,15000"
 
 
 def run(ctx):

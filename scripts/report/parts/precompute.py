@@ -16,7 +16,7 @@ NAME = "precompute"
 TITLE = "Precompute against n"
 ORDER = 50
 
-FULL_SIZES = [5, 7, 9, 12, 15]  # n = 780, 1596, 2700, 4896, 7740 (a few minutes on 2 cores)
+FULL_SIZES = [5, 7, 9, 12, 15, 18, 21]  # n = 780 … 15372 (about 2 minutes on 2 idle cores)
 QUICK_SIZES = [4, 6, 8, 10]  # n = 480, 1152, 2112, 3360 (seconds)
 # docs/benchmarks.md ("bench_assembly", "bench_contact"): the targets, judged at the largest n.
 ASSEMBLY_TARGET = 0.5  # assembly / bare dgetrf
