@@ -295,6 +295,8 @@ def seconds_text(s):
 def bytes_text(b):
     if b is None:
         return "–"
+    if b >= 2**30:
+        return f"{b / 2**30:.3g} GiB"
     return f"{b / 2**20:.3g} MiB"
 
 
