@@ -271,7 +271,7 @@ int main(int argc, char** argv) {
                           quick, json_path);
   parser.value("--spin-us", "US", spin_us, "microseconds the loop spins before each tick instead of sleeping").at_least(0.0);
   parser.value("--samples-dir", "DIR", samples_dir,
-               "write the per-tick jitter and the bare clock's gaps there as CSV (haptic_samples.hpp)");
+               "write the per-tick jitter and force time and the bare clock's gaps there as CSV (haptic_samples.hpp)");
   if (const std::optional<int> status = cli::parse_command_line(parser, argc, argv)) return *status;
   bench::SampleFiles samples(samples_dir);
   if (!samples.good()) {
@@ -338,6 +338,10 @@ int main(int argc, char** argv) {
   samples.jitter("empty_loop", "busy", rec_empty_busy.values_us());
   samples.jitter("session", "sleep_spin", rec_default.values_us());
   samples.jitter("session", "busy", rec_busy.values_us());
+  samples.force_time("empty_loop", "sleep_spin", rec_empty_default.compute_us());
+  samples.force_time("empty_loop", "busy", rec_empty_busy.compute_us());
+  samples.force_time("session", "sleep_spin", rec_default.compute_us());
+  samples.force_time("session", "busy", rec_busy.compute_us());
   samples.loop("empty_loop", "sleep_spin", empty_default.loop);
   samples.loop("empty_loop", "busy", empty_busy.loop);
   samples.loop("session", "sleep_spin", main_default.loop);

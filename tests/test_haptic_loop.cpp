@@ -308,6 +308,16 @@ TEST_CASE("the loop thread starts and stops with zero force sent", "[haptics][lo
   CHECK(loop.statistics().faults == 0);
   // One write per tick, plus zero force on start, at the thread's end and after the join.
   CHECK(device.writes() == static_cast<long>(loop.statistics().ticks) + 3);
+  // Each trace entry carries its own tick's computation time: positive, and at most the loop's
+  // force-time maximum (the same tick's, measured a little later: after the trace push).
+  TickSample traced;
+  int entries = 0;
+  while (loop.pop_sample(traced)) {
+    ++entries;
+    CHECK(traced.compute_us > 0.0);
+    CHECK(traced.compute_us <= loop.statistics().force_us.max);
+  }
+  CHECK(entries > 0);
   loop.stop();  // idempotent
   CHECK(device.writes() == static_cast<long>(loop.statistics().ticks) + 3);
 }

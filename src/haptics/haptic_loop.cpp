@@ -214,6 +214,7 @@ void HapticLoop::record_tick(TickSample& sample, double now, double dt, bool lat
   sample.time = now;
   sample.model_version = current_ ? current_->version : 0;
   sample.watchdog_gain = gain_;
+  sample.compute_us = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t_start).count();
   if (!trace_.push(sample)) ++counters_.trace_dropped;
   newest_.publish();
   const double compute_us = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t_start).count();

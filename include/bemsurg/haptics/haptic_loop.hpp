@@ -96,6 +96,9 @@ struct TickSample {
   double time = 0.0;  // session seconds
   std::uint64_t model_version = 0;
   double watchdog_gain = 1.0;
+  // Microseconds from the tick's start to its trace entry: the force computation and the safety
+  // stages, the per-tick value behind LoopStatistics' force_us (which also counts the push itself).
+  double compute_us = 0.0;
   std::array<ChannelSample, kMaxChannels> channel{};
 };
 

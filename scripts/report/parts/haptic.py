@@ -6,8 +6,10 @@ CSV files (bench_haptic_loop --samples-dir, benchmarks/haptic_samples.hpp):
   jitter.csv     source (session | empty_loop | bare_clock), configuration (busy | sleep_spin;
                  max_gap_per_1ms_slot for the bare clock), value_us: one row per tick (the bare
                  clock: per 1 ms slot, its longest gap);
+  force_time.csv source (session | empty_loop), configuration, value_us: every tick's force
+                 computation (TickSample::compute_us);
   quantiles.csv  source, configuration, metric (jitter | force), ticks, p50_us, p99_us, p999_us,
-                 max_us: the loop's own histogram (force time is kept only as these quantiles);
+                 max_us: the loop's own histogram;
 and loops.csv (from its JSON): source, configuration, ticks, seconds, rate_hz, overruns,
 overruns_per_s, gaps_over_1ms, max_gap_us (the last two for the bare clock only).
 """
@@ -75,6 +77,9 @@ def render(ctx):
     jitter = {}
     for r in rl.read_csv(d / "jitter.csv"):
         jitter.setdefault((r["source"], r["configuration"]), []).append(r["value_us"])
+    force = {}
+    for r in rl.read_csv(d / "force_time.csv"):
+        force.setdefault((r["source"], r["configuration"]), []).append(r["value_us"])
     quant = {(r["source"], r["configuration"], r["metric"]): r for r in rl.read_csv(d / "quantiles.csv")}
     loops = {(r["source"], r["configuration"]): r for r in rl.read_csv(d / "loops.csv")}
     bare_key = ("bare_clock", "max_gap_per_1ms_slot")
@@ -85,17 +90,12 @@ def render(ctx):
         ax.axvline(PERIOD_US, color="red", lw=1.2, alpha=0.7, label="1 ms period")
     for k, cfg in enumerate(CONFIGS):
         for source, style in (("session", "-"), ("empty_loop", "--")):
-            q = quant.get((source, cfg, "force"))
-            if q:
-                xs, ys = [q["p50_us"], q["p99_us"], q["p999_us"]], [0.5, 0.01, 0.001]
-                if q["ticks"] > 1000:  # fewer ticks: the p99.9 is the maximum already
-                    xs, ys = xs + [q["max_us"]], ys + [1.0 / q["ticks"]]
-                ax_f.plot(np.maximum(xs, 0.01), ys, linestyle=style,
-                          marker=rl.MARKERS[k], color=f"C{k}", label=f"{source.replace('_', ' ')}, {CONFIG_TEXT[cfg]}")
+            _ccdf(ax_f, force.get((source, cfg), []), f"{source.replace('_', ' ')}, {CONFIG_TEXT[cfg]}", linestyle=style,
+                  color=f"C{k}")
             _ccdf(ax_j, jitter.get((source, cfg), []), f"{source.replace('_', ' ')}, {CONFIG_TEXT[cfg]}", linestyle=style,
                   color=f"C{k}")
     _ccdf(ax_j, jitter.get(bare_key, []), "bare clock: longest gap per 1 ms slot", color="black", alpha=0.7)
-    ax_f.set_title("Force-computation time per tick\n(p50, p99, p99.9, max of the loop's histogram)", fontsize=9)
+    ax_f.set_title("Force-computation time (every tick)", fontsize=9)
     ax_j.set_title("Tick jitter |period − 1 ms| (every tick)", fontsize=9)
     for ax, what in ((ax_f, "force-computation time (µs)"), (ax_j, "jitter (µs)")):
         ax.set_xscale("log")
@@ -112,8 +112,8 @@ def render(ctx):
         "**bare-clock** thread at the same SCHED_FIFO priority reading the clock (drawn as the longest time it did not "
         "run within each 1 ms slot: how late any 1 kHz tick in that slot could have started). Two loop configurations: "
         "busy (spins, never sleeps: the benchmark's reported one) and sleep-then-spin. Curves are 1 − CDF on log axes, so "
-        "the tail (p99 at 10⁻², p99.9 at 10⁻³) is visible; the loop keeps force time only as its histogram's "
-        "quantiles, so that plot has four points per curve.", "",
+        "the tail (p99 at 10⁻², p99.9 at 10⁻³) is visible. Force time is each tick's own (`TickSample::compute_us`: "
+        "from the tick's start to its trace entry); the table's quantiles are the loop's own statistics.", "",
         "![haptic force time and jitter](images/haptic_cdf.png)", "",
         "| configuration | metric | session p50 / p99 / p99.9 / max (µs) | empty loop p50 / p99 / p99.9 / max (µs) | "
         "session / empty loop (p50, p99, p99.9) |",
