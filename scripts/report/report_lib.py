@@ -66,15 +66,20 @@ class Context:
         return str(p)
 
     # ---- running programs -------------------------------------------------------------------
-    def run(self, args, part, env=None, timeout=None, cwd=None):
-        """Run one command to completion, logging it and its stderr to DIR/logs/<part>.log;
-        returns (stdout, seconds). A failure raises PartFailed with the end of its stderr."""
+    def _start_log(self, args, part, env):
+        """The child's environment (ours plus env) and the part's log, with the command appended."""
         full_env = dict(os.environ)
         if env:
             full_env.update({k: str(v) for k, v in env.items()})
         log = self.out / "logs" / (part + ".log")
         with open(log, "a") as lf:
             lf.write("$ " + " ".join(shlex.quote(str(a)) for a in args) + "\n")
+        return full_env, log
+
+    def run(self, args, part, env=None, timeout=None, cwd=None):
+        """Run one command to completion, logging it and its stderr to DIR/logs/<part>.log;
+        returns (stdout, seconds). A failure raises PartFailed with the end of its stderr."""
+        full_env, log = self._start_log(args, part, env)
         start = time.monotonic()
         proc = subprocess.Popen([str(a) for a in args], stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=full_env,
                                 cwd=cwd, text=True)
@@ -94,13 +99,8 @@ class Context:
 
     def run_isolated(self, args, part, env=None, timeout=None):
         """Run one configuration in a process of its own and return (stdout, seconds,
-        peak_rss_bytes): the peak resident memory of that process alone (os.wait4's rusage)."""
-        full_env = dict(os.environ)
-        if env:
-            full_env.update({k: str(v) for k, v in env.items()})
-        log = self.out / "logs" / (part + ".log")
-        with open(log, "a") as lf:
-            lf.write("$ " + " ".join(shlex.quote(str(a)) for a in args) + "\n")
+        peak_rss_bytes): the peak resident memory of that process alone (below)."""
+        full_env, log = self._start_log(args, part, env)
         out_path = self.out / "logs" / (part + ".stdout.tmp")
         err_path = self.out / "logs" / (part + ".stderr.tmp")
         start = time.monotonic()
