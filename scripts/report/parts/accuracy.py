@@ -199,7 +199,9 @@ def _variant_notes(rows):
         top = max(p[0].get("elements") or 0 for p in pairs)
         pairs = sorted([p for p in pairs if (p[0].get("elements") or 0) == top], key=lambda p: -(p[0].get("tolerance") or 0))
         r0, ref = pairs[0]
-        head = f"{name if study == 'solver' else _label(r0)} against the baseline run of level {r0.get('level')} ({top} el.): "
+        own = "" if ref.get("elements") == top else f" ({top} el.)"
+        head = (f"{name if study == 'solver' else _label(r0)}{own} against the baseline run of level {r0.get('level')} "
+                f"({ref.get('elements')} el.): ")
         if study == "solver":
             notes.append(head + "; ".join(f"tol {r.get('tolerance'):g}: {_compare(r, ref)}" for r, ref in pairs) + ".")
         else:
