@@ -3,9 +3,9 @@
 # benchmark programs part by part, writes their CSV under DIR, draws the charts with Debian's
 # matplotlib and writes DIR/report.md.
 #
-#   scripts/run-benchmarks.sh [--quick] [--out DIR] [--build DIR] [--only PART] [--publish]
+#   scripts/run-benchmarks.sh [--quick] [--out DIR] [--build DIR] [--only PART] [--publish] [--render-only]
 #
-#   --quick     small runs of every part (about 3 minutes on 2 cores; CI runs it)
+#   --quick     small runs of every part (under a minute on 2 cores once built; CI runs it)
 #   --out DIR   where results, charts and report.md go (default results/, not committed)
 #   --build DIR reuse an existing Release tree (default: configure and build build-bench/)
 #   --only PART run one part (chart family) and redraw the report from what DIR holds
@@ -23,7 +23,7 @@ while [ $# -gt 0 ]; do
     --only) only=${2:?--only needs a part name}; shift ;;
     --publish) publish=1 ;;
     --render-only) render_only=1 ;;
-    -h|--help) sed -n '2,15p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "run-benchmarks: unknown option '$1' (--help lists them)" >&2; exit 2 ;;
   esac
   shift
