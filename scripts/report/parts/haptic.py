@@ -72,6 +72,11 @@ def _ratio(a, b):
     return f"{a / b:.2f}" if a is not None and b else "–"
 
 
+def _us(v):
+    """Microseconds as a reader reads them: three significant digits, no exponent (2110, not 2.11e+03)."""
+    return f"{v:.0f}" if abs(v) >= 100 else f"{v:.3g}"
+
+
 def render(ctx):
     d = ctx.part_dir(NAME)
     jitter = {}
@@ -118,7 +123,7 @@ def render(ctx):
         "| configuration | metric | session p50 / p99 / p99.9 / max (µs) | empty loop p50 / p99 / p99.9 / max (µs) | "
         "session / empty loop (p50, p99, p99.9) |",
         "|---|---|---|---|---|"]
-    fmt = lambda q: " / ".join(f"{q[k]:.3g}" for k in ("p50", "p99", "p999", "max")) if q else "–"  # noqa: E731
+    fmt = lambda q: " / ".join(_us(q[k]) for k in ("p50", "p99", "p999", "max")) if q else "–"  # noqa: E731
     summary = {}
     for cfg in CONFIGS:
         for metric in ("force", "jitter"):
@@ -153,18 +158,18 @@ def _verdict(summary, quant, loops, bare):
         empty_held = empty.get("overruns") == 0 and e_jit["p999_us"] <= JITTER_LIMIT_US
         text = (f"**{CONFIG_TEXT[cfg]}**: 1 kHz {'held' if held else '**did not hold**'} (asked: zero overruns and p99.9 "
                 f"jitter ≤ {JITTER_LIMIT_US:.0f} µs): {over} overruns in {loop.get('ticks')} ticks "
-                f"({loop.get('rate_hz', 0):.1f} Hz achieved), jitter p99.9 {s_jit['p999_us']:.3g} µs, "
-                f"{_ratio(s_jit['p999_us'], e_jit['p999_us'])}× the empty loop's {e_jit['p999_us']:.3g} µs "
+                f"({loop.get('rate_hz', 0):.1f} Hz achieved), jitter p99.9 {_us(s_jit['p999_us'])} µs, "
+                f"{_ratio(s_jit['p999_us'], e_jit['p999_us'])}× the empty loop's {_us(e_jit['p999_us'])} µs "
                 f"({empty.get('overruns')} overruns; the empty loop alone {'held' if empty_held else 'did not hold either'}).")
         if s_force:
-            text += (f" Force-computation time p99.9 {s_force['p999']:.3g} µs = {s_force['p999'] / PERIOD_US:.3f} of the period"
+            text += (f" Force-computation time p99.9 {_us(s_force['p999'])} µs = {s_force['p999'] / PERIOD_US:.3f} of the period"
                      + ("." if s_force["p999"] < PERIOD_US else ": **longer than the period**."))
         out.append(text)
     bc = loops.get(("bare_clock", "max_gap_per_1ms_slot"), {})
     if bare:
         gaps = bc.get("gaps_over_1ms") or 0
-        out.append(f"The bare-clock thread had {gaps} gaps of 1 ms or more (largest {(bc.get('max_gap_us') or 0) / 1000:.3g} ms; "
-                   f"p99.9 of its longest gap per 1 ms slot {bare['p999']:.3g} µs): "
+        out.append(f"The bare-clock thread had {gaps} gap(s) of 1 ms or more (largest {(bc.get('max_gap_us') or 0) / 1000:.3g} ms; "
+                   f"p99.9 of its longest gap per 1 ms slot {_us(bare['p999'])} µs): "
                    + ("ticks missed for that long are the machine's, not bemsurg's." if gaps > 0
                       else "the machine gave a real-time thread every millisecond in this run."))
     return "\n\n".join(out)
