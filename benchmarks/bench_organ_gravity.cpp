@@ -21,7 +21,6 @@
 //
 // --write-surface writes the finite-element mesher's input (the same body, finer: the geometry
 // every finite-element level shares) as ASCII STL and exits without solving.
-#include <sys/resource.h>
 
 #include <cmath>
 #include <fstream>
@@ -31,6 +30,7 @@
 #include <string>
 
 #include "bemsurg/elastostatic_solver.hpp"
+#include "bemsurg/io/results_io.hpp"
 #include "bemsurg/mesh/brain_model.hpp"
 #include "bemsurg/mesh/graded_remesher.hpp"
 #include "bemsurg/mesh/operating_region.hpp"
@@ -86,24 +86,6 @@ bool write_stl(const std::string& path, const TriangleMesh& mesh) {
   }
   out << "endsolid bemsurg_hanging_brain\n";
   return static_cast<bool>(out);
-}
-
-// This process's own peak resident memory: VmHWM of /proc/self/status. Not getrusage's ru_maxrss,
-// which Linux carries across fork and exec, so that a child of a large driver reports the driver's.
-double peak_rss_bytes() {
-  std::ifstream status("/proc/self/status");
-  std::string key;
-  while (status >> key) {
-    if (key == "VmHWM:") {
-      double kib = 0.0;
-      status >> kib;
-      return 1024.0 * kib;
-    }
-    status.ignore(1 << 16, '\n');
-  }
-  rusage u{};
-  getrusage(RUSAGE_SELF, &u);
-  return 1024.0 * static_cast<double>(u.ru_maxrss);  // Linux: KiB
 }
 
 }  // namespace
@@ -199,7 +181,7 @@ int main(int argc, char** argv) {
   j["assembly_s"] = s.report.assembly_seconds;
   j["solve_s"] = solve_s;
   j["total_s"] = total_s;
-  j["peak_rss_bytes"] = peak_rss_bytes();
+  j["peak_rss_bytes"] = peak_memory_mb() * 1048576.0;  // this process's own peak (VmHWM)
   j["volume_m3"] = volume;
   j["weight_n"] = weight;
   j["reaction_n"] = {reaction.x(), reaction.y(), reaction.z()};

@@ -8,7 +8,6 @@
 // Baseline of the one-factor-at-a-time studies: default QuadratureOptions, LU, uniform mesh
 // (work_precision_setup.hpp). Errors: relative L2 of what was solved against the closed form, as
 // verification::relative_l2_errors (u where traction is prescribed and t where u is).
-#include <sys/resource.h>
 
 #include <cmath>
 #include <fstream>
@@ -19,6 +18,7 @@
 #include <vector>
 
 #include "bemsurg/elastostatic_solver.hpp"
+#include "bemsurg/io/results_io.hpp"
 #include "bemsurg/timing.hpp"
 #include "bench_support.hpp"
 #include "work_precision_setup.hpp"
@@ -29,27 +29,6 @@ using namespace bemsurg::work_precision;
 namespace {
 
 const char* const kBaseline = "default QuadratureOptions, LU, uniform mesh";
-
-long long peak_rss_bytes() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return 1024LL * usage.ru_maxrss;  // Linux: KiB
-}
-
-// This process's own peak resident memory (VmHWM of /proc/self/status; -1 where there is none).
-// getrusage's and wait4's ru_maxrss also hold the parent's resident size at fork (Linux keeps it
-// across exec), so a driver of 60 MiB shows 60 MiB for a run of 15: VmHWM is the new image's alone.
-long long peak_hwm_bytes() {
-  std::ifstream status("/proc/self/status");
-  std::string line;
-  while (std::getline(status, line))
-    if (line.rfind("VmHWM:", 0) == 0) {
-      const std::size_t a = line.find_first_of("0123456789"), b = line.find_first_not_of("0123456789", a);
-      const std::optional<long long> kib = a == std::string::npos ? std::nullopt : parse_number<long long>(line.substr(a, b - a));
-      return kib ? 1024LL * *kib : -1;  // "VmHWM:   15360 kB"
-    }
-  return -1;
-}
 
 nlohmann::json finite_or_null(double x, bool measured) { return measured && std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(); }
 
@@ -139,8 +118,7 @@ nlohmann::json run_config(const Config& c, int max_repeats) {
   j["total_s"] = bench::median(run.total);  // the wall time of solve_elastostatic
   j["repeats"] = run.total.size();
   j["status"] = run.status;
-  j["peak_rss_bytes"] = peak_rss_bytes();
-  j["peak_hwm_bytes"] = peak_hwm_bytes();
+  j["peak_hwm_bytes"] = peak_memory_mb() * 1048576.0;  // this process's own peak (VmHWM)
   std::cerr << arguments(c) << ": " << s.mesh.num_elements() << " elements, " << run.status << ", u "
             << j.value("error_u", nlohmann::json()).dump() << ", t " << j.value("error_t", nlohmann::json()).dump() << ", "
             << fixed_text(bench::median(run.total), 3) << " s (median of " << run.total.size() << ")\n";

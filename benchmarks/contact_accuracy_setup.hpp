@@ -4,8 +4,6 @@
 // definitions are at the top of bench_contact_accuracy.cpp.
 #pragma once
 
-#include <sys/resource.h>
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -16,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "bemsurg/io/results_io.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/mesh/mesh_topology.hpp"
 #include "bemsurg/presolution/contact_tools.hpp"
@@ -187,12 +186,6 @@ inline Errors measure_errors(const TriangleMesh& mesh, const ToolContactSolver& 
   return r;
 }
 
-inline double peak_rss_bytes() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return static_cast<double>(usage.ru_maxrss) * 1024.0;  // Linux: kilobytes
-}
-
 /// Runs one configuration: E = 1, nu = 0.3, a = 1; punch pressed d = 0.01, sphere R = 20 pressed
 /// d = a^2 / R = 0.05 (a / R = 0.05: the sphere's gap differs from Hertz's parabola by
 /// (a / 2R)^2 = 6e-4 relative at the contact edge).
@@ -264,7 +257,7 @@ inline nlohmann::json run_configuration(const Config& c, double tolerance) {
   } catch (const std::exception& e) { status = std::string("error: ") + e.what(); }
   j["status"] = status;
   j["total_s"] = seconds_since(t_total);
-  j["peak_rss_bytes"] = peak_rss_bytes();
+  j["peak_hwm_bytes"] = peak_memory_mb() * 1048576.0;  // this process's own peak (VmHWM)
   return j;
 }
 

@@ -94,6 +94,19 @@ void write_solution_vtk(const std::string& path, const TriangleMesh& mesh, const
 }
 
 double peak_memory_mb() {
+  // VmHWM is this image's own peak (it starts afresh at exec); getrusage's ru_maxrss is the fallback
+  // only, because Linux carries it across fork and exec: a small program started by a large parent
+  // would report the parent's size (the benchmark report runs each configuration that way).
+  std::ifstream status("/proc/self/status");
+  std::string key;
+  while (status >> key) {
+    if (key == "VmHWM:") {
+      double kib = 0.0;
+      if (status >> kib) return kib / 1024.0;
+      break;
+    }
+    status.ignore(1 << 16, '\n');
+  }
   rusage usage{};
   if (getrusage(RUSAGE_SELF, &usage) != 0) return 0.0;
   return static_cast<double>(usage.ru_maxrss) / 1024.0;  // Linux reports KiB

@@ -59,7 +59,8 @@ struct RunResult {
 /// Deprecated name (before 0.2), kept one minor version: use RunResult.
 using RunReport [[deprecated("renamed to RunResult in bemsurg 0.2")]] = RunResult;
 
-/// Peak resident memory of this process so far, in MiB (getrusage ru_maxrss).
+/// Peak resident memory of this process so far, in MiB: VmHWM of /proc/self/status (this image's
+/// own, not its parent's), getrusage's ru_maxrss where /proc is not there.
 double peak_memory_mb();
 
 /// report.json: {"elements", "equations", "interior_points", "timings": {load, assembly, system,
