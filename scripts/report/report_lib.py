@@ -315,3 +315,20 @@ def fit_exponent(ns, ts):
 
 def warn(msg):
     print("run-benchmarks: " + msg, file=sys.stderr)
+
+
+def run_stability_study(ctx, part, study, timeout=1800):
+    """Runs one study of bench_stability (issue 25, docs/stability.md) into DIR/<part>/ (--quick in
+    the quick report) and returns its JSON summary (the threshold found and the behaviour there)."""
+    d = ctx.part_dir(part)
+    summary = d / "summary.json"
+    args = [ctx.program("bench_stability"), "--study", study, "--csv-dir", d, "--json", summary]
+    if ctx.quick:
+        args.append("--quick")
+    ctx.run(args, part, timeout=timeout)
+    return json.loads(summary.read_text())["studies"][study]
+
+
+def read_stability_summary(ctx, part, study):
+    """The JSON summary run_stability_study left in DIR/<part>/ (for render)."""
+    return json.loads((ctx.part_dir(part) / "summary.json").read_text())["studies"][study]
