@@ -3,6 +3,8 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <string>
+#include <vector>
 
 #include "bemsurg/assembly/boundary_conditions.hpp"
 #include "bemsurg/assembly/linear_system.hpp"
@@ -31,6 +33,9 @@ struct ElastostaticResult {
   double assembly_seconds = 0.0;  // H, G and gravity
   double system_seconds = 0.0;    // column swap into A* and the right-hand side
   LinearSolveResult solver;
+  // What the solve did near a stability limit (docs/stability.md): e.g. a ratio of Poisson close to
+  // 0.5 or slivers in the mesh. Empty when nothing applies; the CLI prints each and report.json lists them.
+  std::vector<std::string> warnings;
 };
 /// Deprecated name (before 0.2), kept one minor version: use ElastostaticResult.
 using ElastostaticReport [[deprecated("renamed to ElastostaticResult in bemsurg 0.2")]] = ElastostaticResult;

@@ -65,6 +65,7 @@ int run_solve(int argc, char** argv) {
               << " equations, mesh " << scene.mesh_source << ", solver " << to_string(scene.solver.method) << std::endl;
 
   const ElastostaticSolution solution = solve_elastostatic(scene.problem, scene.solver);
+  for (const std::string& w : solution.report.warnings) std::cerr << "bemsurg: warning: " << options.scene << ": " << w << "\n";
   const SteadyClock::time_point solved = SteadyClock::now();
 
   const fs::path out(options.output);
@@ -92,6 +93,8 @@ int run_solve(int argc, char** argv) {
   report.timings.total = seconds_between(start, finished);
   report.peak_memory_mb = peak_memory_mb();
   report.solver = solution.report.solver;
+  report.warnings = scene.warnings;
+  report.warnings.insert(report.warnings.end(), solution.report.warnings.begin(), solution.report.warnings.end());
   write_report_json((out / "report.json").string(), report);
 
   if (!options.quiet) {

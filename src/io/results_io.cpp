@@ -130,6 +130,7 @@ void write_report_json(const std::string& path, const RunResult& report) {
                  {"relative_residual", number(report.solver.relative_residual)},
                  {"setup_seconds", number(report.solver.setup_seconds)},
                  {"solve_seconds", number(report.solver.solve_seconds)}};
+  j["warnings"] = report.warnings;
   j["scene"] = report.scene;
   j["mesh"] = report.mesh_source;
   j["bemsurg_version"] = version_string();

@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 #include <string>
+#include <vector>
 
 #include "bemsurg/assembly/linear_system.hpp"
 #include "bemsurg/mesh/triangle_mesh.hpp"
@@ -55,6 +56,7 @@ struct RunResult {
   PhaseTimings timings;
   double peak_memory_mb = 0.0;
   LinearSolveResult solver;
+  std::vector<std::string> warnings;  // the scene's and the solve's (docs/stability.md), in that order
 };
 /// Deprecated name (before 0.2), kept one minor version: use RunResult.
 using RunReport [[deprecated("renamed to RunResult in bemsurg 0.2")]] = RunResult;
@@ -65,7 +67,7 @@ double peak_memory_mb();
 
 /// report.json: {"elements", "equations", "interior_points", "timings": {load, assembly, system,
 /// solve, post, total}, "peak_memory_mb", "solver": {method, preconditioner, iterations, status,
-/// relative_residual, setup_seconds, solve_seconds}, "scene", "mesh", "bemsurg_version"}.
+/// relative_residual, setup_seconds, solve_seconds}, "warnings": [text, ...], "scene", "mesh", "bemsurg_version"}.
 void write_report_json(const std::string& path, const RunResult& report);
 
 }  // namespace bemsurg
