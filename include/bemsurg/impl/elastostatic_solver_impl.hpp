@@ -5,7 +5,9 @@
 #include "bemsurg/config.hpp"
 
 #include <chrono>
+#include <numeric>
 #include <string>
+#include <vector>
 
 #include "bemsurg/memory_budget.hpp"
 #include "bemsurg/quadrature/quadrature_cost.hpp"
@@ -20,10 +22,63 @@ BEMSURG_INLINE double estimate_elastostatic_bytes(Index num_elements) {
   return 8.0 * (2.0 * n * n + 8.0 * n);
 }
 
+namespace detail {
+
+/// The connected surface components (by shared vertices) of `mesh` on which no element has a
+/// traction component prescribed: each as {first element, number of elements}.
+BEMSURG_INLINE std::vector<std::pair<Index, Index>> displacement_only_components(const TriangleMesh& mesh, const BoundaryConditions& bc) {
+  std::vector<Index> parent(static_cast<std::size_t>(mesh.num_vertices()));
+  std::iota(parent.begin(), parent.end(), Index(0));
+  auto root = [&parent](Index v) {
+    while (parent[std::size_t(v)] != v) v = parent[std::size_t(v)] = parent[std::size_t(parent[std::size_t(v)])];
+    return v;
+  };
+  const RowMatrixX3i& f = mesh.faces();
+  for (Index e = 0; e < f.rows(); ++e)
+    for (int c = 1; c < 3; ++c) parent[std::size_t(root(f(e, c)))] = root(f(e, 0));
+  std::vector<Index> first(parent.size(), -1), count(parent.size(), 0);
+  std::vector<char> has_traction(parent.size(), 0);
+  for (Index e = 0; e < f.rows(); ++e) {
+    const std::size_t r = std::size_t(root(f(e, 0)));
+    if (first[r] < 0) first[r] = e;
+    ++count[r];
+    for (int c = 0; c < 3; ++c) has_traction[r] |= bc.kind(3 * e + c) == BcKind::Traction ? 1 : 0;
+  }
+  std::vector<std::pair<Index, Index>> out;
+  for (std::size_t r = 0; r < parent.size(); ++r)
+    if (count[r] > 0 && !has_traction[r]) out.emplace_back(first[r], count[r]);
+  return out;
+}
+
+/// Nearly incompressible material and a surface component held by displacement only (docs/stability.md
+/// (a), kPoissonRatioWarning and kPoissonRatioLimit in bemsurg/material.hpp): refuses at the limit,
+/// warns from the warning threshold; a component with some traction prescribed is not affected.
+BEMSURG_INLINE void check_nearly_incompressible(const ElastostaticProblem& problem, std::vector<std::string>& warnings) {
+  const double nu = problem.material.poisson_ratio;
+  if (nu < kPoissonRatioWarning) return;
+  const auto held = displacement_only_components(problem.mesh, problem.boundary_conditions);
+  if (held.empty()) return;
+  const std::string where = "the surface component of element " + std::to_string(held.front().first) + " (" +
+                            std::to_string(held.front().second) + " elements" +
+                            (held.size() > 1 ? ", and " + std::to_string(held.size() - 1) + " more" : std::string()) +
+                            ") has its displacement prescribed on every element, so its tractions are fixed only up to a pressure "
+                            "whose error grows as 1/(1 - 2 nu) (docs/stability.md (a))";
+  if (nu >= kPoissonRatioLimit)
+    throw InvalidMaterialError("material: poisson_ratio " + number_text(nu) + " is at or above " + number_text(kPoissonRatioLimit) +
+                               ", the limit for this problem: " + where +
+                               "; lower poisson_ratio or prescribe the traction on part of that surface");
+  warnings.push_back("poisson_ratio " + number_text(nu) + " is at or above " + number_text(kPoissonRatioWarning) + ": " + where +
+                     "; expect the tractions there to be less accurate (refused from " + number_text(kPoissonRatioLimit) + ")");
+}
+
+}  // namespace detail
+
 BEMSURG_INLINE ElastostaticSolution solve_elastostatic(const ElastostaticProblem& problem, const LinearSolverOptions& solver) {
   problem.material.validate();
   if (!problem.gravity.allFinite()) throw BoundaryConditionError("gravity must be finite");
   problem.boundary_conditions.require_supported(problem.mesh);
+  std::vector<std::string> warnings;
+  detail::check_nearly_incompressible(problem, warnings);
 
   const Index E = problem.mesh.num_elements();
   const double need = estimate_elastostatic_bytes(E);
@@ -41,6 +96,7 @@ BEMSURG_INLINE ElastostaticSolution solve_elastostatic(const ElastostaticProblem
   ElastostaticSolution out;
   out.report.elements = E;
   out.report.equations = problem.mesh.num_dofs();
+  out.report.warnings = std::move(warnings);
 
   LinearSystem system;
   {
