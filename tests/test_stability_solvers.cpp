@@ -62,3 +62,25 @@ TEST_CASE("Poisson's ratio: a mixed problem stays accurate past the limit and is
   CHECK(error_of(mixed, s) < 0.3);  // measured 0.231 (0.206 at nu = 0.45)
   CHECK_THROWS_AS(solve_elastostatic(kelvin_problem(0.5, false)), InvalidMaterialError);
 }
+
+TEST_CASE("Krylov: GMRES(2) stagnating near nu = 0.5 is refused with its report, full GMRES agrees with LU", "[stability][krylov]") {
+  // The Kelvin box with displacement everywhere at nu = 0.4995 (below the limit): cond2(A*) ~ 3e3.
+  const ElastostaticProblem p = kelvin_problem(0.4995, true);
+  LinearSolverOptions lu, full, short_restart;
+  full.method = short_restart.method = SolverMethod::Gmres;
+  short_restart.restart = 2;  // the study measured stagnation at 0.0155 for m = 2 at nu = 0.4999
+  const ElastostaticSolution a = solve_elastostatic(p, lu), b = solve_elastostatic(p, full);
+  CHECK(b.report.solver.status == KrylovStatus::Converged);
+  const double scale = a.boundary.traction.norm();
+  CHECK((a.boundary.traction - b.boundary.traction).norm() < 1e-7 * scale);  // tolerance 1e-10 times cond ~ 3e3
+  try {
+    solve_elastostatic(p, short_restart);
+    FAIL("GMRES(2) returned a solution");
+  } catch (const SolverError& e) {
+    const std::string what = e.what();
+    INFO(what);
+    CHECK_THAT(what, Catch::Contains("gmres") && Catch::Contains("1.000e-10") && Catch::Contains("iterations") &&
+                         Catch::Contains("true relative residual"));
+    CHECK((what.find("stagnation") != std::string::npos || what.find("iteration_limit") != std::string::npos));
+  }
+}
