@@ -63,6 +63,24 @@ TEST_CASE("Poisson's ratio: a mixed problem stays accurate past the limit and is
   CHECK_THROWS_AS(solve_elastostatic(kelvin_problem(0.5, false)), InvalidMaterialError);
 }
 
+TEST_CASE("Poisson's ratio: of Lamé's two shells only the displaced cavity counts", "[stability][poisson]") {
+  // Inner shell (80 elements) displaced, outer loaded: the inner component alone is held.
+  auto lame = [](double nu) {
+    const TriangleMesh mesh = hollow_sphere_mesh(Eigen::Vector3d::Zero(), 1.0, 2.0, 1, 1);
+    const Material m{1.0, nu, 0.0};
+    const ElasticField field = lame_field(m, Eigen::Vector3d::Zero(), 1.0, 2.0, 1.0, 0.0);
+    return ElastostaticProblem{mesh, m, Eigen::Vector3d::Zero(),
+                               exact_trace_conditions(mesh, field, [&](Index e) { return mesh.centroid(e).norm() < 1.5; }),
+                               QuadratureOptions()};
+  };
+  const ElastostaticSolution s = solve_elastostatic(lame(0.48));
+  CHECK(s.report.warnings.empty());
+  const ElastostaticSolution w = solve_elastostatic(lame(0.495));
+  REQUIRE(w.report.warnings.size() == 1);
+  CHECK_THAT(w.report.warnings[0], Catch::Contains("80 elements)"));
+  CHECK_THROWS_AS(solve_elastostatic(lame(0.49995)), InvalidMaterialError);
+}
+
 TEST_CASE("Krylov: GMRES(2) stagnating near nu = 0.5 is refused with its report, full GMRES agrees with LU", "[stability][krylov]") {
   // The Kelvin box with displacement everywhere at nu = 0.4995 (below the limit): cond2(A*) ~ 3e3.
   const ElastostaticProblem p = kelvin_problem(0.4995, true);

@@ -49,7 +49,7 @@ def render(ctx):
     ax2.legend(fontsize=7)
     rl.save(fig, ctx.image("stability_a_poisson"))
     lines = [
-        "Poisson's ratio swept from %g to %g on three closed-form problems, each solved by LU, GMRES, BiCGStab and BiCG "
+        "Poisson's ratio swept from %.10g to %.10g on three closed-form problems, each solved by LU, GMRES, BiCGStab and BiCG "
         "(block-Jacobi preconditioner, tolerance 1e-10); the condition number is the 2-norm of A* by SVD."
         % (min(r["poisson_ratio"] for r in rows), max(r["poisson_ratio"] for r in rows)), "",
         "![error and condition number against 0.5 - nu](images/stability_a_poisson.png)", "",
@@ -63,6 +63,6 @@ def render(ctx):
             err = g["lu"]["error"]
             its = " / ".join(str(g[m]["iterations"]) for m in ("gmres", "bicgstab", "bicg"))
             st = ", ".join(sorted({g[m]["status"] for m in ("gmres", "bicgstab", "bicg")}))
-            lines.append("| %s | %g | %d | %.3g | %s | %s | %s |" % (PROBLEM_TEXT.get(p, p), nu, g["lu"]["elements"], g["lu"]["condition"],
+            lines.append("| %s | %.10g | %d | %.3g | %s | %s | %s |" % (PROBLEM_TEXT.get(p, p), nu, g["lu"]["elements"], g["lu"]["condition"],
                                                                    "—" if err is None else "%.3g" % err, its, st))
     return "\n".join(lines)

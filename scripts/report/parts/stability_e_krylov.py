@@ -28,7 +28,7 @@ def render(ctx):
     def x_of(r):
         return r["restart"] if r["restart"] > 0 else full_at
 
-    fig, axes = rl.plt.subplots(1, 2, figsize=(11, 4.4), dpi=110, sharey=True)
+    fig, axes = rl.plt.subplots(1, 2, figsize=(12.5, 4.4), dpi=110, sharey=True)
     for ax, pk in zip(axes, ("block_jacobi", "none")):
         ax.grid(True, which="both", alpha=0.3)
         series = sorted({(r["n"], r["poisson_ratio"]) for r in gm if r["preconditioner"] == pk})
@@ -45,8 +45,13 @@ def render(ctx):
         ax.set_yscale("log")
         ax.set_xlabel("GMRES restart length m (rightmost: full GMRES)")
         ax.set_title("preconditioner: " + pk.replace("_", "-"))
-        ax.legend(fontsize=6)
-    axes[0].set_ylabel("iterations (red circle: stagnation / iteration limit / breakdown)")
+        if pk == "none":
+            ax.legend(fontsize=6, loc="upper left", bbox_to_anchor=(1.02, 1.0))
+        ticks = sorted({x_of(r) for r in gm})
+        ax.set_xticks(ticks)
+        ax.set_xticklabels([str(t) if t != full_at else "full" for t in ticks])
+        ax.minorticks_off()
+    axes[0].set_ylabel("iterations (red circle: not converged)")
     rl.save(fig, ctx.image("stability_e_krylov"))
     lines = [
         "GMRES(m) over restart lengths m = %s and full GMRES, BiCGStab and BiCG, on the Kelvin box with displacement prescribed "
