@@ -1,7 +1,8 @@
 // solvers_setup.hpp: the systems the solver studies of issue 25 sweep (docs/stability.md (a), (e)):
 // closed-form problems whose exact boundary traces are known for any Poisson's ratio (Kelvin's point
 // force outside a box, Lamé's hollow sphere), assembled into A* x = b, and the 2-norm condition number
-// of A* by SVD. Shared by benchmarks/stability/solvers_studies.cpp and tests/test_stability_solvers.cpp.
+// of A* by SVD. The systems are built here, below solve_elastostatic, so the sweep passes its refusal
+// at kPoissonRatioLimit (bemsurg/material.hpp) on purpose.
 #pragma once
 
 #include <Eigen/Dense>

@@ -4,7 +4,9 @@
 
 #include "bemsurg/config.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <numeric>
 #include <string>
 #include <vector>
@@ -22,10 +24,6 @@ BEMSURG_INLINE double estimate_elastostatic_bytes(Index num_elements) {
   return 8.0 * (2.0 * n * n + 8.0 * n);
 }
 
-namespace detail {
-
-/// The connected surface components (by shared vertices) of `mesh` on which no element has a
-/// traction component prescribed: each as {first element, number of elements}.
 BEMSURG_INLINE std::vector<std::pair<Index, Index>> displacement_only_components(const TriangleMesh& mesh, const BoundaryConditions& bc) {
   std::vector<Index> parent(static_cast<std::size_t>(mesh.num_vertices()));
   std::iota(parent.begin(), parent.end(), Index(0));
@@ -37,18 +35,36 @@ BEMSURG_INLINE std::vector<std::pair<Index, Index>> displacement_only_components
   for (Index e = 0; e < f.rows(); ++e)
     for (int c = 1; c < 3; ++c) parent[std::size_t(root(f(e, c)))] = root(f(e, 0));
   std::vector<Index> first(parent.size(), -1), count(parent.size(), 0);
-  std::vector<char> has_traction(parent.size(), 0);
+  std::vector<char> excluded(parent.size(), 0);  // a traction component prescribed, or not closed
   for (Index e = 0; e < f.rows(); ++e) {
     const std::size_t r = std::size_t(root(f(e, 0)));
     if (first[r] < 0) first[r] = e;
     ++count[r];
-    for (int c = 0; c < 3; ++c) has_traction[r] |= bc.kind(3 * e + c) == BcKind::Traction ? 1 : 0;
+    for (int c = 0; c < 3; ++c) excluded[r] |= bc.kind(3 * e + c) == BcKind::Traction ? 1 : 0;
+  }
+  // Only a closed component (every edge shared by exactly two of its elements) carries the pressure
+  // mode: an open patch held by displacement (a clamp, or triangles whose vertices are not shared) does not.
+  std::vector<std::pair<std::int64_t, Index>> edges;  // (edge key, root)
+  edges.reserve(std::size_t(3 * f.rows()));
+  for (Index e = 0; e < f.rows(); ++e)
+    for (int c = 0; c < 3; ++c) {
+      const std::int64_t a = f(e, c), b = f(e, (c + 1) % 3);
+      edges.emplace_back(std::min(a, b) * mesh.num_vertices() + std::max(a, b), root(f(e, 0)));
+    }
+  std::sort(edges.begin(), edges.end());
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t j = i;
+    while (j < edges.size() && edges[j].first == edges[i].first) ++j;
+    if (j - i != 2) excluded[std::size_t(edges[i].second)] = 1;  // open or non-manifold: not counted
+    i = j;
   }
   std::vector<std::pair<Index, Index>> out;
   for (std::size_t r = 0; r < parent.size(); ++r)
-    if (count[r] > 0 && !has_traction[r]) out.emplace_back(first[r], count[r]);
+    if (count[r] > 0 && !excluded[r]) out.emplace_back(first[r], count[r]);
   return out;
 }
+
+namespace detail {
 
 /// Nearly incompressible material and a surface component held by displacement only (docs/stability.md
 /// (a), kPoissonRatioWarning and kPoissonRatioLimit in bemsurg/material.hpp): refuses at the limit,
@@ -112,7 +128,15 @@ BEMSURG_INLINE ElastostaticSolution solve_elastostatic(const ElastostaticProblem
     out.report.system_seconds = seconds_since(t0);
   }  // G is freed here, before the solver allocates
 
-  const Eigen::VectorXd x = solve_linear_system(system.matrix, system.rhs, solver, out.report.solver, &problem.mesh);
+  Eigen::VectorXd x;
+  try {
+    x = solve_linear_system(system.matrix, system.rhs, solver, out.report.solver, &problem.mesh);
+  } catch (const SolverError& e) {  // a failed solve still says what it was warned about (no report reaches the caller)
+    if (out.report.warnings.empty()) throw;
+    std::string text = e.what();
+    for (const std::string& w : out.report.warnings) text += "; warning: " + w;
+    throw SolverError(text);
+  }
   out.boundary = recover_boundary_solution(problem.boundary_conditions, x);
   return out;
 }
