@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "bemsurg/assembly/boundary_conditions.hpp"
@@ -50,10 +51,19 @@ struct ElastostaticSolution {
 /// (n = 3E; 3 n^2 doubles) plus a few vectors.
 double estimate_elastostatic_bytes(Index num_elements);
 
+/// The closed connected surface components (by shared vertices; every edge shared by two of their
+/// elements) on which no element has a traction component prescribed, each as {first element,
+/// number of elements}. At a Poisson's ratio near 0.5 their tractions are fixed only up to a pressure
+/// (docs/stability.md (a)): solve_elastostatic warns or refuses for them (kPoissonRatioWarning,
+/// kPoissonRatioLimit in bemsurg/material.hpp).
+std::vector<std::pair<Index, Index>> displacement_only_components(const TriangleMesh& mesh, const BoundaryConditions& bc);
+
 /// Validates the material and the support (BoundaryConditions::require_supported), checks the
 /// memory estimate against 80 % of physical memory (bemsurg/memory_budget.hpp), assembles,
 /// solves. Throws InvalidMaterialError, BoundaryConditionError, ResourceError (before allocating
-/// anything large) or SolverError with a message.
+/// anything large) or SolverError with a message (a Krylov solve that did not converge included,
+/// with the solve's warnings appended). With a displacement_only_components() component, warns
+/// from kPoissonRatioWarning and refuses (InvalidMaterialError) from kPoissonRatioLimit.
 /// The mesh is not validated here (callers that read files run require_valid_mesh first).
 ElastostaticSolution solve_elastostatic(const ElastostaticProblem& problem, const LinearSolverOptions& solver = LinearSolverOptions());
 

@@ -11,6 +11,20 @@
 
 namespace bemsurg {
 
+/// Poisson's ratio from which solve_elastostatic warns (ElastostaticResult::warnings) when a closed
+/// surface component has its displacement prescribed on every element: at nu = 0.5 the tractions of
+/// such a component are determined only up to a pressure p n (the Kelvin displacement kernel's flux
+/// through a closed surface vanishes), so A* is singular there and the discretisation error of that
+/// pressure mode grows as 1 / (1 - 2 nu) while every solver still converges to a small residual.
+/// Measured (docs/stability.md (a), report.md "(a) Poisson's ratio towards 0.5"): the error of a
+/// Kelvin Dirichlet box and of Lamé's sphere with its cavity displaced roughly doubles from 0.45 to
+/// 0.49 and cond(A*) grows as 1 / (0.5 - nu); mixed problems without such a component do not change.
+inline constexpr double kPoissonRatioWarning = 0.49;
+/// Poisson's ratio at and above which solve_elastostatic refuses (InvalidMaterialError) a problem
+/// with such a component: there the pressure mode is amplified 5000-fold and the measured errors
+/// pass 100 % (docs/stability.md (a)). Problems without one are solved up to nu < 0.5.
+inline constexpr double kPoissonRatioLimit = 0.4999;
+
 /// Isotropic linear elastic material (small strain) in SI units: Young's modulus E in Pa, Poisson's ratio nu and
 /// density rho in kg/m^3, with the derived shear modulus and Lame constant and Hooke's law for stresses.
 struct Material {
