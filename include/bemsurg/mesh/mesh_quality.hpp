@@ -10,10 +10,12 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
 
 #include "bemsurg/mesh/geometry.hpp"
 #include "bemsurg/mesh/mesh_topology.hpp"
 #include "bemsurg/mesh/triangle_mesh.hpp"
+#include "bemsurg/number_text.hpp"
 
 namespace bemsurg {
 
@@ -61,6 +63,36 @@ inline WorstAspectRatio worst_aspect_ratio(const TriangleMesh& mesh) {
     if (w.element < 0 || r > w.ratio) w = {e, r};
   }
   return w;
+}
+
+/// Above this aspect ratio sliver_warning warns (docs/stability.md, study (c); bench_stability
+/// --study sliver): on a Kelvin box with a band of needles, the traction solved on a needle was off
+/// by about 0.07 x its aspect ratio, and the box's whole traction error had doubled by 50-70;
+/// displacement and interior fields stayed as accurate as without needles, and flat caps did no
+/// harm. bemsurg's own cutter makes up to ~20 (the gap walls at kMinimumGapRatio), so it does not warn.
+inline constexpr double kSliverWarningAspectRatio = 100.0;
+
+/// Above this aspect ratio validate_mesh reports the element as degenerate (an error): there the
+/// default quadrature itself departs from a deeper one and the traction error of the needle box
+/// was several times the traction (docs/stability.md, study (c)).
+inline constexpr double kMaxAspectRatio = 1e4;
+
+/// "element 12 has aspect ratio 250 ..." when some element's aspect ratio exceeds
+/// kSliverWarningAspectRatio (naming the worst one and how many exceed it); empty otherwise. For
+/// ElastostaticResult::warnings and the scene's warnings.
+inline std::string sliver_warning(const TriangleMesh& mesh) {
+  const WorstAspectRatio w = worst_aspect_ratio(mesh);
+  if (!(w.ratio > kSliverWarningAspectRatio)) return {};
+  Index count = 0;
+  for (Index e = 0; e < mesh.num_elements(); ++e) {
+    const auto c = mesh.corners(e);
+    if (aspect_ratio(c[0], c[1], c[2]) > kSliverWarningAspectRatio) ++count;
+  }
+  return "element " + std::to_string(w.element) + " has aspect ratio " + general_text(w.ratio, 3) +
+         " (longest edge / shortest altitude, 1 for equilateral), above " + general_text(kSliverWarningAspectRatio, 3) + " (" +
+         std::to_string(count) + " element" + (count > 1 ? "s" : "") +
+         "): the traction solved on such slivers is unreliable (its error grows like the aspect ratio; docs/stability.md); "
+         "remesh them";
 }
 
 /// Element size used by MeshQuality: the mean of the three edge lengths (mean_edge_length).
