@@ -154,7 +154,6 @@ nlohmann::json study_interior(const StudyContext& ctx) {
       }
     }
   }
-  // long: the summary's sentences
   const double stress_at = first_crossing(bem_stress, kStressTolerance), quad_at = first_crossing(rigid_stress, 1e-4);
   nlohmann::json j;
   j["parameter"] = "distance / longest edge h of the nearest element, 1 ... 1e-4 (towards an element's centroid, an edge and a vertex)";
@@ -181,20 +180,19 @@ nlohmann::json study_interior(const StudyContext& ctx) {
   return j;
 }
 
-
 // long: one sweep over two families of slivers, each solved with two quadratures
 nlohmann::json study_sliver(const StudyContext& ctx) {
   const KelvinBox kb;
-  const int n = 1;
+  const int n = ctx.quick ? 1 : 2;  // 80-96 elements, or 320-352
   std::vector<double> eps_list;
   const int per_decade = ctx.quick ? 1 : 2;
-  for (int k = 0; k <= 4 * per_decade; ++k) eps_list.push_back(0.25 * std::pow(10.0, -static_cast<double>(k) / per_decade));
+  for (int k = 0; k <= 4 * per_decade; ++k) eps_list.push_back(0.25 / n * std::pow(10.0, -static_cast<double>(k) / per_decade));
   const QuadratureOptions standard;
   QuadratureOptions deep;
   deep.max_depth = 20;
-  CsvTable csv(ctx.csv_dir / "stability_sliver.csv",
-               {"family", "eps", "aspect_ratio", "min_angle_degrees", "elements", "quadrature", "condition", "displacement_error",
-                "traction_error", "sliver_displacement_error", "sliver_traction_error", "interior_displacement_error", "interior_stress_error"});
+  CsvTable csv(ctx.csv_dir / "stability_sliver.csv", {"family", "eps", "aspect_ratio", "min_angle_degrees", "elements", "quadrature",
+                                                      "condition", "displacement_error", "traction_error", "sliver_displacement_error",
+                                                      "sliver_traction_error", "interior_displacement_error", "interior_stress_error"});
   RowMatrixX3d points(4, 3);
   points << 0.0, 0.0, 0.0, 0.5, -0.2, 0.1, -0.4, 0.3, -0.2, 0.2, 0.1, 0.3;
   std::vector<std::pair<double, double>> needle_traction;  // (aspect ratio, traction error), default rule
@@ -242,15 +240,20 @@ nlohmann::json study_sliver(const StudyContext& ctx) {
   j["cap_threshold"] = cap_doubled;
   j["warning_aspect_ratio"] = kSliverWarningAspectRatio;
   j["refusal_aspect_ratio"] = kMaxAspectRatio;
-  j["threshold_text"] = "With a band of needles the box's traction error doubles (from " + general_text(100 * needle_traction.front().second, 2) +
-                        " %) at aspect ratio " + general_text(doubled, 2) + " and grows in proportion beyond, as does the condition number "
-                        "of A*; the default quadrature departs from max_depth 20 by 10 % at " + general_text(quad, 2) +
-                        " (the loss is the collocation's, not the quadrature's); flat caps double it at " + general_text(cap_doubled, 2) +
+  j["threshold_text"] = "With a band of needles the box's traction error doubles (from " +
+                        general_text(100 * needle_traction.front().second, 2) + " %) at aspect ratio " + general_text(doubled, 2) +
+                        " and grows in proportion beyond, as does the condition number "
+                        "of A*; the default quadrature departs from max_depth 20 by 10 % at " +
+                        general_text(quad, 2) + " (the loss is the collocation's, not the quadrature's); flat caps double it at " +
+                        general_text(cap_doubled, 2) +
                         ". The traction solved on the slivers themselves is off by about 0.07 x their aspect ratio; displacement "
                         "and interior fields stay within a few per cent throughout.";
   j["behaviour"] = "sliver_warning (mesh_quality.hpp) names the worst element above kSliverWarningAspectRatio = " +
-                   general_text(kSliverWarningAspectRatio, 3) + " for the scene's and the solve's warnings; validate_mesh reports "
-                   "an element above kMaxAspectRatio = " + general_text(kMaxAspectRatio, 3) + " as degenerate, so "
+                   general_text(kSliverWarningAspectRatio, 3) +
+                   " for the scene's and the solve's warnings; validate_mesh reports "
+                   "an element above kMaxAspectRatio = " +
+                   general_text(kMaxAspectRatio, 3) +
+                   " as degenerate, so "
                    "require_valid_mesh refuses it with InvalidMeshError naming the element and its ratio.";
   j["csv"] = {"stability_sliver.csv"};
   return j;

@@ -66,10 +66,11 @@ inline WorstAspectRatio worst_aspect_ratio(const TriangleMesh& mesh) {
 }
 
 /// Above this aspect ratio sliver_warning warns (docs/stability.md, study (c); bench_stability
-/// --study sliver): on a Kelvin box with a band of needles, the traction solved on a needle was off
-/// by about 0.07 x its aspect ratio, and the box's whole traction error had doubled by 50-70;
-/// displacement and interior fields stayed as accurate as without needles, and flat caps did no
-/// harm. bemsurg's own cutter makes up to ~20 (the gap walls at kMinimumGapRatio), so it does not warn.
+/// --study sliver): on a Kelvin box with a band of needles, the traction solved on a sliver was off
+/// by about 0.07 x its aspect ratio, and the box's whole traction error had doubled at 40-110
+/// (needles or flat caps, two mesh sizes) and was 2-3 times the sliver-free error at 100;
+/// displacement and interior fields stayed as accurate as without slivers. bemsurg's own cutter
+/// makes up to ~20 (the gap walls at kMinimumGapRatio), so cuts do not warn.
 inline constexpr double kSliverWarningAspectRatio = 100.0;
 
 /// Above this aspect ratio validate_mesh reports the element as degenerate (an error): there the
