@@ -109,7 +109,12 @@ TEST_CASE("interior points too close to the surface are refused, and exact just 
   near.row(0) = (face + 1.05 * limit * h * down).transpose();
   near.row(1) = (edge + 1.05 * std::sqrt(2.0) * limit * h * diagonal).transpose();  // 1.05 x limit from both faces
   const RowMatrixX3d u = ev.displacement(near, s);
-  const StressRows st = ev.stress(near, s);
+  // Stress there is refused (constant elements make it wrong below 0.25 h whatever the quadrature,
+  // docs/stability.md (b)); the quadrature itself is measured with that refusal switched off.
+  CHECK_THROWS_WITH(ev.stress(near, s), Catch::Contains("stress") && Catch::Contains("closer than 0.25"));
+  InteriorEvaluator quadrature_only(box, m);
+  quadrature_only.allow_points_too_close_for_studies(true);
+  const StressRows st = quadrature_only.stress(near, s);
   for (Index k = 0; k < 2; ++k) {
     INFO("point " << k << ": u error " << (u.row(k).transpose() - c).norm() / c.norm() << ", stress "
                   << st.row(k).norm() / (m.young_modulus * c.norm()));

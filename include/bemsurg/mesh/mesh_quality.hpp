@@ -9,10 +9,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <string>
 
 #include "bemsurg/mesh/geometry.hpp"
 #include "bemsurg/mesh/mesh_topology.hpp"
 #include "bemsurg/mesh/triangle_mesh.hpp"
+#include "bemsurg/number_text.hpp"
 
 namespace bemsurg {
 
@@ -32,7 +35,66 @@ struct MeshQuality {
   double p99_neighbour_size_ratio = 0.0;
   double min_size = 0.0;
   double max_size = 0.0;
+  /// The largest aspect_ratio of any element (1 for equilateral elements).
+  double max_aspect_ratio = 0.0;
 };
+
+/// Aspect ratio of the triangle (a, b, c): longest edge / shortest altitude, scaled by sqrt(3)/2 so
+/// that an equilateral triangle has 1; a right isosceles one has 1.73, a needle of legs L and
+/// eps << L about 0.87 L / eps, a flat cap of base L and height eps the same. Infinite for a
+/// degenerate triangle. (Longest edge squared over twice the area: exact for needles and caps
+/// alike, where the smallest angle misses caps.)
+inline double aspect_ratio(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const double longest2 = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
+  const double twice_area = (b - a).cross(c - a).norm();
+  return twice_area > 0.0 ? 0.5 * std::sqrt(3.0) * longest2 / twice_area : std::numeric_limits<double>::infinity();
+}
+
+/// The element of largest aspect_ratio and that ratio (element -1 for an empty mesh).
+struct WorstAspectRatio {
+  Index element = -1;
+  double ratio = 0.0;
+};
+inline WorstAspectRatio worst_aspect_ratio(const TriangleMesh& mesh) {
+  WorstAspectRatio w;
+  for (Index e = 0; e < mesh.num_elements(); ++e) {
+    const auto c = mesh.corners(e);
+    const double r = aspect_ratio(c[0], c[1], c[2]);
+    if (w.element < 0 || r > w.ratio) w = {e, r};
+  }
+  return w;
+}
+
+/// Above this aspect ratio sliver_warning warns (docs/stability.md, study (c); bench_stability
+/// --study sliver): on a Kelvin box with a band of needles, the traction solved on a sliver was off
+/// by about 0.07 x its aspect ratio, and the box's whole traction error had doubled at 40-110
+/// (needles or flat caps, two mesh sizes) and was 2-3 times the sliver-free error at 100;
+/// displacement and interior fields stayed as accurate as without slivers. bemsurg's own cutter
+/// makes up to ~20 (the gap walls at kMinimumGapRatio), so cuts do not warn.
+inline constexpr double kSliverWarningAspectRatio = 100.0;
+
+/// Above this aspect ratio validate_mesh reports the element as degenerate (an error): there the
+/// default quadrature itself departs from a deeper one and the traction error of the needle box
+/// was several times the traction (docs/stability.md, study (c)).
+inline constexpr double kMaxAspectRatio = 1e4;
+
+/// "element 12 has aspect ratio 250 ..." when some element's aspect ratio exceeds
+/// kSliverWarningAspectRatio (naming the worst one and how many exceed it); empty otherwise. For
+/// ElastostaticResult::warnings and the scene's warnings.
+inline std::string sliver_warning(const TriangleMesh& mesh) {
+  const WorstAspectRatio w = worst_aspect_ratio(mesh);
+  if (!(w.ratio > kSliverWarningAspectRatio)) return {};
+  Index count = 0;
+  for (Index e = 0; e < mesh.num_elements(); ++e) {
+    const auto c = mesh.corners(e);
+    if (aspect_ratio(c[0], c[1], c[2]) > kSliverWarningAspectRatio) ++count;
+  }
+  return "element " + std::to_string(w.element) + " has aspect ratio " + general_text(w.ratio, 3) +
+         " (longest edge / shortest altitude, 1 for equilateral), above " + general_text(kSliverWarningAspectRatio, 3) + " (" +
+         std::to_string(count) + " element" + (count > 1 ? "s" : "") +
+         "): the traction solved on such slivers is unreliable (its error grows like the aspect ratio; docs/stability.md); "
+         "remesh them";
+}
 
 /// Element size used by MeshQuality: the mean of the three edge lengths (mean_edge_length).
 inline double element_size(const TriangleMesh& mesh, Index e) {
@@ -55,6 +117,7 @@ inline MeshQuality measure_mesh_quality(const TriangleMesh& mesh) {
     if (smallest < 20.0) ++below;
     h(e) = element_size(mesh, e);
   }
+  q.max_aspect_ratio = worst_aspect_ratio(mesh).ratio;
   q.min_angle_degrees = min_angle;
   q.mean_min_angle_degrees = sum_min / static_cast<double>(q.elements);
   q.fraction_below_20_degrees = static_cast<double>(below) / static_cast<double>(q.elements);

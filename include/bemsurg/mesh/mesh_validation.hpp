@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "bemsurg/mesh/mesh_quality.hpp"
 #include "bemsurg/mesh/triangle_mesh.hpp"
 
 namespace bemsurg {
@@ -44,6 +45,9 @@ struct MeshIssue {
 struct MeshValidationOptions {
   /// A face is degenerate if its area is below this fraction of the mean face area.
   double degenerate_area_tolerance = 1e-10;
+  /// A face is degenerate if its aspect ratio (mesh_quality.hpp) exceeds this: kMaxAspectRatio
+  /// (1e4; docs/stability.md, study (c)). Infinity switches the check off (stability studies).
+  double max_aspect_ratio = kMaxAspectRatio;
   /// Two vertices coincide if closer than this fraction of the bounding-box diagonal.
   double duplicate_vertex_tolerance = 1e-10;
   /// Whether each closed shell must face out of the material (outer shells outward, cavities

@@ -4,7 +4,9 @@
 //   sigma_ij(p) = sum_e [ int_e D_kij t_k - int_e S_kij u_k ] + gravity term
 // The same adaptive quadrature as assembly is used; it is accurate down to a distance from each
 // element of min_clearance_fraction (2.9e-3 by default) times the element's size, and points
-// closer are refused (interior_clearance.hpp, docs/design.md §4).
+// closer are refused (interior_clearance.hpp, docs/design.md §4). Stress is refused closer than
+// kMinStressClearanceFraction (0.25) x the size, where constant elements make it wrong whatever
+// the quadrature (docs/stability.md, study (b)).
 #pragma once
 
 #include <Eigen/Core>
@@ -28,12 +30,17 @@ class InteriorEvaluator {
                     const QuadratureOptions& options = {});
 
   /// Both throw InvalidArgumentError naming the first point closer to an element than the
-  /// quadrature resolves (interior_clearance.hpp), before evaluating anything.
+  /// quadrature resolves (interior_clearance.hpp), before evaluating anything; stress also for
+  /// points closer than min_stress_clearance_fraction x the element's longest edge.
   RowMatrixX3d displacement(const RowMatrixX3d& points, const BoundarySolution& solution) const;
   StressRows stress(const RowMatrixX3d& points, const BoundarySolution& solution) const;
 
+  /// For stability studies only (bench_stability --study interior, docs/stability.md): evaluate
+  /// points closer than the limits above instead of refusing them, to measure what goes wrong there.
+  void allow_points_too_close_for_studies(bool allow) { allow_too_close_ = allow; }
+
  private:
-  void require_clearance(const RowMatrixX3d& points) const;
+  void require_clearance(const RowMatrixX3d& points, ClearanceQuantity quantity) const;
 
   /// The traversal both evaluations share: every point (in parallel) against every element, with
   /// the adaptive rule of assembly; integrand(sum, r = x - p, n_e, w, t_e, u_e) per quadrature
@@ -45,6 +52,7 @@ class InteriorEvaluator {
   Material material_;
   Eigen::Vector3d body_force_;
   ElementQuadrature quadrature_;
+  bool allow_too_close_ = false;
 };
 
 }  // namespace bemsurg

@@ -10,6 +10,7 @@
 #include <limits>
 #include <sstream>
 
+#include "bemsurg/mesh/mesh_quality.hpp"
 #include "bemsurg/mesh/mesh_topology.hpp"
 #include "bemsurg/mesh/self_intersection.hpp"
 #include "bemsurg/mesh/vertex_welding.hpp"
@@ -199,6 +200,14 @@ BEMSURG_INLINE void check_degenerate_faces(const TriangleMesh& mesh, const MeshV
       out.error(MeshIssueKind::DegenerateFace, f,
                 "face " + std::to_string(f) + " " + corners + " has near-zero area " + detail::num(mesh.area(f)) + " (mean face area " +
                     detail::num(mean_area) + "): the triangle is degenerate");
+    } else if (corners_finite) {
+      const auto c = mesh.corners(f);
+      const double ratio = aspect_ratio(c[0], c[1], c[2]);
+      if (ratio > options.max_aspect_ratio)
+        out.error(MeshIssueKind::DegenerateFace, f,
+                  "face " + std::to_string(f) + " " + corners + " is a sliver of aspect ratio " + detail::num(ratio) +
+                      " (longest edge / shortest altitude), above the limit " + detail::num(options.max_aspect_ratio) +
+                      " where the traction solved on it is meaningless (docs/stability.md): remesh it");
     }
   }
 }

@@ -17,18 +17,20 @@ BEMSURG_INLINE InteriorEvaluator::InteriorEvaluator(const TriangleMesh& mesh, co
   material_.validate();
 }
 
-BEMSURG_INLINE void InteriorEvaluator::require_clearance(const RowMatrixX3d& points) const {
-  const ClearanceViolation v = find_point_too_close(mesh_, points, quadrature_.options());
+BEMSURG_INLINE void InteriorEvaluator::require_clearance(const RowMatrixX3d& points, ClearanceQuantity quantity) const {
+  if (allow_too_close_) return;
+  const ClearanceViolation v = find_point_too_close(mesh_, points, quadrature_.options(), quantity);
   if (v.point < 0) return;
   std::ostringstream s;
   use_classic_locale(s).precision(10);
-  s << "InteriorEvaluator: point " << v.point << " (" << points(v.point, 0) << ", " << points(v.point, 1) << ", " << points(v.point, 2)
-    << ") " << describe_clearance_violation(v, quadrature_.options());
+  s << "InteriorEvaluator::" << (quantity == ClearanceQuantity::Stress ? "stress" : "displacement") << ": point " << v.point << " ("
+    << points(v.point, 0) << ", " << points(v.point, 1) << ", " << points(v.point, 2) << ") "
+    << describe_clearance_violation(v, quadrature_.options());
   throw InvalidArgumentError(s.str());
 }
 
 BEMSURG_INLINE RowMatrixX3d InteriorEvaluator::displacement(const RowMatrixX3d& points, const BoundarySolution& s) const {
-  require_clearance(points);
+  require_clearance(points, ClearanceQuantity::Displacement);
   const KelvinKernel kernel(material_);
   const GravityKernel gravity(material_, body_force_);
   const bool has_gravity = body_force_.squaredNorm() > 0.0;
@@ -48,7 +50,7 @@ BEMSURG_INLINE RowMatrixX3d InteriorEvaluator::displacement(const RowMatrixX3d& 
 }
 
 BEMSURG_INLINE StressRows InteriorEvaluator::stress(const RowMatrixX3d& points, const BoundarySolution& s) const {
-  require_clearance(points);
+  require_clearance(points, ClearanceQuantity::Stress);
   const KelvinKernelGradients grad(material_);
   const bool has_gravity = body_force_.squaredNorm() > 0.0;
   StressRows out(points.rows(), 6);
