@@ -163,7 +163,7 @@ struct UpdateRun {
 /// The steps of a scenario: "splits" splits a random edge of the top face (or of what earlier
 /// splits added), dented inwards: every step reshapes new elements; "moves" moves the same top
 /// vertex down and back up: every step reshapes the same six elements again, so the correction
-/// grows by terms that cancel (the worst case for a Woodbury update); "cuts" real SurfaceCutter
+/// grows by terms that cancel (a hard case for a Woodbury update); "cuts" real SurfaceCutter
 /// steps: cuts along x at several y, each opened, extended until refused and deepened once.
 class UpdateSteps {
  public:
