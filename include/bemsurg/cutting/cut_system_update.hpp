@@ -38,6 +38,13 @@ namespace bemsurg {
 
 enum class CutUpdateMethod { Exact, Gmres, BiCgStab, BiCg, Refactor };
 
+/// The default refactor rank, max(96, n / 10): past it the table is refactorised. Not an accuracy
+/// limit: bench_stability's updates study (docs/stability.md (f)) finds the updated solution
+/// within round-off (about 1e-14) of a fresh LU of the same system far past it, for random
+/// splits, cuts and the same elements reshaped over and over; it bounds the cost an update adds to
+/// every solve (4 n r flops on top of the LU's 2 n^2) and the memory of U, V, W (3 n r doubles).
+inline Index default_refactor_rank(Index n) { return std::max<Index>(96, n / 10); }
+
 /// Names as `bemsurg cut --update` and report.json write them.
 inline const char* to_string(CutUpdateMethod m) {
   switch (m) {
@@ -66,7 +73,7 @@ struct CutSystemOptions {
     s.max_iterations = 2000;
     return s;
   }();
-  /// Refactorise when the accumulated correction rank exceeds this; 0 = max(96, n / 10).
+  /// Refactorise when the accumulated correction rank exceeds this; 0 = default_refactor_rank(n) = max(96, n / 10).
   Index refactor_rank = 0;
   /// Refactorise on a background thread (else at once, inside apply()).
   bool background_refactor = true;
@@ -113,6 +120,9 @@ class CutSystemUpdate {
   const Eigen::VectorXd& solution() const { return x_; }
   /// Displacement and traction of every element of the current mesh.
   BoundarySolution boundary_solution() const { return recover_boundary_solution(table()->base_conditions(), x_); }
+  /// The explicit A* of the current system (kept for the iterative modes, or with keep_matrix;
+  /// empty otherwise): what a fresh factorisation of the current system would factorise.
+  const Eigen::MatrixXd& matrix() const { return A_; }
   /// True when a background refactorisation is running.
   bool refactor_running() const { return busy_.load(); }
   /// Blocks until a running background refactorisation has finished (and published, if still current).
@@ -177,7 +187,7 @@ class CutSystemUpdate {
     }
     x_.swap(x);
     if (A.size() > 0) A_.swap(A);
-    const Index limit = options_.refactor_rank > 0 ? options_.refactor_rank : std::max<Index>(96, next->num_dofs() / 10);
+    const Index limit = options_.refactor_rank > 0 ? options_.refactor_rank : default_refactor_rank(next->num_dofs());
     if (r.rank > limit) r.refactor_started = start_refactor(next, r.rank > 2 * limit || !options_.background_refactor);
     r.total_seconds = seconds_since(t0);
     return r;

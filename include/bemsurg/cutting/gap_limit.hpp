@@ -3,7 +3,11 @@
 // points; the adaptive quadrature (docs/design.md §4) integrates it accurately only down to some
 // gap width / element size. bench_cut's gap study (docs/cutting.md, "Narrow gaps") compares the
 // solution on cut meshes of shrinking gap ratio with a much finer quadrature; kMinimumGapRatio is
-// the smallest ratio at which they still agreed to 1e-6 there. Narrower gaps are refused.
+// the smallest ratio at which they still agreed to 1e-6 there. Narrower gaps are refused, by
+// SurfaceCutter itself (its last check; CutOptions::allow_narrow_gap_for_studies switches it off
+// for studies). bench_stability's gap study (docs/stability.md (d)) confirmed the limit: the
+// condition of A* and the Krylov iterations grow steadily as the gap narrows and every method
+// converges, but the error against the refined quadrature crosses 1e-6 between 0.1 and 0.05.
 #pragma once
 
 #include <sstream>

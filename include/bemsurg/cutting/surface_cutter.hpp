@@ -63,6 +63,11 @@ struct CutOptions {
   /// meaning there, so the step is refused. Smooth parts of a 1,280-face sphere turn by a few
   /// degrees.
   double max_normal_deviation_degrees = 40.0;
+  /// For studies only (bench_stability's and bench_cut's gap studies, docs/stability.md (d)):
+  /// accept gaps narrower than kMinimumGapRatio x the local edge length (cutting/gap_limit.hpp),
+  /// whose BEM solution is no longer trusted. Off: such a step is refused, naming the width, the
+  /// edge length and the limit.
+  bool allow_narrow_gap_for_studies = false;
 };
 
 /// The outcome of one SurfaceCutter step or deepen(): accepted or refused with the reason, the MeshDelta of the change,
@@ -144,6 +149,7 @@ class SurfaceCutter {
   static bool check_self_intersection(const TriangleMesh& mesh, const std::vector<Index>& changed, std::string& reason);
   static bool check_clearance(const Work& w, const TriangleMesh& mesh, std::string& reason);
   static bool check_manifold(const Work& w, const TriangleMesh& mesh, const std::vector<Index>& changed, std::string& reason);
+  bool check_gap(const Work& w, std::string& reason) const;
 
   std::shared_ptr<const TriangleMesh> mesh_;
   std::uint64_t version_ = 0;

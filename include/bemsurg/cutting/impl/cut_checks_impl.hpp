@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "bemsurg/cutting/gap_limit.hpp"
 #include "bemsurg/cutting/impl/cut_work_impl.hpp"
 #include "bemsurg/mesh/bvh.hpp"
 #include "bemsurg/mesh/geometry.hpp"
@@ -54,9 +55,19 @@ BEMSURG_INLINE bool SurfaceCutter::check(Work& w, std::string& reason) const {
   if (!check_locks(w, reason)) return false;
   const std::vector<Index> changed = w.delta.changed();
   if (!check_angles(*mesh, changed, reason) || !check_self_intersection(*mesh, changed, reason) || !check_clearance(w, *mesh, reason) ||
-      !check_manifold(w, *mesh, changed, reason))
+      !check_manifold(w, *mesh, changed, reason) || !check_gap(w, reason))
     return false;
   w.result = std::move(mesh);
+  return true;
+}
+
+// Gaps below kMinimumGapRatio x the local edge length are refused (cutting/gap_limit.hpp,
+// docs/stability.md (d)): the BEM solution across them is no longer trusted. Checked last, so a
+// gap narrow enough to make slivers is refused for its angles first.
+BEMSURG_INLINE bool SurfaceCutter::check_gap(const Work& w, std::string& reason) const {
+  if (options_.allow_narrow_gap_for_studies) return true;
+  for (const auto& s : w.path)
+    if (s.split && !(reason = narrow_gap_reason(s.width, s.edge_length)).empty()) return false;
   return true;
 }
 
