@@ -152,6 +152,17 @@ int run_press(int argc, char** argv) {
                                 bemsurg::fixed_text(o.direction.y(), 6) + ", " + bemsurg::fixed_text(o.direction.z(), 6) +
                                 ") through the given point does not meet the body (or only outside the table's region, or the "
                                 "sphere is narrower than the elements where it lands and covers no element centroid)");
+  // A tool narrower than a few elements gives a coarse force (docs/stability.md (g)): warned, with
+  // the element size under the tool's axis (the ray from one radius behind the engaged origin).
+  if (o.tool_radius > 0.0 && !o.quiet) {
+    bemsurg::RayHit hit;
+    const Eigen::Vector3d dir = solver.direction(tool);
+    if (solver.base_surface().intersect_ray(solver.origin(tool) - o.tool_radius * dir, dir, hit)) {
+      const bemsurg::ToolResolutionCheck res =
+          bemsurg::check_tool_resolution(p.mesh, hit.element, o.tool.shape == bemsurg::ToolShape::Sphere, o.tool_radius, o.depth);
+      if (!res.warning.empty()) std::cerr << "bemsurg: warning: press: " << res.warning << "\n";
+    }
+  }
   solver.set_depth(tool, o.depth);
   const bemsurg::ContactUpdateResult report = solver.update();
   const Eigen::Vector3d force = solver.force(tool);

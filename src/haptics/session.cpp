@@ -114,6 +114,16 @@ class ToolTrack {
                          ": a tool coming along the direction through `at` does not meet the body "
                          "(or only outside the table's region, or the sphere covers no element centroid)");
     const Eigen::Vector3d o = c_.probe.origin(c_.probe_tool);
+    // A tool narrower than a few elements gives a coarse force (docs/stability.md (g)): warned.
+    const bool sphere = tool_.shape == ScriptToolShape::Sphere;
+    if (sphere || tool_.shape == ScriptToolShape::Flat) {
+      RayHit hit;
+      const Eigen::Vector3d dir = c_.probe.direction(c_.probe_tool);
+      if (c_.probe.base_surface().intersect_ray(o - tool_.radius * dir, dir, hit)) {
+        const ToolResolutionCheck res = check_tool_resolution(c_.mesh, hit.element, sphere, tool_.radius, a.depth);
+        if (!res.warning.empty()) c_.warnings.push_back(describe(c_.script, a) + ": " + res.warning);
+      }
+    }
     c_.probe.release(c_.probe_tool);
     return o;
   }

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstddef>
+#include <string>
 
 #include "bemsurg/mesh/triangle_mesh.hpp"
 
@@ -27,6 +28,17 @@ struct ThinElements {
 /// Casts one ray per element into the material (TriangleBvh, O(E log E)). Elements whose ray
 /// leaves through no face (an open surface) are skipped.
 ThinElements find_thin_elements(const TriangleMesh& mesh);
+
+/// Element sizes across a part's thickness below which its bending stiffness is more than 10 %
+/// off (constant elements make a bent plate too stiff: 40 % at 4 sizes, 10-fold at 1; a part
+/// compressed through its thickness stays exact even at 0.1). Measured by bench_stability (g),
+/// docs/stability.md. find_thin_elements flags only parts thinner than one element size (where
+/// the error is ten-fold and more); the warning's text quotes this figure for accuracy.
+constexpr double kBendingAccurateThicknessPerElement = 7.0;
+
+/// The warning for a mesh with thin elements (empty when thin.count is 0): the count, the worst
+/// element with its size and thickness, and the refinement that makes the part reliable.
+std::string thin_elements_warning(const ThinElements& thin);
 
 }  // namespace bemsurg
 

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <limits>
 #include <string>
 
 #include "bemsurg/mesh/triangle_mesh.hpp"
@@ -22,7 +23,18 @@ struct ContactDepthLimits {
   double warn_body_strain = 0.05;
   double max_body_strain = 0.2;
   double warn_tool_strain = 0.1;
+  // 0.5: there Hertz's force departs 5 % from the linear-elastic force of the exact sphere
+  // (Sneddon), and the contact radius is 0.65 R (docs/stability.md (h), report.md "(h) Press
+  // depth against tool radius").
   double max_tool_strain = 0.5;
+
+  /// For studies only (bench_stability (h), docs/stability.md): nothing is refused (the max_*
+  /// are infinite), the warnings stay; check_contact_depth then only measures the strains.
+  static ContactDepthLimits for_studies() {
+    ContactDepthLimits l;
+    l.max_body_strain = l.max_tool_strain = std::numeric_limits<double>::infinity();
+    return l;
+  }
 };
 
 /// What check_contact_depth found: the two strains (tool_strain is 0 for a point tool) and a
@@ -40,6 +52,29 @@ struct ContactDepthCheck {
 /// is beyond max_* (or not finite, or negative); returns the strains and a warning otherwise.
 ContactDepthCheck check_contact_depth(const TriangleMesh& mesh, const Eigen::Vector3d& direction, double depth, double tool_radius,
                                       const ContactDepthLimits& limits = ContactDepthLimits());
+
+/// Contact radius over element size below which the tool's force is unreliable (more than 10 %
+/// off Boussinesq's punch or Hertz's sphere on a resolved half-space; docs/stability.md (g),
+/// report.md "(g) Thin parts and tool size against element size"): the punch's force wanders by
+/// more than 10 % from about 1.2 radii per element, the sphere's from 2.5 (its pressure
+/// vanishes at the footprint's edge, so fewer elements carry it).
+constexpr double kMinPunchRadiusPerElement = 1.5;
+constexpr double kMinSphereContactRadiusPerElement = 2.5;
+
+/// What check_tool_resolution found: the contact radius (the punch's radius, or the sphere's
+/// Hertz footprint sqrt(R depth), at most R), the element size sqrt(2 area) under the tool's
+/// axis, the limit that applies, and a warning naming the three (empty when resolved).
+struct ToolResolutionCheck {
+  double contact_radius = 0.0;
+  double element_size = 0.0;
+  double limit = 0.0;
+  std::string warning;
+};
+
+/// Checks a flat punch (sphere = false) of radius `tool_radius`, or a sphere of that radius pressed
+/// `depth` beyond first contact, landing on `element` of `mesh`. Warns (never throws: the force is
+/// a coarse estimate, not a wrong state) when contact radius / element size is below the limit.
+ToolResolutionCheck check_tool_resolution(const TriangleMesh& mesh, Index element, bool sphere, double tool_radius, double depth);
 
 }  // namespace bemsurg
 

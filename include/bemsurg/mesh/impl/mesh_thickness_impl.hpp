@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "bemsurg/mesh/bvh.hpp"
+#include "bemsurg/number_text.hpp"
 
 namespace bemsurg {
 
@@ -33,6 +34,16 @@ BEMSURG_INLINE ThinElements find_thin_elements(const TriangleMesh& mesh) {
     }
   }
   return out;
+}
+
+BEMSURG_INLINE std::string thin_elements_warning(const ThinElements& thin) {
+  if (thin.count == 0) return std::string();
+  return std::to_string(thin.count) + " elements are larger than the body is thick under them (element " + std::to_string(thin.element) +
+         ": size " + general_text(thin.size, 3) + ", thickness " + general_text(thin.thickness, 3) +
+         " along its inward normal); constant elements cannot resolve a part thinner than themselves and the results there may be far "
+         "off: refine the mesh to elements no larger than the thickness, and to " +
+         general_text(kBendingAccurateThicknessPerElement, 3) +
+         " elements across it where the part bends (10 % accuracy, docs/stability.md)";
 }
 
 }  // namespace bemsurg

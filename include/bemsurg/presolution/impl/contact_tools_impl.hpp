@@ -275,9 +275,16 @@ BEMSURG_INLINE bool ToolContactSolver::geometric_contact(const Tool& t, Index e,
       const double b = n.dot(x);
       const double disc = b * b - x.squaredNorm() + t.spec.radius * t.spec.radius;
       w = -n;
-      // In contact only when the centroid lies inside the sphere: delta_n < 0 alone also holds for
-      // a centroid outside the sphere with the sphere on its -n side (both crossings behind it).
-      if (disc < 0.0 || !(x.squaredNorm() < t.spec.radius * t.spec.radius)) return false;
+      // In contact when the centroid lies inside the sphere: delta_n < 0 alone also holds for a
+      // centroid outside the sphere with the sphere on its -n side (both crossings behind it). Or
+      // when the sphere has passed it: the centroid lies in the column the sphere swept since it
+      // was engaged or placed (within R of its axis, behind its centre now, not behind where it
+      // started). Without this a sphere pressed deeper than 2 R (the CLI refuses that, a haptic
+      // device does not) left every centroid behind it and the force dropped to zero
+      // (docs/stability.md (h)); now the elements stay on its far side.
+      const double r2 = t.spec.radius * t.spec.radius, along = x.dot(t.direction);
+      const bool passed = along < 0.0 && x.squaredNorm() - along * along < r2 && (x + t.delta).dot(t.direction) >= -t.spec.radius;
+      if (disc < 0.0 || !(x.squaredNorm() < r2 || passed)) return false;
       const double delta_n = -b - std::sqrt(disc);  // normal move (along n) onto the sphere
       if (!(delta_n < 0.0)) return false;
       push = delta_n * n;

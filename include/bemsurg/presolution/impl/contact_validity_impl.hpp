@@ -58,4 +58,20 @@ BEMSURG_INLINE ContactDepthCheck check_contact_depth(const TriangleMesh& mesh, c
   return c;
 }
 
+BEMSURG_INLINE ToolResolutionCheck check_tool_resolution(const TriangleMesh& mesh, Index element, bool sphere, double tool_radius,
+                                                         double depth) {
+  using detail::short_number;
+  ToolResolutionCheck c;
+  if (element < 0 || element >= mesh.num_elements() || !(tool_radius > 0.0) || !(depth > 0.0)) return c;
+  c.contact_radius = sphere ? std::min(tool_radius, std::sqrt(tool_radius * depth)) : tool_radius;
+  c.element_size = std::sqrt(2.0 * mesh.area(element));
+  c.limit = sphere ? kMinSphereContactRadiusPerElement : kMinPunchRadiusPerElement;
+  if (c.contact_radius < c.limit * c.element_size)
+    c.warning = std::string(sphere ? "the sphere's contact radius " : "the punch radius ") + short_number(c.contact_radius) + " is " +
+                short_number(c.contact_radius / c.element_size) + " element sizes (" + short_number(c.element_size) +
+                " under the tool): below " + short_number(c.limit) +
+                " the force can be more than 10 % off; refine the mesh there or use a larger tool (docs/stability.md)";
+  return c;
+}
+
 }  // namespace bemsurg
