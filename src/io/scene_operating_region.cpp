@@ -6,9 +6,9 @@
 #include "scene_sections.hpp"
 
 namespace bemsurg::io {
-namespace {
 
-OperatingRegion read_shape(const JsonReader& r, const TriangleMesh& mesh) {
+// Shared with mesh.refine (scene_mesh.cpp), which selects the elements to refine by the same shapes.
+OperatingRegion read_region_shape(const JsonReader& r, const TriangleMesh& mesh) {
   if (const std::optional<JsonReader> s = r.optional("sphere")) {
     s->object().warn_unknown_keys({"center", "radius"});
     const Vec3 c = s->required("center").vec3();
@@ -34,6 +34,8 @@ OperatingRegion read_shape(const JsonReader& r, const TriangleMesh& mesh) {
   }
   return OperatingRegion::element_set(mesh, ids);
 }
+
+namespace {
 
 /// The graded remesh's options; `graded` false when no edge lengths are given.
 GradedRemeshOptions read_remesh_options(const JsonReader& r, bool& graded) {
@@ -73,7 +75,7 @@ OperatingRegionRequest parse_operating_region(const JsonReader& r, const Triangl
   const int shapes = int(r.has("sphere")) + int(r.has("box")) + int(r.has("elements"));
   if (shapes != 1) r.fail("expected exactly one of \"sphere\", \"box\" or \"elements\", got " + std::to_string(shapes));
   OperatingRegionRequest request;
-  request.region = read_shape(r, mesh);
+  request.region = read_region_shape(r, mesh);
   request.options = read_remesh_options(r, request.graded);
   try {
     request.region.require_meets_surface(mesh, request.graded ? 0.5 * request.options.inside_edge_length : 0.0);
