@@ -47,6 +47,10 @@ def render(ctx):
         ax.plot([p["elements"] for p in pts], [p["displacement_error"] for p in pts], marker=rl.MARKERS[i % len(rl.MARKERS)],
                 lw=2.2 if strategy == "uniform" else 1.2, color="black" if strategy == "uniform" else None,
                 label=f"{strategy} ({etype})", alpha=0.85)
+    for j, ((rule, etype), pts) in enumerate(sorted(_series(ratio_rows, lambda r: (r["rule"], r["element_type"])).items())):
+        pts = sorted(pts, key=lambda r: r["elements"])
+        ax.plot([p["elements"] for p in pts], [p["displacement_error"] for p in pts], ls=":", marker="o" if j == 0 else "s",
+                markerfacecolor="none", label=f"graded (Gmsh), {rule} ({etype})")
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel("elements")
