@@ -2,7 +2,7 @@
 #pragma once
 
 /// \defgroup mesh Mesh
-/// \brief Triangle surface meshes: the mesh type, generators, file formats, geometry, topology, validation, quality, graded remeshing (Gmsh, optional at build time) and the element-id contract of a mesh change (MeshDelta).
+/// \brief Triangle surface meshes: the mesh type, generators, file formats, geometry, topology, validation, quality, graded remeshing (Gmsh, optional at build time), red-green local refinement and the element-id contract of a mesh change (MeshDelta).
 ///
 /// Headers (each can be included on its own for faster builds):
 /// - brain_model.hpp
@@ -18,6 +18,7 @@
 /// - mesh_topology.hpp
 /// - mesh_validation.hpp
 /// - operating_region.hpp
+/// - red_green_refinement.hpp
 /// - self_intersection.hpp
 /// - triangle_mesh.hpp
 /// - vertex_welding.hpp
@@ -35,6 +36,7 @@
 #include "bemsurg/mesh/mesh_topology.hpp"
 #include "bemsurg/mesh/mesh_validation.hpp"
 #include "bemsurg/mesh/operating_region.hpp"
+#include "bemsurg/mesh/red_green_refinement.hpp"
 #include "bemsurg/mesh/self_intersection.hpp"
 #include "bemsurg/mesh/triangle_mesh.hpp"
 #include "bemsurg/mesh/vertex_welding.hpp"

@@ -14,10 +14,15 @@
 #include "bemsurg/mesh/mesh_io.hpp"
 #include "bemsurg/mesh/mesh_thickness.hpp"
 #include "bemsurg/mesh/mesh_validation.hpp"
+#include "bemsurg/mesh/red_green_refinement.hpp"
 #include "bemsurg/number_text.hpp"
 #include "scene_sections.hpp"
 
 namespace bemsurg::io {
+
+// scene_operating_region.cpp: the sphere / box / elements shapes of operating_region.
+OperatingRegion read_region_shape(const JsonReader& r, const TriangleMesh& mesh);
+
 namespace {
 
 // Generators beyond these sizes give dense systems no machine holds; refusing them here turns an
@@ -58,7 +63,7 @@ std::optional<TriangleMesh> run_generator(const JsonReader& m, const std::string
     return s ? s->integer_in(0, kMaxSubdivisions) : fallback;
   };
   if (kind == "box") {
-    m.warn_unknown_keys({"generator", "min", "max", "divisions"});
+    m.warn_unknown_keys({"refine", "generator", "min", "max", "divisions"});
     const Vec3 lo = m.required("min").vec3();
     const JsonReader max = m.required("max");
     const Vec3 hi = max.vec3();
@@ -74,7 +79,7 @@ std::optional<TriangleMesh> run_generator(const JsonReader& m, const std::string
     return box_mesh(lo, hi, n[0], n[1], n[2]);
   }
   if (kind == "box_grid") {
-    m.warn_unknown_keys({"generator", "x", "y", "z"});
+    m.warn_unknown_keys({"refine", "generator", "x", "y", "z"});
     const auto xs = increasing_numbers(m.required("x"));
     const auto ys = increasing_numbers(m.required("y"));
     const auto zs = increasing_numbers(m.required("z"));
@@ -84,7 +89,7 @@ std::optional<TriangleMesh> run_generator(const JsonReader& m, const std::string
     return box_mesh_from_grid(xs, ys, zs);
   }
   if (kind == "icosphere") {
-    m.warn_unknown_keys({"generator", "center", "radius", "subdivisions"});
+    m.warn_unknown_keys({"refine", "generator", "center", "radius", "subdivisions"});
     const double r = m.required("radius").positive();
     const int s = subdivisions("subdivisions", 2);
     source = "icosphere generator, subdivisions " + std::to_string(s);
@@ -92,7 +97,7 @@ std::optional<TriangleMesh> run_generator(const JsonReader& m, const std::string
     return icosphere_mesh(center(), r, s);
   }
   if (kind == "ellipsoid") {
-    m.warn_unknown_keys({"generator", "center", "semi_axes", "subdivisions"});
+    m.warn_unknown_keys({"refine", "generator", "center", "semi_axes", "subdivisions"});
     const JsonReader semi_axes = m.required("semi_axes");
     const Vec3 axes = semi_axes.vec3();
     for (std::size_t c = 0; c < 3; ++c) semi_axes[c].positive();
@@ -103,7 +108,7 @@ std::optional<TriangleMesh> run_generator(const JsonReader& m, const std::string
   }
   if (kind == "hollow_sphere") {
     m.warn_unknown_keys(
-        {"generator", "center", "inner_radius", "outer_radius", "subdivisions", "subdivisions_inner", "subdivisions_outer"});
+        {"refine", "generator", "center", "inner_radius", "outer_radius", "subdivisions", "subdivisions_inner", "subdivisions_outer"});
     const double a = m.required("inner_radius").positive();
     const JsonReader outer = m.required("outer_radius");
     const double b = outer.positive();
@@ -116,7 +121,8 @@ std::optional<TriangleMesh> run_generator(const JsonReader& m, const std::string
     return hollow_sphere_mesh(center(), a, b, si, so);
   }
   if (kind == "brain") {
-    m.warn_unknown_keys({"generator", "size", "subdivisions", "fissure_depth", "fissure_half_width", "fold_amplitude", "fold_wavelength"});
+    m.warn_unknown_keys(
+        {"refine", "generator", "size", "subdivisions", "fissure_depth", "fissure_half_width", "fold_amplitude", "fold_wavelength"});
     BrainModelOptions o;
     if (const std::optional<JsonReader> size = m.optional("size")) {
       o.size = size->vec3();
@@ -149,6 +155,27 @@ TriangleMesh generate_mesh(const JsonReader& m, std::string& source) {
   return std::move(*mesh);
 }
 
+/// "refine" (docs/scene-format.md#local-refinement-refine, docs/graded.md): the elements whose
+/// centroid lies in the region (the operating_region shapes) are refined red-green `levels` times.
+void refine_in_region(const JsonReader& m, TriangleMesh& mesh, std::string& source) {
+  const JsonReader r = m.required("refine");
+  r.object().warn_unknown_keys({"sphere", "box", "elements", "levels"});
+  const int shapes = int(r.has("sphere")) + int(r.has("box")) + int(r.has("elements"));
+  if (shapes != 1) r.fail("expected exactly one of \"sphere\", \"box\" or \"elements\", got " + std::to_string(shapes));
+  const OperatingRegion region = read_region_shape(r, mesh);
+  const std::optional<JsonReader> l = r.optional("levels");
+  const int levels = l ? l->integer_in(1, 6) : 1;
+  // A centroid lies ~1e-18 from its own triangle, not 0: a rounding slack selects listed elements.
+  const double slack = 1e-9 * (mesh.bounding_box().col(1) - mesh.bounding_box().col(0)).norm();
+  const std::vector<Index> marked = region.elements_of(mesh, slack);
+  if (marked.empty()) r.fail(region.describe() + " holds no element centroid of the mesh: nothing to refine");
+  // Each level multiplies the marked elements by four; the closure adds at most a band around them.
+  require_generated_size(r.path(), "the refined mesh", double(mesh.num_elements()) + 3.0 * double(marked.size()) * std::pow(4.0, levels));
+  mesh = refine_red_green(mesh, marked, levels).mesh;
+  source += ", red-green refined (" + std::to_string(marked.size()) + " elements, " + std::to_string(levels) + " level" +
+            (levels > 1 ? "s" : "") + ")";
+}
+
 }  // namespace
 
 TriangleMesh load_mesh(const JsonReader& m, const std::string& directory, std::string& source) {
@@ -160,7 +187,7 @@ TriangleMesh load_mesh(const JsonReader& m, const std::string& directory, std::s
 
   TriangleMesh mesh;
   if (has_file) {
-    m.warn_unknown_keys({"file", "scale", "translate"});
+    m.warn_unknown_keys({"file", "scale", "translate", "refine"});
     const JsonReader file = m.required("file");
     const std::string path = resolve_existing(directory, file);
     try {
@@ -189,6 +216,7 @@ TriangleMesh load_mesh(const JsonReader& m, const std::string& directory, std::s
     if (what.rfind("invalid mesh: ", 0) == 0) what.erase(0, 14);
     at.fail("invalid mesh (" + source + "): " + what);
   }
+  if (m.has("refine")) refine_in_region(m, mesh, source);
   // Legal but unreliable: a body thinner than its elements (docs/design.md §2).
   const ThinElements thin = find_thin_elements(mesh);
   if (thin.count > 0) {

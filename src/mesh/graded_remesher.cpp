@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <mutex>
 #include <string>
 #include <unordered_map>
@@ -177,7 +178,36 @@ TriangleMesh remesh_with_gmsh(const TriangleMesh& input, const OperatingRegion& 
 }  // namespace
 
 double graded_target_size(const OperatingRegion& region, const GradedRemeshOptions& o, const Vec3& x) {
-  return std::min(o.outside_edge_length, o.inside_edge_length + (o.growth - 1.0) * region.distance(x));
+  double d = region.distance(x);
+  for (const OperatingRegion& s : o.supported_regions) d = std::min(d, s.distance(x));
+  return std::min(o.outside_edge_length, o.inside_edge_length + (o.growth - 1.0) * d);
+}
+
+double support_size_ratio(const TriangleMesh& mesh, const std::vector<char>& displacement_prescribed) {
+  // Percentiles, not extremes: a uniform Gmsh mesh's element sizes spread by about 1.4 between the
+  // largest and the smallest (docs/graded.md), which says nothing about its grading.
+  std::vector<double> all, held;
+  for (Index e = 0; e < mesh.num_elements(); ++e) {
+    all.push_back(element_size(mesh, e));
+    if (static_cast<std::size_t>(e) < displacement_prescribed.size() && displacement_prescribed[static_cast<std::size_t>(e)])
+      held.push_back(all.back());
+  }
+  if (held.empty()) return 0.0;
+  const auto percentile = [](std::vector<double>& v, double q) {
+    const auto k = v.begin() + static_cast<std::ptrdiff_t>(q * static_cast<double>(v.size() - 1));
+    std::nth_element(v.begin(), k, v.end());
+    return *k;
+  };
+  return percentile(held, 0.9) / percentile(all, 0.1);
+}
+
+std::string grading_rule_warning(const TriangleMesh& mesh, const std::vector<char>& displacement_prescribed) {
+  const double ratio = support_size_ratio(mesh, displacement_prescribed);
+  if (ratio <= kMaxSupportSizeRatio) return {};
+  return "the displacement-prescribed (supported) elements are up to " + number_text(std::round(100.0 * ratio) / 100.0) +
+         " times the size of the finest elements (limit " + number_text(kMaxSupportSizeRatio) +
+         "): with constant elements such a grading can be less accurate than no refinement; refine the held region too "
+         "(scene: operating_region.supported, or a mesh.refine that covers it; docs/graded.md#safe-gradings)";
 }
 
 bool graded_remesher_available() {

@@ -14,6 +14,9 @@
 // graded_remesh throws bemsurg::Error saying so. Everything else of bemsurg works either way.
 #pragma once
 
+#include <string>
+#include <vector>
+
 #include "bemsurg/mesh/mesh_quality.hpp"
 #include "bemsurg/mesh/operating_region.hpp"
 #include "bemsurg/mesh/triangle_mesh.hpp"
@@ -31,7 +34,28 @@ struct GradedRemeshOptions {
   double growth = 1.25;
   /// Dihedral angle (degrees) above which an edge of the input is a crease to keep.
   double feature_angle_degrees = 40.0;
+  /// Regions meshed at inside_edge_length too, graded like the operating region: the supported
+  /// (displacement-prescribed) part of the surface. With constant elements a mesh finer in the
+  /// operating region than where it is held can be worse than no refinement at all; the safe
+  /// grading refines both (docs/graded.md#safe-gradings, study (i) of docs/stability.md).
+  std::vector<OperatingRegion> supported_regions;
 };
+
+/// The safe-grading rule's limit (docs/graded.md#safe-gradings, docs/stability.md (i)): the
+/// displacement-prescribed elements may be at most this many times the finest elements of the
+/// mesh (support_size_ratio). Measured on the clamped box of study (i) (report.md, "(i) Non-uniform meshes"):
+/// refining an operating region but not the clamped face raised the displacement error up to
+/// 2.8x, refining both did not.
+inline constexpr double kMaxSupportSizeRatio = 1.3;
+
+/// The ratio the rule bounds: the 90th percentile of the sizes (mean edge length) of the elements
+/// where `displacement_prescribed` is true over the 10th percentile of all element sizes of `mesh`
+/// (percentiles: a uniform Gmsh mesh's sizes spread by ~1.4 between extremes); 0 without such elements.
+double support_size_ratio(const TriangleMesh& mesh, const std::vector<char>& displacement_prescribed);
+
+/// A warning (empty when the rule holds) for a mesh whose supported elements are coarser than
+/// kMaxSupportSizeRatio times its finest elements, naming the ratio, the limit and the fix.
+std::string grading_rule_warning(const TriangleMesh& mesh, const std::vector<char>& displacement_prescribed);
 
 /// What graded_remesh returns: the remeshed and validated surface, its quality figures and the time taken (seconds).
 struct GradedRemeshResult {
@@ -52,7 +76,8 @@ bool graded_remesher_available();
 /// this build has no remesher or Gmsh fails.
 GradedRemeshResult graded_remesh(const TriangleMesh& input, const OperatingRegion& region, const GradedRemeshOptions& options);
 
-/// The size function used: h(x) for a point x (exposed for tests and reports).
+/// The size function used: h(x) for a point x (exposed for tests and reports); d(x) is the
+/// distance to the nearest of the region and the supported regions.
 double graded_target_size(const OperatingRegion& region, const GradedRemeshOptions& options, const Vec3& x);
 
 }  // namespace bemsurg
