@@ -347,6 +347,7 @@ void gap_study(bool quick, json& out) {
     if (ratio > 0.0) {
       CutOptions co;
       co.gap_fraction = ratio;
+      co.allow_narrow_gap_for_studies = true;  // below the library's limit on purpose: this is the study that set it
       co.min_angle_degrees = 0.05;
       const std::vector<Step> steps = cut_steps(body, 1, co);
       mesh = steps.back().mesh;

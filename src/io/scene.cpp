@@ -57,6 +57,17 @@ void collect_operating_elements(Scene& scene) {
                                         " elements inside are displacement-prescribed, and a Green's table needs free ones)");
 }
 
+/// The safe-grading rule (docs/graded.md#safe-gradings): a graded or locally refined mesh whose
+/// held elements are much coarser than its finest ones is warned about.
+void warn_unsafe_grading(Scene& scene) {
+  if (!scene.graded && scene.mesh_source.find("red-green") == std::string::npos) return;
+  const ElastostaticProblem& p = scene.problem;
+  std::vector<char> held(static_cast<std::size_t>(p.mesh.num_elements()));
+  for (Index e = 0; e < p.mesh.num_elements(); ++e) held[static_cast<std::size_t>(e)] = !p.boundary_conditions.is_free(e);
+  const std::string w = grading_rule_warning(p.mesh, held);
+  if (!w.empty()) scene.warnings.push_back("mesh: " + w);
+}
+
 Scene build_scene(const io::JsonDocument& document, const std::string& directory, const std::string& name) {
   Scene scene;
   scene.path = name;
@@ -83,6 +94,7 @@ Scene build_scene(const io::JsonDocument& document, const std::string& directory
   scene.mesh_quality = measure_mesh_quality(problem.mesh);
   problem.boundary_conditions = io::load_boundary_conditions(root.required("boundary_conditions"), directory, problem.mesh);
   if (scene.has_operating_region) collect_operating_elements(scene);
+  warn_unsafe_grading(scene);
   if (const std::optional<io::JsonReader> q = root.optional("quadrature")) problem.quadrature = io::load_quadrature(*q);
   if (const std::optional<io::JsonReader> s = root.optional("solver")) scene.solver = io::load_solver(*s);
   if (const std::optional<io::JsonReader> ip = root.optional("interior_points")) {

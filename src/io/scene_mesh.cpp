@@ -219,15 +219,7 @@ TriangleMesh load_mesh(const JsonReader& m, const std::string& directory, std::s
   if (m.has("refine")) refine_in_region(m, mesh, source);
   // Legal but unreliable: a body thinner than its elements (docs/design.md §2).
   const ThinElements thin = find_thin_elements(mesh);
-  if (thin.count > 0) {
-    std::ostringstream w;
-    use_classic_locale(w).precision(3);
-    w << thin.count << " elements are larger than the body is thick under them (element " << thin.element << ": size " << thin.size
-      << ", thickness " << thin.thickness
-      << " along its inward normal); constant elements cannot resolve a part thinner than themselves and the "
-         "results there may be far off: refine the mesh to elements no larger than the thickness";
-    at.warn(w.str());
-  }
+  if (thin.count > 0) at.warn(thin_elements_warning(thin));  // docs/stability.md, study (g)
   return mesh;
 }
 

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "bemsurg/memory_budget.hpp"
+#include "bemsurg/mesh/mesh_quality.hpp"
 #include "bemsurg/quadrature/quadrature_cost.hpp"
 #include "bemsurg/timing.hpp"
 
@@ -95,6 +96,8 @@ BEMSURG_INLINE ElastostaticSolution solve_elastostatic(const ElastostaticProblem
   problem.boundary_conditions.require_supported(problem.mesh);
   std::vector<std::string> warnings;
   detail::check_nearly_incompressible(problem, warnings);
+  // Slivers cost the traction on them accuracy (docs/stability.md, study (c)).
+  if (std::string w = sliver_warning(problem.mesh); !w.empty()) warnings.push_back(std::move(w));
 
   const Index E = problem.mesh.num_elements();
   const double need = estimate_elastostatic_bytes(E);
