@@ -15,7 +15,7 @@
 using namespace bemsurg;
 namespace st = bemsurg::bench::stability;
 
-TEST_CASE("thin part: a bent plate is accurate at 8 elements across, far off and warned below one; compression is exact",
+TEST_CASE("thin part: a bent plate is accurate at 8 elements across, far off and warned below one, and compression is exact",
           "[stability][thin]") {
   // Saint-Venant's pure bending, exact field on the ends (contact_setup.hpp): the reaction moment.
   const st::BentPlateResult thick = st::bent_plate(8.0, 1.0, 3, 1);
@@ -67,7 +67,8 @@ TEST_CASE("tool size: a sphere's force against Hertz on both sides of its resolu
   CHECK(hertz_error(0.5 * kMinSphereContactRadiusPerElement) > 0.1);
 }
 
-TEST_CASE("press depth: refused just past max_tool_strain, accurate just inside; a sphere past 2 R keeps its force", "[stability][depth]") {
+TEST_CASE("press depth: refused just past max_tool_strain, accurate just inside, and a sphere past 2 R keeps its force",
+          "[stability][depth]") {
   const TriangleMesh body = box_mesh(Eigen::Vector3d(-5, -5, -10), Eigen::Vector3d(5, 5, 0), 1, 1, 1);
   const Eigen::Vector3d down(0, 0, -1);
   const ContactDepthLimits limits;

@@ -17,7 +17,7 @@ using namespace bemsurg::stability;
 // cut modes' agreement (docs/cutting.md: exact and refactored agree to 1e-14 .. 1e-11), with room.
 constexpr double kMaxUpdateDrift = 1e-10;
 
-TEST_CASE("a cut gap just above kMinimumGapRatio is accepted and accurate; just below it is refused naming width, edge and limit",
+TEST_CASE("a cut gap just above kMinimumGapRatio is accepted and accurate, just below it is refused naming width, edge and limit",
           "[stability][gap]") {
   const CutBody body = make_cut_body(4, 4, 2);
   SECTION("just above: accepted, and the solution agrees with a refined quadrature to 1e-6 (the limit's criterion)") {

@@ -42,7 +42,7 @@ struct KelvinBox {
 };
 }  // namespace
 
-TEST_CASE("interior stress is refused closer than kMinStressClearanceFraction x h; displacement is evaluated down to its own limit",
+TEST_CASE("interior stress is refused closer than kMinStressClearanceFraction x h, displacement is evaluated down to its own limit",
           "[stability][interior]") {
   const KelvinBox kb;
   const InteriorEvaluator ev(kb.box, kb.m);

@@ -13,7 +13,7 @@
 using namespace bemsurg;
 using namespace bemsurg::bench::grading;
 
-TEST_CASE("grading rule: a half refined without its clamped face is worse and warned about, with it neither", "[grading]") {
+TEST_CASE("grading rule: a half refined without its clamped face is worse and warned about, with it neither", "[stability][grading]") {
   const TriangleMesh half = refined_box(2, Zone::HalfMinus, 1), rule = refined_box(2, Zone::HalfMinusAndSupported, 1);
   const GradingResult base = solve_constant(base_box(2)), bad = solve_constant(half), good = solve_constant(rule);
   INFO("base " << base.displacement_error << ", half only " << bad.displacement_error << " (ratio " << bad.support_ratio
@@ -32,7 +32,7 @@ TEST_CASE("grading rule: a half refined without its clamped face is worse and wa
   CHECK(good.displacement_error < 0.65 * bad.displacement_error);
 }
 
-TEST_CASE("grading rule: the graded remesher refines a supported region like the operating region", "[grading]") {
+TEST_CASE("grading rule: the graded remesher refines a supported region like the operating region", "[stability][grading]") {
   testing::skip_unless(graded_remesher_available(), "this build has no remesher (BEMSURG_WITH_REMESHER=OFF)");
   const TriangleMesh free_support = graded_box(0.25, 0.5, false), rule = graded_box(0.25, 0.5, true);
   const double r_free = support_size_ratio(free_support, held(free_support)), r_rule = support_size_ratio(rule, held(rule));

@@ -22,7 +22,8 @@ namespace bemsurg {
 inline constexpr double kPoissonRatioWarning = 0.49;
 /// Poisson's ratio at and above which solve_elastostatic refuses (InvalidMaterialError) a problem
 /// with such a component: there the pressure mode is amplified 5000-fold and the measured errors
-/// pass 100 % (docs/stability.md (a)). Problems without one are solved up to nu < 0.5.
+/// pass 100 % on every mesh swept (coarse meshes already from about 0.495, with the warning;
+/// docs/stability.md (a)). Problems without one are solved up to nu < 0.5.
 inline constexpr double kPoissonRatioLimit = 0.4999;
 
 /// Isotropic linear elastic material (small strain) in SI units: Young's modulus E in Pa, Poisson's ratio nu and

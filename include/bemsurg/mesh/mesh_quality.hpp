@@ -80,7 +80,7 @@ inline constexpr double kMaxAspectRatio = 1e4;
 
 /// "element 12 has aspect ratio 250 ..." when some element's aspect ratio exceeds
 /// kSliverWarningAspectRatio (naming the worst one and how many exceed it); empty otherwise. For
-/// ElastostaticResult::warnings and the scene's warnings.
+/// ElastostaticResult::warnings (solve_elastostatic adds it).
 inline std::string sliver_warning(const TriangleMesh& mesh) {
   const WorstAspectRatio w = worst_aspect_ratio(mesh);
   if (!(w.ratio > kSliverWarningAspectRatio)) return {};

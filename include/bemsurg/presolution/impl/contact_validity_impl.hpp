@@ -62,7 +62,8 @@ BEMSURG_INLINE ToolResolutionCheck check_tool_resolution(const TriangleMesh& mes
                                                          double depth) {
   using detail::short_number;
   ToolResolutionCheck c;
-  if (element < 0 || element >= mesh.num_elements() || !(tool_radius > 0.0) || !(depth > 0.0)) return c;
+  if (element < 0 || element >= mesh.num_elements() || !(tool_radius > 0.0) || (sphere && !(depth > 0.0)))
+    return c;  // a punch's resolution does not depend on the depth; a sphere's footprint does
   c.contact_radius = sphere ? std::min(tool_radius, std::sqrt(tool_radius * depth)) : tool_radius;
   c.element_size = std::sqrt(2.0 * mesh.area(element));
   c.limit = sphere ? kMinSphereContactRadiusPerElement : kMinPunchRadiusPerElement;
