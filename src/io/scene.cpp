@@ -57,7 +57,7 @@ void collect_operating_elements(Scene& scene) {
                                         " elements inside are displacement-prescribed, and a Green's table needs free ones)");
 }
 
-/// The safe-grading rule (docs/graded.md#safe-gradings): a graded or locally refined mesh whose
+/// The safe-grading rule (docs/graded.md, "Safe gradings"): a graded or locally refined mesh whose
 /// held elements are much coarser than its finest ones is warned about.
 void warn_unsafe_grading(Scene& scene) {
   if (!scene.graded && scene.mesh_source.find("red-green") == std::string::npos) return;

@@ -37,11 +37,11 @@ struct GradedRemeshOptions {
   /// Regions meshed at inside_edge_length too, graded like the operating region: the supported
   /// (displacement-prescribed) part of the surface. With constant elements a mesh finer in the
   /// operating region than where it is held can be worse than no refinement at all; the safe
-  /// grading refines both (docs/graded.md#safe-gradings, study (i) of docs/stability.md).
+  /// grading refines both (docs/graded.md, "Safe gradings", study (i) of docs/stability.md).
   std::vector<OperatingRegion> supported_regions;
 };
 
-/// The safe-grading rule's limit (docs/graded.md#safe-gradings, docs/stability.md (i)): the
+/// The safe-grading rule's limit (docs/graded.md, "Safe gradings", docs/stability.md (i)): the
 /// displacement-prescribed elements may be at most this many times the finest elements of the
 /// mesh (support_size_ratio). Measured on the clamped box of study (i) (report.md, "(i) Non-uniform meshes"):
 /// refining an operating region but not the clamped face raised the displacement error up to
