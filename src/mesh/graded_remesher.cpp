@@ -207,7 +207,7 @@ std::string grading_rule_warning(const TriangleMesh& mesh, const std::vector<cha
   return "the displacement-prescribed (supported) elements are up to " + number_text(std::round(100.0 * ratio) / 100.0) +
          " times the size of the finest elements (limit " + number_text(kMaxSupportSizeRatio) +
          "): with constant elements such a grading can be less accurate than no refinement; refine the held region too "
-         "(scene: operating_region.supported, or a mesh.refine that covers it; docs/graded.md, "Safe gradings")";
+         "(scene: operating_region.supported, or a mesh.refine that covers it; docs/graded.md, section Safe gradings)";
 }
 
 bool graded_remesher_available() {
