@@ -37,7 +37,7 @@ struct RedGreenRefinement {
   Index green_splits = 0;  ///< 1 -> 2 bisections closing the refined region
 };
 
-namespace red_green_detail {
+namespace detail::red_green {
 
 struct Leaf {
   std::array<int, 3> v;
@@ -140,7 +140,7 @@ class Refiner {
   RedGreenRefinement result_;
 };
 
-}  // namespace red_green_detail
+}  // namespace detail::red_green
 
 /// Refines the `marked` elements of `mesh` (indices into it, any order, repeats allowed) red,
 /// `levels` times (each level splits once more every element descended from a marked one), and
@@ -159,7 +159,7 @@ inline RedGreenRefinement refine_red_green(const TriangleMesh& mesh, const std::
                                  std::to_string(mesh.num_elements()) + " elements)");
     mark[static_cast<std::size_t>(e)] = 1;
   }
-  red_green_detail::Refiner refiner(mesh);
+  detail::red_green::Refiner refiner(mesh);
   for (int l = 1; l <= levels; ++l) refiner.level(mark, l);
   return refiner.finish();
 }
