@@ -48,20 +48,14 @@ TEST_CASE("a cut gap just above kMinimumGapRatio is accepted and accurate, just 
 TEST_CASE("exact cut updates agree with a fresh factorisation up to the refactor rank, and past it bemsurg refactorises",
           "[stability][updates]") {
   const CutBody body = make_cut_body(4, 4, 2);
-  std::vector<Index> top;
-  for (Index e = 0; e < body.mesh->num_elements(); ++e)
-    if (body.mesh->normal(e).z() > 0.99) top.push_back(e);
-  GreensTableOptions to;
-  to.gravity = body.gravity;
-  to.region = top;
-  auto table = std::make_shared<const GreensTable>(GreensTable::compute(body.mesh, body.material, clamped_base(body, *body.mesh), to));
+  auto table = top_face_table(body);
   const Index limit = default_refactor_rank(table->num_dofs());  // refactor_rank 0: the default
   REQUIRE(limit == 96);
   CutSystemOptions so;
   so.background_refactor = false;  // refactorise inside apply(), so the step's result shows it
   CutSystemUpdate system(table, so);
   std::mt19937 rng(7);
-  std::vector<Index> candidates = top;
+  std::vector<Index> candidates = table->region();  // the top face
   // Each random split reshapes 2 elements and adds 2: rank 24 per step (tests/test_cut_algebra.cpp), so
   // steps 1-4 reach rank 96 = the limit (kept) and step 5 passes it (refactorised).
   for (int step = 1; step <= 5; ++step) {

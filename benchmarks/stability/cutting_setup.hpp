@@ -16,6 +16,7 @@
 #include "bemsurg/assembly/linear_system.hpp"
 #include "bemsurg/cutting/surface_cutter.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
+#include "bemsurg/presolution/greens_table.hpp"
 
 namespace bemsurg::stability {
 
@@ -67,6 +68,18 @@ inline std::shared_ptr<const TriangleMesh> cut_mesh(const CutBody& b, double gap
 
 /// The refined quadrature the gap study compares with (bench_cut's: far 8, mid 4, order 10,
 /// depth 18, polar 20 up to 0.1 rad).
+/// The Green's table of the uncut body for its top face (where the cuts and tools act), with the
+/// base clamped and gravity on: what the update study and its test start every run from.
+inline std::shared_ptr<const GreensTable> top_face_table(const CutBody& body) {
+  std::vector<Index> top;
+  for (Index e = 0; e < body.mesh->num_elements(); ++e)
+    if (body.mesh->normal(e).z() > 0.99) top.push_back(e);
+  GreensTableOptions to;
+  to.gravity = body.gravity;
+  to.region = top;
+  return std::make_shared<const GreensTable>(GreensTable::compute(body.mesh, body.material, clamped_base(body, *body.mesh), to));
+}
+
 inline QuadratureOptions refined_quadrature() {
   QuadratureOptions q;
   q.far_ratio = 8.0;

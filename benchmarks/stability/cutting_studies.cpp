@@ -227,13 +227,7 @@ class UpdateSteps {
 // long: one run of many cut steps, a CSV row per step
 UpdateRun run_updates(const StudyContext& ctx, const std::string& scenario, CsvTable& csv) {
   const CutBody body = ctx.quick ? make_cut_body(4, 4, 2) : make_cut_body(6, 6, 3);
-  std::vector<Index> top;
-  for (Index e = 0; e < body.mesh->num_elements(); ++e)
-    if (body.mesh->normal(e).z() > 0.99) top.push_back(e);
-  GreensTableOptions to;
-  to.gravity = body.gravity;
-  to.region = top;
-  auto table = std::make_shared<const GreensTable>(GreensTable::compute(body.mesh, body.material, clamped_base(body, *body.mesh), to));
+  auto table = top_face_table(body);
   UpdateRun u;
   u.n0 = table->num_dofs();
   u.default_rank = default_refactor_rank(u.n0);
@@ -244,7 +238,7 @@ UpdateRun run_updates(const StudyContext& ctx, const std::string& scenario, CsvT
   so.background_refactor = false;
   so.keep_matrix = true;
   CutSystemUpdate system(table, so);
-  UpdateSteps steps(scenario, body, top);
+  UpdateSteps steps(scenario, body, table->region());  // the top face
   testing::SyntheticStep s;
   for (int step = 1; system.table()->solver()->rank() < u.last_rank && steps.next(*system.table()->mesh(), s); ++step) {
     const CutStepResult r = system.apply(s.mesh, s.delta, CutUpdateMethod::Exact);
