@@ -12,6 +12,7 @@
 
 #include "bemsurg/error.hpp"
 #include "bemsurg/haptics/haptic_loop.hpp"
+#include "bemsurg/haptics/model_crossfade.hpp"
 #include "bemsurg/haptics/recording_device.hpp"
 #include "bemsurg/haptics/scripted_device.hpp"
 #include "bemsurg/haptics/session.hpp"
@@ -322,9 +323,12 @@ TEST_CASE("the loop thread starts and stops with zero force sent", "[haptics][lo
   CHECK(device.writes() == static_cast<long>(loop.statistics().ticks) + 3);
 }
 
-TEST_CASE("model swaps under a running loop are whole: every force is the old or the new model's", "[haptics][loop]") {
+TEST_CASE("model swaps under a running loop are whole: the model force is the new model's, the force sent the reported blend",
+          "[haptics][loop]") {
   // Two snapshots of the table (the second twice as soft, as after a cut) offered alternately while
-  // the loop runs: each sample's force must be exactly the force of the model version it reports.
+  // the loop runs: each sample's model force must be exactly the force of the model version it
+  // reports, and the force sent, during a blend, the mix (1 - w) old + w new with the weight w the
+  // sample reports (the old model is always the version before: an offer waits until the blend ends).
   Block& b = block();
   const auto soft = scaled_table(*b.table, 2.0);
   const Vec3 pos = Vec3(0.52, 0.47, 0.5) + Vec3(0, 0, -0.001);
@@ -344,7 +348,7 @@ TEST_CASE("model swaps under a running loop are whole: every force is the old or
   loop.offer(first);
   loop.start();
   int offered = 1;
-  long checked = 0, wrong = 0;
+  long checked = 0, wrong = 0, blended = 0;
   // A deadline, not a speed bound: 40 offers take the loop about 40 ticks (40 ms at 1 kHz) plus the
   // model builds (milliseconds), so 30 s fails only a loop that stopped taking models.
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
@@ -359,9 +363,15 @@ TEST_CASE("model swaps under a running loop are whole: every force is the old or
     TickSample t;
     while (loop.pop_sample(t)) {
       if (t.model_version == 0) continue;
-      const Vec3& expect = t.model_version % 2 ? F_stiff : F_soft;
+      const Vec3& now = t.model_version % 2 ? F_stiff : F_soft;
+      const Vec3& old = t.model_version % 2 ? F_soft : F_stiff;
       // The same model at the same position (measured 0): a bonded point's 3 rows, kCond 3 eps.
-      if ((t.channel[0].model_force - expect).norm() > kCond * 3 * kEps * expect.norm()) ++wrong;
+      if ((t.channel[0].model_force - now).norm() > kCond * 3 * kEps * now.norm()) ++wrong;
+      // Sent: the mix by the reported weight (the rate limiter does not act: the models differ by
+      // well under 0.3 N per 1/30 of the blend), with the mix's few roundings.
+      const Vec3 sent = t.blend_weight < 1.0 ? ModelCrossfade::mix(old, now, t.blend_weight) : now;
+      if (t.watchdog_gain == 1.0 && (t.channel[0].force - sent).norm() > kCond * 3 * kEps * (F_stiff.norm() + F_soft.norm())) ++wrong;
+      blended += t.blend_weight < 1.0 ? 1 : 0;
       ++checked;
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
@@ -370,6 +380,7 @@ TEST_CASE("model swaps under a running loop are whole: every force is the old or
   CHECK(offered == 40);
   CHECK(checked > 0);
   CHECK(wrong == 0);
+  CHECK(blended > 0);
   CHECK(loop.statistics().model_swaps >= 2);
 }
 
@@ -417,8 +428,10 @@ TEST_CASE("a cut through the session hook swaps the new table in between ticks",
     };
     const Vec3 before = pinch_force(b.table), after = pinch_force(soft);
     const std::uint64_t first_version = c.samples.front().model_version;
-    long olds = 0, news = 0, neither = 0;
+    long olds = 0, news = 0, mixed = 0, neither = 0;
     const double tol = kCond * 3 * kEps;  // a bonded pinch on one element, 3 rows (measured 0)
+    double largest_step = 0.0;
+    Vec3 last = Vec3::Zero();
     for (const TickSample& t : c.samples) {
       if (t.time < 0.06) continue;  // still moving
       const Vec3& f = t.channel[0].model_force;
@@ -428,11 +441,24 @@ TEST_CASE("a cut through the session hook swaps the new table in between ticks",
         ++news;
       else
         ++neither;
+      // What was sent: the old model's force blended into the new one's by the reported weight.
+      const Vec3& sent = t.channel[0].force;
+      if (t.time > 0.0605) largest_step = std::max(largest_step, (sent - last).norm());
+      last = sent;
+      if (t.blend_weight < 1.0 && (f - after).norm() <= tol * after.norm() && (sent - after).norm() > tol * after.norm()) {
+        ++mixed;
+        CHECK((sent - ModelCrossfade::mix(before, after, t.blend_weight)).norm() <= tol * (before.norm() + after.norm()));
+      }
       if (t.time > 0.1 + 0.01) CHECK(t.model_version > first_version);
     }
     CHECK(olds > 0);
     CHECK(news > 0);
     CHECK(neither == 0);
+    // The first cut's swap blends over blend_s (30 ticks at 1 kHz: weight 0, 1/30, ..., 29/30);
+    // the second step's table is the same, so its blend mixes equal forces.
+    CHECK(mixed == 30);
+    // No tick moves the force sent by more than the models' difference / 30 (+ round-off).
+    CHECK(largest_step <= (after - before).norm() / 30.0 * (1.0 + 1e-9));
   }
 }
 

@@ -10,6 +10,7 @@
 /// - closest_point.hpp
 /// - geometry.hpp
 /// - graded_remesher.hpp
+/// - liver_model.hpp
 /// - mesh_delta.hpp
 /// - mesh_generators.hpp
 /// - mesh_io.hpp
@@ -28,6 +29,7 @@
 #include "bemsurg/mesh/closest_point.hpp"
 #include "bemsurg/mesh/geometry.hpp"
 #include "bemsurg/mesh/graded_remesher.hpp"
+#include "bemsurg/mesh/liver_model.hpp"
 #include "bemsurg/mesh/mesh_delta.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/mesh/mesh_io.hpp"

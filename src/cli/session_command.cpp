@@ -11,9 +11,9 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "bemsurg/cutting/surface_cutter.hpp"
 #include "bemsurg/error.hpp"
 #include "bemsurg/haptics/session.hpp"
+#include "bemsurg/haptics/surface_cut_hook.hpp"
 #include "bemsurg/io/action_script.hpp"
 #include "bemsurg/io/scene.hpp"
 #include "bemsurg/mesh/mesh_io.hpp"
@@ -34,36 +34,9 @@ constexpr const char* kSessionUsage =
     "writes OUTDIR/force_trace.csv   time,tool,fx,fy,fz,force,contact_elements,x,y,z,model_fx,model_fy,model_fz,status,watchdog_gain,model_version\n"
     "                                 (one row per tool per haptic tick; force = what the device was sent, N)\n"
     "       OUTDIR/report.json       rate_hz, overruns, jitter_us {p50,p99,p999}, force_us {p50,p99,p999},\n"
-    "                                 max_force_jump_fraction, ... (docs/haptics.md)\n"
+    "                                 max_force_jump_fraction, min_delivered_force_ratio,\n"
+    "                                 max_tick_change_fraction, ... (docs/haptics.md)\n"
     "       OUTDIR/mesh_after_cut_N.obj   the surface after each cut\n";
-
-/// The cutting module's entry point for sessions (docs/design.md §7): one SurfaceCutter per cut
-/// action (its first step opens, later ones extend), elements that are not free in the table's
-/// base state locked, and the exact table of the cut mesh from GreensTable::updated. Runs on the
-/// session's simulation side, never on the haptic thread. A refused step is an error naming the
-/// action's step and the cutter's reason.
-bemsurg::haptics::CutHook session_cut_hook() {
-  struct State {
-    std::unique_ptr<bemsurg::SurfaceCutter> cutter;
-    int action = -1;
-  };
-  auto state = std::make_shared<State>();
-  return [state](const bemsurg::haptics::CutRequest& r) -> bemsurg::haptics::CutResult {
-    if (!state->cutter || state->action != r.action || state->cutter->mesh() != r.mesh) {
-      const bemsurg::Index E = r.mesh->num_elements();
-      std::vector<char> locked(static_cast<std::size_t>(E), 0);
-      for (bemsurg::Index e = 0; e < E; ++e) locked[static_cast<std::size_t>(e)] = r.table->is_free(e) ? 0 : 1;
-      state->cutter = std::make_unique<bemsurg::SurfaceCutter>(r.mesh, std::move(locked));
-      state->action = r.action;
-    }
-    const bemsurg::CutStep step = state->cutter->step(r.from, r.direction);
-    if (!step.accepted)
-      throw bemsurg::ContactError("cut action " + std::to_string(r.action) + ", step " + std::to_string(r.step + 1) +
-                                  " refused: " + step.reason);
-    std::shared_ptr<const bemsurg::TriangleMesh> mesh = state->cutter->mesh();
-    return {mesh, r.table->updated(mesh, step.delta)};
-  };
-}
 
 class TraceWriter : public bemsurg::haptics::SessionObserver {
  public:
@@ -111,7 +84,7 @@ nlohmann::json percentiles_json(const bemsurg::haptics::Percentiles& p) {
 int run_session(int argc, char** argv) {
   std::string scene_path, script_path, output, table_file;
   bool quiet = false, virtual_clock = false;
-  int realtime_priority = 0;
+  int realtime_priority = bemsurg::haptics::HapticLoopOptions{}.realtime_priority;
   bemsurg::cli::OptionParser parser("session", kSessionUsage);
   parser.positional("SCENE.json", scene_path, "one scene file only").required();
   parser.value("--script", "ACTIONS.json", script_path, "the action script (docs/actions.md)").required();
@@ -124,10 +97,10 @@ int run_session(int argc, char** argv) {
               "machine goes) instead of in real time on the haptic thread");
   parser
       .value("--realtime-priority", "N", realtime_priority,
-             "ask for SCHED_FIFO priority N for the haptic thread; refused quietly\n"
-             "without the privilege (report.json says what it got)")
-      .between(1, 99)
-      .default_text("none, normal priority");
+             "SCHED_FIFO priority N for the haptic thread (0: do not ask); without the\n"
+             "privilege the loop runs at normal priority, says so, and report.json says\n"
+             "what it got")
+      .between(0, 99);
   parser.flag("-q, --quiet", quiet, "print nothing but errors");
   if (!parser.parse(argc, argv)) {
     std::cout << parser.help();
@@ -143,7 +116,7 @@ int run_session(int argc, char** argv) {
   bemsurg::haptics::SessionOptions options;
   options.virtual_clock = virtual_clock;
   options.loop.realtime_priority = realtime_priority;
-  options.cut_hook = session_cut_hook();
+  options.cut_hook = bemsurg::haptics::surface_cut_hook();
 
   const bemsurg::ElastostaticProblem& p = scene.problem;
   // The table: loaded when a matching file is given, else computed on the operating region
@@ -170,6 +143,11 @@ int run_session(int argc, char** argv) {
   j["jitter_us"] = percentiles_json(s.jitter_us);
   j["force_us"] = percentiles_json(s.force_us);
   j["max_force_jump_fraction"] = r.max_force_jump_fraction;
+  j["min_delivered_force_ratio"] = r.min_delivered_ratio;
+  j["min_delivered_force_ratio_time"] = r.min_delivered_ratio_time;
+  j["max_tick_change_fraction"] = r.max_tick_change_fraction;
+  j["max_tick_change_time"] = r.max_tick_change_time;
+  j["cut_step_seconds"] = r.cut_step_seconds;
   j["ticks"] = s.ticks;
   j["dropped_packets"] = s.dropped_packets;
   j["model_swaps"] = s.model_swaps;
@@ -202,9 +180,15 @@ int run_session(int argc, char** argv) {
   if (!js) throw bemsurg::IoError("cannot write " + json_path);
   js << std::setw(2) << j << "\n";
   if (!js) throw bemsurg::IoError("writing " + json_path + " failed");
+  if (!quiet && !virtual_clock && realtime_priority > 0 && s.realtime_priority == 0)
+    std::cerr << "bemsurg: warning: session: SCHED_FIFO priority " << realtime_priority
+              << " was refused (needs CAP_SYS_NICE or an rtprio limit): the haptic thread ran at normal priority, where other "
+                 "load on this machine can delay its ticks (docs/haptics.md, \"Threads while a loop runs\")\n";
   if (!quiet)
     std::cout << "session: " << s.ticks << " ticks at " << s.achieved_rate_hz << " Hz (" << (virtual_clock ? "virtual" : "real")
               << " clock), " << s.overruns << " overruns, jitter p99.9 " << s.jitter_us.p999 << " us, force p99.9 " << s.force_us.p999
-              << " us, largest force jump " << 100.0 * r.max_force_jump_fraction << " %; wrote " << output << "\n";
+              << " us, largest force jump " << 100.0 * r.max_force_jump_fraction << " %; delivered force at least "
+              << 100.0 * r.min_delivered_ratio << " % of the model's, largest tick-to-tick change " << 100.0 * r.max_tick_change_fraction
+              << " %; " << r.cuts << " cut steps; wrote " << output << "\n";
   return 0;
 }

@@ -33,6 +33,11 @@ HapticLoop::HapticLoop(const HapticLoopOptions& settings, std::vector<HapticDevi
     throw InvalidArgumentError("HapticLoop: rate_hz must lie in [100, 10000], got " + number_text(settings.rate_hz));
   if (!(settings.stale_after_s > 0.0) || !(settings.ramp_s > 0.0) || settings.overrun_limit < 1 || !(settings.spin_us >= 0.0))
     throw InvalidArgumentError("HapticLoop: stale_after_s and ramp_s must be positive, spin_us non-negative and overrun_limit at least 1");
+  if (!(settings.blend_s >= 0.0 && settings.blend_s <= 1.0))
+    throw InvalidArgumentError("HapticLoop: blend_s must lie in [0, 1] s, got " + number_text(settings.blend_s));
+  if (settings.realtime_priority < 0 || settings.realtime_priority > 99)
+    throw InvalidArgumentError("HapticLoop: realtime_priority must lie in [0, 99], got " + std::to_string(settings.realtime_priority));
+  blend_.set_duration(settings.blend_s);
   if (devices_.empty() || devices_.size() > static_cast<std::size_t>(kMaxChannels))
     throw InvalidArgumentError("HapticLoop: between 1 and " + std::to_string(kMaxChannels) + " devices, got " +
                                std::to_string(devices_.size()));
@@ -52,6 +57,7 @@ HapticLoop::~HapticLoop() {
   delete offered_.exchange(nullptr);
   ContactModel* m = nullptr;
   while (retired_.pop(m)) delete m;
+  delete previous_;
   delete current_;
 }
 
@@ -85,15 +91,26 @@ bool HapticLoop::latest(TickSample& out) noexcept {
 
 // The steps of one tick, in order (see tick()). None allocates: the haptic thread never does.
 
-void HapticLoop::take_offered_model() {
-  // A new model, between ticks: the old one goes back to the simulation side to be freed there.
-  // Taken only when there is room to hand the old one back.
-  if (offered_.load(std::memory_order_acquire) == nullptr || retired_.full()) return;
+void HapticLoop::take_offered_model(double now) {
+  // A new model, between ticks, when no blend is running: the current one is blended out over
+  // blend_s (or, with blend_s = 0 or no model yet, goes back to the simulation side at once, to
+  // be freed there). Taken only when there is room to hand the old ones back.
+  if (previous_ || offered_.load(std::memory_order_acquire) == nullptr || retired_.full()) return;
   ContactModel* next = offered_.exchange(nullptr, std::memory_order_acq_rel);
-  if (current_) retired_.push(current_);
+  if (current_ && settings_.blend_s > 0.0) {
+    previous_ = current_;
+    blend_.start(now);
+  } else if (current_) {
+    retired_.push(current_);
+  }
   current_ = next;
   rendered_version_.store(current_->version, std::memory_order_release);
   ++counters_.model_swaps;
+}
+
+void HapticLoop::retire_blended_model() {
+  // The blend is over: the old model goes back (it stays until the ring has room).
+  if (previous_ && !blend_.active() && retired_.push(previous_)) previous_ = nullptr;
 }
 
 void HapticLoop::update_watchdog(double now, double dt, bool late) {
@@ -124,8 +141,24 @@ void HapticLoop::push_button_edges(int channel, double now, const DeviceState& s
   last_buttons_[cu] = s.buttons;
 }
 
-void HapticLoop::read_channel(int channel, double now, ToolContactSolver* solver, ChannelSample& cs) {
-  // Device -> pose (model frame) -> the tool it drives in the contact model.
+bool HapticLoop::pose_tool(ContactModel* model, int channel, const DeviceState& s) {
+  // The tool the channel drives in `model` follows the device: translation from its engagement
+  // origin, and a plate turns by the device's rotation since engagement. False: a non-finite pose.
+  const auto cu = static_cast<std::size_t>(channel);
+  ToolContactSolver* solver = model ? model->solver.get() : nullptr;
+  const int tool = model ? model->tool_of_channel[cu] : -1;
+  if (!solver || tool < 0 || !s.connected || !solver->engaged(tool)) return true;
+  bool ok = solver->try_set_translation(tool, s.position - solver->origin(tool));
+  if (solver->spec(tool).shape == ToolShape::Plate) {
+    const Eigen::AngleAxisd turn(s.orientation * model->engaged_orientation[cu].conjugate());
+    ok = solver->try_set_rotation(tool, turn.angle() * turn.axis()) && ok;
+  }
+  return ok;
+}
+
+void HapticLoop::read_channel(int channel, double now, ChannelSample& cs) {
+  // Device -> pose (model frame) -> the tool it drives in the contact model (and in the model
+  // being blended out).
   const auto cu = static_cast<std::size_t>(channel);
   const DeviceState s = workspaces_[cu].to_model(devices_[cu]->read(now));
   cs.position = s.position;
@@ -134,18 +167,13 @@ void HapticLoop::read_channel(int channel, double now, ToolContactSolver* solver
   cs.connected = s.connected;
   cs.status = ContactStatus::Ok;
   push_button_edges(channel, now, s);
-  const int tool = current_ ? current_->tool_of_channel[cu] : -1;
-  if (solver && tool >= 0 && s.connected && solver->engaged(tool)) {
-    bool ok = solver->try_set_translation(tool, s.position - solver->origin(tool));
-    if (solver->spec(tool).shape == ToolShape::Plate) {
-      const Eigen::AngleAxisd turn(s.orientation * current_->engaged_orientation[cu].conjugate());
-      ok = solver->try_set_rotation(tool, turn.angle() * turn.axis()) && ok;
-    }
-    if (!ok) cs.status = ContactStatus::NonFinitePose;
-  }
+  const bool ok = pose_tool(current_, channel, s);
+  if (previous_) pose_tool(previous_, channel, s);
+  if (!ok) cs.status = ContactStatus::NonFinitePose;
 }
 
-ContactStatus HapticLoop::step_contact(ToolContactSolver* solver) {
+ContactStatus HapticLoop::step_contact(ContactModel* model) {
+  ToolContactSolver* solver = model ? model->solver.get() : nullptr;
   if (!solver) return ContactStatus::Ok;
   ContactUpdateResult report;
   const ContactStatus status = solver->step(report, settings_.max_active_set_iterations);
@@ -169,13 +197,23 @@ void HapticLoop::publish_contact(double now, const ToolContactSolver* solver) {
   contact_out_.publish();
 }
 
-void HapticLoop::write_channel_force(int channel, const ToolContactSolver* solver, ContactStatus step_status, double dt,
-                                     ChannelSample& cs) {
-  // The model's force through the safety stages (held force, NaN guard, watchdog gain, limiter),
-  // out to the device.
+Eigen::Vector3d HapticLoop::model_force(const ContactModel* model, int channel, ContactStatus step_status, int* elements) const {
+  // The force of the tool the channel drives in `model`; zero when none is engaged; the last good
+  // force when the set change failed.
   const auto cu = static_cast<std::size_t>(channel);
-  const int tool = current_ ? current_->tool_of_channel[cu] : -1;
-  Eigen::Vector3d requested = Eigen::Vector3d::Zero();
+  const ToolContactSolver* solver = model ? model->solver.get() : nullptr;
+  const int tool = model ? model->tool_of_channel[cu] : -1;
+  if (!solver || tool < 0 || !solver->engaged(tool)) return Eigen::Vector3d::Zero();
+  if (step_status != ContactStatus::Ok && step_status != ContactStatus::Unsettled) return held_[cu];
+  if (elements) *elements = static_cast<int>(solver->contact_elements(tool));
+  return solver->force(tool);
+}
+
+void HapticLoop::write_channel_force(int channel, ContactStatus step_status, ContactStatus old_status, double weight, double dt,
+                                     ChannelSample& cs) {
+  // The newest model's force (held when its step failed, NaN guard), blended from the old model's
+  // during a swap, through the watchdog gain and the limiter, out to the device.
+  const auto cu = static_cast<std::size_t>(channel);
   cs.contact_elements = 0;
   if (!cs.connected) {
     // Device lost: zero at once (no ramp: there may be no hand on it), and ramp up from zero later.
@@ -186,21 +224,21 @@ void HapticLoop::write_channel_force(int channel, const ToolContactSolver* solve
     cs.force.setZero();
     return;
   }
-  if (solver && tool >= 0 && solver->engaged(tool)) {
-    if (cs.status == ContactStatus::Ok) cs.status = step_status;
-    if (step_status == ContactStatus::Ok || step_status == ContactStatus::Unsettled) {
-      requested = solver->force(tool);
-      cs.contact_elements = static_cast<int>(solver->contact_elements(tool));
-    } else {
-      requested = held_[cu];  // the set change failed: keep the last good force
-    }
-  }
-  if (!requested.allFinite()) {
+  const int tool = current_ ? current_->tool_of_channel[cu] : -1;
+  if (cs.status == ContactStatus::Ok && tool >= 0 && current_->solver && current_->solver->engaged(tool)) cs.status = step_status;
+  Eigen::Vector3d newest = model_force(current_, channel, step_status, &cs.contact_elements);
+  if (!newest.allFinite()) {
     ++counters_.nan_guards;
-    requested = held_[cu];
+    newest = held_[cu];
   }
-  held_[cu] = requested;
-  cs.model_force = requested;
+  held_[cu] = newest;
+  cs.model_force = newest;
+  Eigen::Vector3d requested = newest;
+  if (previous_ && weight < 1.0) {
+    Eigen::Vector3d old = model_force(previous_, channel, old_status, nullptr);
+    if (!old.allFinite()) old = newest;
+    requested = ModelCrossfade::mix(old, newest, weight);
+  }
   const Eigen::Vector3d wanted = gain_ * requested;
   const Eigen::Vector3d out = limiters_[cu](wanted, dt);
   if ((out - wanted).norm() > 1e-12 * (1.0 + wanted.norm())) ++counters_.clamped_ticks;
@@ -239,16 +277,19 @@ void HapticLoop::tick(double now, bool late) noexcept {
   now_.store(now, std::memory_order_relaxed);
   TickSample& sample = newest_.back();
   try {
-    take_offered_model();            // 1. a new model, between ticks
+    take_offered_model(now);  // 1. a new model, between ticks (the old one blended out)
+    const double weight = blend_.weight(now);
+    sample.blend_weight = previous_ ? weight : 1.0;
     update_watchdog(now, dt, late);  // 2. the gain the forces are scaled by
-    // 3. Devices -> poses (model frame) -> the contact model, published for graphics.
-    ToolContactSolver* solver = current_ ? current_->solver.get() : nullptr;
+    // 3. Devices -> poses (model frame) -> the contact models, published for graphics.
     const int n = static_cast<int>(devices_.size());
-    for (int c = 0; c < n; ++c) read_channel(c, now, solver, sample.channel[static_cast<std::size_t>(c)]);
-    const ContactStatus step_status = step_contact(solver);
-    publish_contact(now, solver);
+    for (int c = 0; c < n; ++c) read_channel(c, now, sample.channel[static_cast<std::size_t>(c)]);
+    const ContactStatus step_status = step_contact(current_);
+    const ContactStatus old_status = previous_ && weight < 1.0 ? step_contact(previous_) : ContactStatus::Ok;
+    publish_contact(now, current_ ? current_->solver.get() : nullptr);
     // 4. Forces through the safety stages, out to the devices.
-    for (int c = 0; c < n; ++c) write_channel_force(c, solver, step_status, dt, sample.channel[static_cast<std::size_t>(c)]);
+    for (int c = 0; c < n; ++c) write_channel_force(c, step_status, old_status, weight, dt, sample.channel[static_cast<std::size_t>(c)]);
+    retire_blended_model();
   } catch (...) {
     // Nothing above should throw; if a device or the model does, the hand gets zero force and
     // the watchdog keeps it there (the fault is sticky: a session that faulted must be restarted).

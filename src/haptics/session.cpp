@@ -204,6 +204,7 @@ Session::Session(std::shared_ptr<const TriangleMesh> mesh, std::shared_ptr<const
   position_.assign(n, Eigen::Vector3d::Zero());
   direction_.assign(n, -Eigen::Vector3d::UnitZ());
   last_force_.assign(n, Eigen::Vector3d::Zero());
+  last_delivered_.assign(n, Eigen::Vector3d::Zero());
   have_last_.assign(n, false);
   peak_.assign(n, 0.0);
   build_keyframes();
@@ -217,6 +218,9 @@ Session::Session(std::shared_ptr<const TriangleMesh> mesh, std::shared_ptr<const
     if (a.type != ActionType::Cut) continue;
     for (int s = 0; s < a.steps; ++s) cuts_.push_back({a.time + s * a.step_interval, static_cast<int>(i), s});
   }
+  // Each step cuts the mesh the one before it made: they run one at a time, in time order.
+  std::stable_sort(cuts_.begin(), cuts_.end(), [](const ScheduledCut& a, const ScheduledCut& b) { return a.time < b.time; });
+  if (!(options_.max_step_s > 0.0)) throw InvalidArgumentError("Session: max_step_s must be positive");
 }
 
 Session::~Session() = default;
@@ -310,9 +314,57 @@ void Session::drain(HapticLoop& loop, SessionObserver* observer) {
           jump_time_.push_back(sample.time);
         }
       }
+      felt_.push_back({sample.time, static_cast<int>(t), mag, c.force.norm(), (c.force - last_delivered_[t]).norm(),
+                       have_last_[t] ? last_force_[t].norm() : -1.0});
+      last_delivered_[t] = c.force;
       last_force_[t] = f;
       have_last_[t] = true;
     }
+  }
+}
+
+void Session::apply_cut(const CutResult& r, const ScheduledCut& c, SessionObserver* observer, SessionResult& result) {
+  const Action& a = script_.actions[static_cast<std::size_t>(c.action)];
+  if (!r.mesh || !r.table) throw ContactError(describe(script_, a) + ": the cut hook returned no mesh or table");
+  mesh_ = r.mesh;
+  table_ = r.table;
+  ++result.cuts;
+  if (observer) observer->on_cut(result.cuts, *mesh_);
+  dirty_ = true;
+}
+
+void Session::run_cuts(double now, SessionObserver* observer, SessionResult& result) {
+  // Cuts, off the haptic thread, one step at a time in time order; the loop renders the old model
+  // until the new one is offered and blended in. In a real-time session a step runs on a
+  // background thread and this side stays alive (heartbeat, events, models on the old snapshots).
+  if (cut_task_.busy()) {
+    ScheduledCut& c = cuts_[cut_in_flight_];
+    if (cut_task_.ready()) {
+      result.cut_step_seconds.push_back(cut_task_.seconds());
+      c.done = true;
+      apply_cut(cut_task_.take(), c, observer, result);  // the hook's error is rethrown here
+    } else if (cut_task_.seconds() > options_.max_step_s && !hung_) {
+      hung_ = true;  // stop beating: the watchdog fades the force; run() ends the session
+      hung_since_ = now;
+    }
+    return;
+  }
+  for (std::size_t i = 0; i < cuts_.size(); ++i) {
+    ScheduledCut& c = cuts_[i];
+    if (c.done) continue;
+    if (c.time > now) return;
+    const Action& a = script_.actions[static_cast<std::size_t>(c.action)];
+    CutRequest req{mesh_, table_, a.from, a.direction, c.step, c.action};
+    if (in_realtime_ && options_.background_steps) {
+      cut_in_flight_ = i;
+      cut_task_.start([hook = options_.cut_hook, req] { return hook(req); }, thread_budget_);
+      return;
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    const CutResult r = options_.cut_hook(req);
+    result.cut_step_seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    c.done = true;
+    apply_cut(r, c, observer, result);
   }
 }
 
@@ -349,20 +401,7 @@ void Session::simulation_step(HapticLoop& loop, SessionObserver* observer, Sessi
       dirty_ = true;
     }
   }
-  // Cuts: computed here, off the haptic thread; the loop renders the old model until the swap.
-  for (ScheduledCut& c : cuts_) {
-    if (c.done || c.time > now) continue;
-    const Action& a = script_.actions[static_cast<std::size_t>(c.action)];
-    CutRequest req{mesh_, table_, a.from, a.direction, c.step, c.action};
-    CutResult r = options_.cut_hook(req);
-    if (!r.mesh || !r.table) throw ContactError(describe(script_, a) + ": the cut hook returned no mesh or table");
-    mesh_ = std::move(r.mesh);
-    table_ = std::move(r.table);
-    c.done = true;
-    ++result.cuts;
-    if (observer) observer->on_cut(result.cuts, *mesh_);
-    dirty_ = true;
-  }
+  run_cuts(now, observer, result);
   if (dirty_ && !loop.offer_pending()) {
     std::unique_ptr<ContactModel> m = build_model();
     if (loop.offer(m)) {
@@ -373,7 +412,8 @@ void Session::simulation_step(HapticLoop& loop, SessionObserver* observer, Sessi
   while (loop.take_retired()) {}
   const std::uint64_t rendered = loop.model_version();
   for (auto it = tables_.begin(); it != tables_.end() && it->first + 2 < rendered;) it = tables_.erase(it);
-  loop.heartbeat();
+  // "Alive": beaten while a cut step computes in the background, not when a step is hung.
+  if (!hung_) loop.heartbeat();
   if (options_.graphics_hz > 0.0 && now >= next_graphics_) {
     next_graphics_ = now + 1.0 / options_.graphics_hz;
     if (const PublishedContact* pc = loop.latest_contact()) {
@@ -385,6 +425,39 @@ void Session::simulation_step(HapticLoop& loop, SessionObserver* observer, Sessi
         field_ms_.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
         ++result.field_updates;
       }
+    }
+  }
+}
+
+void Session::finish_metrics(SessionResult& result) const {
+  // The jump of the model force, and what the hand feels: the smallest delivered / model ratio and
+  // the largest tick-to-tick change of the delivered force, each over ticks whose model force is at
+  // least 10 % of the tool's peak (docs/haptics.md, "Force continuity").
+  for (std::size_t i = 0; i < jumps_.size(); ++i) {
+    const double threshold = 0.1 * peak_[static_cast<std::size_t>(jump_tool_[i])];
+    if (jumps_[i].second >= threshold && threshold > 0.0 && jumps_[i].first > result.max_force_jump_fraction) {
+      result.max_force_jump_fraction = jumps_[i].first;
+      result.max_force_jump_time = jump_time_[i];
+      result.max_force_jump_tool = jump_tool_[i];
+    }
+  }
+  for (const FeltSample& f : felt_) {
+    const double threshold = 0.1 * peak_[static_cast<std::size_t>(f.tool)];
+    if (!(threshold > 0.0) || f.model < threshold) continue;
+    // The magnitude limit is a safety stage, not a fade: the model force is counted up to it.
+    const double cap = options_.loop.max_force;
+    const double ratio = f.delivered / std::min(f.model, cap);
+    if (ratio < result.min_delivered_ratio) {
+      result.min_delivered_ratio = ratio;
+      result.min_delivered_ratio_time = f.time;
+      result.min_delivered_ratio_tool = f.tool;
+    }
+    if (f.model_prev < threshold) continue;
+    const double change = f.change / std::min(std::max(f.model, f.model_prev), cap);
+    if (change > result.max_tick_change_fraction) {
+      result.max_tick_change_fraction = change;
+      result.max_tick_change_time = f.time;
+      result.max_tick_change_tool = f.tool;
     }
   }
 }
@@ -417,6 +490,10 @@ SessionResult Session::run(SessionObserver* observer) {
       if (i % every == 0) simulation_step(loop, observer, result);
     }
   } else {
+    // Background work leaves the haptic thread a core while the loop runs.
+    const BackgroundThreadBudget budget(options_.limit_background_threads);
+    thread_budget_ = budget.threads();
+    in_realtime_ = true;
     loop.start();
     try {
       const auto period = std::chrono::duration<double>(1.0 / options_.simulation_hz);
@@ -425,28 +502,26 @@ SessionResult Session::run(SessionObserver* observer) {
       auto cuts_pending = [&] { return std::any_of(cuts_.begin(), cuts_.end(), [](const ScheduledCut& c) { return !c.done; }); };
       while (loop.time() < script_.duration || cuts_pending()) {
         simulation_step(loop, observer, result);
+        if (hung_ && loop.time() - hung_since_ > options_.loop.stale_after_s + options_.loop.ramp_s)
+          throw Error("session: a cut step has run for more than " + number_text(options_.max_step_s) +
+                      " s (SessionOptions::max_step_s): the simulation side is taken as hung and the force was faded to zero");
         std::this_thread::sleep_for(period);
-        if (std::chrono::steady_clock::now() - wall0 > std::chrono::duration<double>(4.0 * script_.duration + 30.0))
+        if (std::chrono::steady_clock::now() - wall0 > std::chrono::duration<double>(4.0 * script_.duration + 30.0 + options_.max_step_s))
           throw Error("session: the haptic loop stopped advancing (session time " + number_text(loop.time()) + " s)");
       }
     } catch (...) {
+      in_realtime_ = false;
       loop.stop();  // zero force before the error leaves
       throw;
     }
+    in_realtime_ = false;
     loop.stop();
   }
   drain(loop, observer);
   result.session_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   result.loop = loop.statistics();
   result.peak_force = peak_;
-  for (std::size_t i = 0; i < jumps_.size(); ++i) {
-    const double threshold = 0.1 * peak_[static_cast<std::size_t>(jump_tool_[i])];
-    if (jumps_[i].second >= threshold && threshold > 0.0 && jumps_[i].first > result.max_force_jump_fraction) {
-      result.max_force_jump_fraction = jumps_[i].first;
-      result.max_force_jump_time = jump_time_[i];
-      result.max_force_jump_tool = jump_tool_[i];
-    }
-  }
+  finish_metrics(result);
   if (!field_ms_.empty()) {
     std::vector<double> v = field_ms_;
     std::sort(v.begin(), v.end());

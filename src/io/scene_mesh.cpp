@@ -10,6 +10,7 @@
 #include "bemsurg/error.hpp"
 #include "bemsurg/memory_budget.hpp"
 #include "bemsurg/mesh/brain_model.hpp"
+#include "bemsurg/mesh/liver_model.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/mesh/mesh_io.hpp"
 #include "bemsurg/mesh/mesh_thickness.hpp"
@@ -139,6 +140,17 @@ std::optional<TriangleMesh> run_generator(const JsonReader& m, const std::string
     source = "brain generator, subdivisions " + std::to_string(o.subdivisions);
     return brain_mesh(o);
   }
+  if (kind == "liver") {
+    m.warn_unknown_keys({"refine", "generator", "size", "subdivisions"});
+    LiverModelOptions o;
+    if (const std::optional<JsonReader> size = m.optional("size")) {
+      o.size = size->vec3();
+      for (std::size_t c = 0; c < 3; ++c) (*size)[c].positive();
+    }
+    o.subdivisions = subdivisions("subdivisions", o.subdivisions);
+    source = "liver generator, subdivisions " + std::to_string(o.subdivisions);
+    return liver_mesh(o);
+  }
   return std::nullopt;
 }
 
@@ -151,7 +163,7 @@ TriangleMesh generate_mesh(const JsonReader& m, std::string& source) {
   } catch (const SceneError&) { throw; } catch (const ResourceError&) {
     throw;
   } catch (const Error& e) { m.fail(std::string("generator '") + kind + "' failed: " + e.what()); }
-  if (!mesh) generator.fail("unknown generator '" + kind + "' (expected box, box_grid, icosphere, ellipsoid, hollow_sphere or brain)");
+  if (!mesh) generator.fail("unknown generator '" + kind + "' (expected box, box_grid, icosphere, ellipsoid, hollow_sphere, brain or liver)");
   return std::move(*mesh);
 }
 

@@ -1,9 +1,10 @@
 // The mesh module's definitions: topology, validation, generators, BVH, self-intersection,
-// thickness, operating regions, the brain model.
+// thickness, operating regions, the brain and liver models.
 // Compiled once here under BEMSURG_SEPARATE_COMPILATION (include/bemsurg/config.hpp); header-only
 // programs (bemsurg::core) get the same definitions inline from the headers.
 #include "bemsurg/mesh/brain_model.hpp"
 #include "bemsurg/mesh/bvh.hpp"
+#include "bemsurg/mesh/liver_model.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/mesh/mesh_thickness.hpp"
 #include "bemsurg/mesh/mesh_topology.hpp"
@@ -13,6 +14,7 @@
 
 #include "bemsurg/mesh/impl/brain_model_impl.hpp"
 #include "bemsurg/mesh/impl/bvh_impl.hpp"
+#include "bemsurg/mesh/impl/liver_model_impl.hpp"
 #include "bemsurg/mesh/impl/mesh_generators_impl.hpp"
 #include "bemsurg/mesh/impl/mesh_thickness_impl.hpp"
 #include "bemsurg/mesh/impl/mesh_topology_impl.hpp"

@@ -10,9 +10,12 @@
 //     re-engagement is therefore seen whole or not at all;
 //   * samples (pose, force, contact elements per channel) leave through a bounded ring (the trace)
 //     and a triple buffer (the newest, for graphics); button edges through an event ring.
+// A new model does not replace the old one at once: both are stepped at the device's pose and the
+// force is blended from the old model's to the new one's over blend_s (model_crossfade.hpp), so a
+// cut step, a parameter change or an engagement never steps the force.
 // Safety, in this order each tick: a failed contact step keeps the previous force; a non-finite
 // force is replaced by the last good one (NaN guard); a watchdog gain ramps to zero (and back) when
-// the simulation side's heartbeat is stale, the loop overran `overrun_limit` ticks in a row, or a
+// the simulation side's heartbeat (it is alive, busy or not) is stale, the loop overran `overrun_limit` ticks in a row, or a
 // fault was caught; ForceLimiter bounds the magnitude (3.3 N default) and its rate (N/s). The
 // devices get zero force on start, on stop, when disconnected and after an exception.
 #pragma once
@@ -28,6 +31,7 @@
 #include "bemsurg/haptics/force_limiter.hpp"
 #include "bemsurg/haptics/haptic_device.hpp"
 #include "bemsurg/haptics/loop_statistics.hpp"
+#include "bemsurg/haptics/model_crossfade.hpp"
 #include "bemsurg/haptics/spsc_ring.hpp"
 #include "bemsurg/haptics/triple_buffer.hpp"
 #include "bemsurg/presolution/contact_tools.hpp"
@@ -51,7 +55,7 @@ struct ContactModel {
 };
 
 /// Settings of a HapticLoop: tick rate, the safety stages (force and force-rate limits, watchdog staleness, overruns and
-/// ramp time), ring capacities, and the real-time priority and spin time of the haptic thread.
+/// ramp time), the blend between models, ring capacities, and the real-time priority and spin time of the haptic thread.
 struct HapticLoopOptions {
   double rate_hz = 1000.0;        // 100 .. 10000
   double max_force = 3.3;         // N (a Touch-class desktop device); also capped by each device's own
@@ -59,14 +63,18 @@ struct HapticLoopOptions {
   double stale_after_s = 0.25;    // heartbeat older than this: the watchdog ramps the force down
   int overrun_limit = 5;          // this many overruns in a row: the watchdog ramps the force down
   double ramp_s = 0.05;           // watchdog ramp time from full force to zero (and back)
+  /// A new model's force replaces the old one's linearly over this time (0: switch at once);
+  /// a model offered during a blend waits until it ends (docs/haptics.md, "Model swaps").
+  double blend_s = kDefaultModelBlendSeconds;
   int max_active_set_iterations = 20;
   std::size_t trace_capacity = 1 << 15;  // samples the trace ring holds before the reader drains it
   std::size_t event_capacity = 256;
   Index publish_capacity = 2048;  // contact elements published per tick for graphics
   /// > 0: ask for SCHED_FIFO at this priority for the haptic thread (what haptic programs do on
   /// Linux; needs CAP_SYS_NICE or an rtprio limit). Refusal is not an error: the loop runs at
-  /// normal priority and LoopStatistics::realtime_priority says 0.
-  int realtime_priority = 0;
+  /// normal priority, where other load on the machine can delay its ticks, and
+  /// LoopStatistics::realtime_priority says 0. 0: do not ask.
+  int realtime_priority = 80;
   /// The thread sleeps until this long before each deadline, then spins: longer is steadier and
   /// costs more CPU (>= the period: it never sleeps, a whole core).
   double spin_us = 150.0;
@@ -81,7 +89,9 @@ using HapticLoopSettings [[deprecated("renamed to HapticLoopOptions in bemsurg 0
 struct ChannelSample {
   Eigen::Vector3d position = Eigen::Vector3d::Zero();  // model frame
   Eigen::Vector3d direction = -Eigen::Vector3d::UnitZ();
-  Eigen::Vector3d model_force = Eigen::Vector3d::Zero();  // what the contact model gave (model frame)
+  // What the newest contact model gave (model frame); during a swap the force sent is blended
+  // from the old model's to this (TickSample::blend_weight).
+  Eigen::Vector3d model_force = Eigen::Vector3d::Zero();
   Eigen::Vector3d force = Eigen::Vector3d::Zero();        // what was sent, after the safety stages
   std::uint32_t buttons = 0;
   int contact_elements = 0;
@@ -96,6 +106,7 @@ struct TickSample {
   double time = 0.0;  // session seconds
   std::uint64_t model_version = 0;
   double watchdog_gain = 1.0;
+  double blend_weight = 1.0;  // the newest model's share of the force sent (< 1 while a swap blends)
   // Microseconds from the tick's start to its trace entry: the force computation and the safety
   // stages, the per-tick value behind LoopStatistics' force_us (which also counts the push itself).
   double compute_us = 0.0;
@@ -152,7 +163,8 @@ class HapticLoop {
   void tick(double now, bool late = false) noexcept;
 
   // ---- simulation side (one thread) ---------------------------------------------------------
-  /// Offers a model; the loop takes it before its next tick. False (the model stays with the
+  /// Offers a model; the loop takes it before a tick when no blend is running (at most blend_s
+  /// later) and blends from the old model's force to its. False (the model stays with the
   /// caller) while an earlier offer has not been taken yet.
   bool offer(std::unique_ptr<ContactModel>& model);
   /// Whether an offered model is still waiting to be taken.
@@ -161,8 +173,9 @@ class HapticLoop {
   double time() const noexcept { return now_.load(std::memory_order_acquire); }
   /// A model the loop no longer uses (to be freed here, off the haptic thread), or null.
   std::unique_ptr<ContactModel> take_retired();
-  /// "The simulation state is fresh": the watchdog ramps the force down when this is not called
-  /// for stale_after_s of session time.
+  /// "The simulation side is alive": the watchdog ramps the force down when this is not called for
+  /// stale_after_s of session time. Beat it while long work (a cut step) runs elsewhere: the loop
+  /// renders the old model meanwhile; stop beating when the simulation side is hung or gone.
   void heartbeat() noexcept;
   /// The next trace sample (one per tick, in order) / button event; false when none is waiting.
   bool pop_sample(TickSample& out) noexcept { return trace_.pop(out); }
@@ -186,13 +199,17 @@ class HapticLoop {
   // The steps of tick(), in order; they may throw only where a device or the model does. Inline
   // (defined in haptic_loop.cpp, used only by tick()) so that the compiler folds them back into
   // the tick: the hot path costs what it cost as one function.
-  inline void take_offered_model();
+  inline void take_offered_model(double now);
+  inline void retire_blended_model();
   inline void update_watchdog(double now, double dt, bool late);
-  inline void read_channel(int channel, double now, ToolContactSolver* solver, ChannelSample& cs);
+  inline void read_channel(int channel, double now, ChannelSample& cs);
+  inline bool pose_tool(ContactModel* model, int channel, const DeviceState& s);
   inline void push_button_edges(int channel, double now, const DeviceState& s);
-  inline ContactStatus step_contact(ToolContactSolver* solver);
+  inline ContactStatus step_contact(ContactModel* model);
+  inline Eigen::Vector3d model_force(const ContactModel* model, int channel, ContactStatus step_status, int* elements) const;
   inline void publish_contact(double now, const ToolContactSolver* solver);
-  inline void write_channel_force(int channel, const ToolContactSolver* solver, ContactStatus step_status, double dt, ChannelSample& cs);
+  inline void write_channel_force(int channel, ContactStatus step_status, ContactStatus old_status, double weight, double dt,
+                                  ChannelSample& cs);
   inline void record_tick(TickSample& sample, double now, double dt, bool late, std::chrono::steady_clock::time_point t_start) noexcept;
 
   HapticLoopOptions settings_;
@@ -202,6 +219,8 @@ class HapticLoop {
   std::array<Eigen::Vector3d, kMaxChannels> held_{};  // last good model force per channel
   std::array<std::uint32_t, kMaxChannels> last_buttons_{};
   ContactModel* current_ = nullptr;
+  ContactModel* previous_ = nullptr;  // the model blended out, until the blend ends
+  ModelCrossfade blend_;
   std::atomic<ContactModel*> offered_{nullptr};
   SpscRing<ContactModel*> retired_{8};
   SpscRing<TickSample> trace_;

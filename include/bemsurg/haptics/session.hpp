@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "bemsurg/haptics/background_task.hpp"
 #include "bemsurg/haptics/haptic_loop.hpp"
 #include "bemsurg/haptics/scripted_device.hpp"
 #include "bemsurg/io/action_script.hpp"
@@ -50,6 +51,19 @@ struct SessionOptions {
   double slide_margin_radii = 1.0;
   HapticLoopOptions loop;  // rate_hz is taken from the script
   CutHook cut_hook;
+  /// Real-time sessions: a cut step runs on a background thread (BackgroundTask) while the
+  /// simulation side keeps beating the heartbeat and the loop renders the old model; false: on the
+  /// simulation thread, which then stops beating while it computes (the behaviour before 0.4, kept
+  /// for the before/after benchmark; the watchdog fades the force during any step longer than
+  /// loop.stale_after_s). Virtual-clock sessions always compute steps in line (deterministic).
+  bool background_steps = true;
+  /// Real-time sessions: background work gets cores - 1 threads while the loop runs
+  /// (BackgroundThreadBudget), so the haptic thread keeps a core.
+  bool limit_background_threads = true;
+  /// A background step running longer than this is taken as hung: the heartbeat stops (the
+  /// watchdog fades the force within loop.stale_after_s + loop.ramp_s) and the session ends with
+  /// an error.
+  double max_step_s = 20.0;
 };
 
 /// Receives what the session produces, on the simulation side's thread.
@@ -70,9 +84,23 @@ struct SessionResult {
   double max_force_jump_fraction = 0.0;
   double max_force_jump_time = 0.0;  // session time of that jump (s)
   int max_force_jump_tool = -1;
+  /// What a hand feels (docs/haptics.md, "Force continuity"), over a tool's ticks whose
+  /// contact-model force is at least 10 % of that tool's peak: the smallest |delivered| / |model|
+  /// (a fade shows as a ratio near 0; 1 when no tick qualifies; |model| counted up to
+  /// loop.max_force, since the magnitude limit is a safety stage, not a fade) ...
+  double min_delivered_ratio = 1.0;
+  double min_delivered_ratio_time = 0.0;
+  int min_delivered_ratio_tool = -1;
+  /// ... and the largest tick-to-tick change of the delivered force, |D_k - D_(k-1)| /
+  /// max(|M_k|, |M_(k-1)|) over consecutive ticks whose model forces M both qualify: a drop of the
+  /// delivered force to zero counts as 1.
+  double max_tick_change_fraction = 0.0;
+  double max_tick_change_time = 0.0;
+  int max_tick_change_tool = -1;
   std::vector<double> peak_force;  // per tool, N (model force)
   int models_built = 0;
   int cuts = 0;
+  std::vector<double> cut_step_seconds;  // wall time of each cut step (the hook), in order
   int field_updates = 0;
   Percentiles field_ms;  // time of one displacement-field update (graphics side), in ms
   double session_seconds = 0.0;
@@ -119,6 +147,9 @@ class Session {
   void simulation_step(HapticLoop& loop, SessionObserver* observer, SessionResult& result);
   std::unique_ptr<ContactModel> build_model();
   void drain(HapticLoop& loop, SessionObserver* observer);
+  void run_cuts(double now, SessionObserver* observer, SessionResult& result);
+  void apply_cut(const CutResult& r, const ScheduledCut& c, SessionObserver* observer, SessionResult& result);
+  void finish_metrics(SessionResult& result) const;
 
   std::shared_ptr<const TriangleMesh> mesh_;
   std::shared_ptr<const GreensTable> table_;
@@ -127,7 +158,14 @@ class Session {
   std::vector<std::vector<Keyframe>> keyframes_;
   std::vector<std::string> warnings_;
   std::vector<Engagement> engagement_;
-  std::vector<ScheduledCut> cuts_;
+  std::vector<ScheduledCut> cuts_;  // in time order
+  BackgroundTask<CutResult> cut_task_;
+  std::size_t cut_in_flight_ = 0;  // index into cuts_ of the step cut_task_ computes
+  double cut_started_ = 0.0;       // wall seconds of the step in line
+  bool in_realtime_ = false;
+  int thread_budget_ = 0;  // OpenMP threads for a background step (0: unchanged)
+  bool hung_ = false;
+  double hung_since_ = 0.0;
   std::vector<Eigen::Vector3d> position_;  // latest device position per tool (model frame)
   std::vector<Eigen::Vector3d> direction_;
   std::uint64_t next_version_ = 1;
@@ -139,6 +177,16 @@ class Session {
   std::vector<std::pair<double, double>> jumps_;  // (jump fraction, smaller magnitude) per tool pair
   std::vector<double> jump_time_;
   std::vector<int> jump_tool_;
+  struct FeltSample {  // per tool per tick: what a hand feels (min ratio, tick change)
+    double time;
+    int tool;
+    double model;      // |M_k|
+    double delivered;  // |D_k|
+    double change;     // |D_k - D_(k-1)|
+    double model_prev;  // |M_(k-1)|, -1 on a tool's first tick
+  };
+  std::vector<FeltSample> felt_;
+  std::vector<Eigen::Vector3d> last_delivered_;
   std::vector<double> peak_;
   double next_graphics_ = 0.0;
   Eigen::VectorXd field_;

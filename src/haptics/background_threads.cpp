@@ -1,0 +1,62 @@
+// Implementation of bemsurg/haptics/background_threads.hpp.
+#include "bemsurg/haptics/background_threads.hpp"
+
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
+#include <algorithm>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+// OpenBLAS's thread controls, declared weak: present when the BLAS bemsurg links is OpenBLAS
+// (Debian's default), null otherwise (reference BLAS, no pool to cap).
+extern "C" {
+void openblas_set_num_threads(int) __attribute__((weak));
+int openblas_get_num_threads(void) __attribute__((weak));
+}
+
+namespace bemsurg::haptics {
+
+int background_thread_count(unsigned cores) noexcept {
+  if (cores == 0) cores = std::thread::hardware_concurrency();
+  return std::max(1, static_cast<int>(cores) - 1);
+}
+
+BackgroundThreadBudget::BackgroundThreadBudget(bool enabled) noexcept {
+  if (!enabled) return;
+  threads_ = background_thread_count();
+  if (openblas_get_num_threads && openblas_set_num_threads) {
+    saved_blas_ = openblas_get_num_threads();
+    openblas_set_num_threads(std::min(saved_blas_, threads_));
+  }
+#ifdef _OPENMP
+  saved_omp_ = omp_get_max_threads();
+  omp_set_num_threads(std::min(saved_omp_, threads_));
+#endif
+}
+
+BackgroundThreadBudget::~BackgroundThreadBudget() {
+  if (threads_ == 0) return;
+  if (saved_blas_ > 0 && openblas_set_num_threads) openblas_set_num_threads(saved_blas_);
+#ifdef _OPENMP
+  if (saved_omp_ > 0) omp_set_num_threads(saved_omp_);
+#endif
+}
+
+void enter_background_thread(int threads) noexcept {
+#ifdef _OPENMP
+  if (threads > 0) omp_set_num_threads(std::min(threads, omp_get_max_threads()));
+#else
+  (void)threads;
+#endif
+#ifdef __linux__
+  // Linux nice values are per thread: this lowers the worker only.
+  const auto tid = static_cast<id_t>(syscall(SYS_gettid));
+  setpriority(PRIO_PROCESS, tid, std::min(19, getpriority(PRIO_PROCESS, tid) + 10));
+#endif
+}
+
+}  // namespace bemsurg::haptics
