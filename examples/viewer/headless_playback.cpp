@@ -9,10 +9,12 @@
 #include <stb_image_write.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <iomanip>
 #include <iostream>
 
+#include "bemsurg/haptics/felt_force.hpp"
 #include "viewer_state.hpp"
 
 namespace bemsurg::viewer {
@@ -99,9 +101,13 @@ bool write_shots(const ViewerOptions& o, int f, int fbw, int fbh) {
   return ok;
 }
 
-void print_summary(App& app, const ViewerOptions& o, const double* peak, int code) {
+void print_summary(App& app, const ViewerOptions& o, const double* peak, const haptics::FeltForce& felt, int code) {
   std::cerr << "bemsurg-viewer: " << o.frames << " frames (" << o.frames / o.fps << " s of script); peak |F| tool 1 "
             << std::setprecision(4) << peak[0] << " N, tool 2 " << peak[1] << " N; " << app.cuts.summary() << "\n";
+  // What a hand would feel (1 kHz ticks, model force above 10 % of its peak): check-viewer.sh reads this line.
+  std::cerr << "bemsurg-viewer: felt: delivered force at least " << std::setprecision(4) << 100.0 * felt.min_delivered_ratio
+            << " % of the model's, largest tick-to-tick change " << 100.0 * felt.max_tick_change_fraction << " % (tool "
+            << felt.max_tick_change_tool + 1 << ", t = " << felt.max_tick_change_time << " s)\n";
   if (app.cuts.accepted() > 0) {
     const WorkerStatus st = app.worker.status();
     std::cerr << "bemsurg-viewer: tables after the last cut step: " << (st.last_cut_exact_update ? "delta update" : "recomputed") << " in "
@@ -146,11 +152,14 @@ int prepare_headless(App& app, const ViewerOptions& o, std::unique_ptr<ScriptPla
 }
 
 int play_headless(App& app, ScriptPlayer& player, const ViewerOptions& o) {
-  // Deterministic playback: frame f shows the script at t = f / fps; one contact tick per frame.
+  // Deterministic playback: frame f shows the script at t = f / fps; between frames the haptic
+  // tick runs at 1 kHz as in the interactive viewer (its ticks at f / fps - k ms), so the force a
+  // hand would feel is measured tick by tick (haptics/felt_force.hpp).
   haptics::HapticDevice* devices[kMaxTools] = {app.scripted[0].get(), app.scripted[1].get()};
-  const double dt = 1.0 / o.fps;
+  constexpr double kHapticPeriod = 1e-3;
   double t_prev = -1.0;
   double peak[kMaxTools] = {0.0, 0.0};
+  haptics::FeltForceRecorder felt(kMaxTools, app.settings.force_limit);
   int fbw = 0, fbh = 0;
   int code = 0;
   for (int f = 0; f < o.frames; ++f) {
@@ -159,11 +168,19 @@ int play_headless(App& app, ScriptPlayer& player, const ViewerOptions& o) {
     apply_slot_settings(app, player);
     for (const ScriptCut& c : player.cuts_between(t_prev, t))
       app.cuts.scripted_step(c.action, c.from, c.direction, app.worker, gap_width(app));
+    const int ticks = f == 0 ? 1 : std::max(1, static_cast<int>(std::lround((t - t_prev) / kHapticPeriod)));
+    for (int k = ticks - 1; k >= 0; --k) {
+      const double tk = t - k * (f == 0 ? 0.0 : (t - t_prev) / ticks);
+      app.stepper.tick(app.worker.state(), devices, app.settings, tk, f == 0 ? kHapticPeriod : (t - t_prev) / ticks, app.contact);
+      for (int s = 0; s < kMaxTools; ++s) {
+        const SlotSnapshot& slot = app.contact.slots[static_cast<std::size_t>(s)];
+        peak[s] = std::max(peak[s], slot.force.norm());
+        felt.add(s, tk, slot.force, slot.sent_force);
+      }
+    }
     t_prev = t;
-    app.stepper.tick(app.worker.state(), devices, app.settings, t, dt, app.contact);
     app.script_time = t;
     app.force_us.store(1e6 * app.contact.force_seconds);
-    for (int s = 0; s < kMaxTools; ++s) peak[s] = std::max(peak[s], app.contact.slots[static_cast<std::size_t>(s)].force.norm());
     app.graphics_rate.tick();
     int w, h;
     glfwGetFramebufferSize(app.window, &fbw, &fbh);
@@ -172,7 +189,7 @@ int play_headless(App& app, ScriptPlayer& player, const ViewerOptions& o) {
     if (!write_shots(o, f, fbw, fbh)) code = 1;
     glfwSwapBuffers(app.window);
   }
-  print_summary(app, o, peak, code);
+  print_summary(app, o, peak, felt.result(), code);
   return code;
 }
 

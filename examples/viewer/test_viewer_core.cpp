@@ -219,3 +219,61 @@ TEST_CASE("the haptic tick presses a sphere through a device as the contact solv
   CHECK((snap.slots[0].force - expected).norm() <= pose * expected.norm());                           // measured 4.5e-14
   std::remove(path.c_str());
 }
+
+TEST_CASE("a cut keeps the held force on the uncut model until its tables are ready, then blends the new one in", "[viewer]") {
+  // Issue 26: the cut's provisional state (new surface, no table) used to reset the solver, so the
+  // force fell to zero for as long as the tables took (docs/haptics.md, "Model swaps").
+  const std::string path = write_temp("scene3.json", kSmallScene);
+  ModelWorker worker;
+  worker.load(path);
+  worker.wait_idle();
+  const auto ph = worker.state();
+  REQUIRE(ph->table);
+  haptics::NullDevice device;
+  haptics::HapticDevice* devices[kMaxTools] = {&device, nullptr};
+  StepperOptions settings;
+  settings.slots[0].kind = ToolKind::Sphere;
+  settings.slots[0].radius = 0.03;
+  settings.force_limit = 100.0;
+  settings.force_rate = 1e6;  // the blend alone shapes the force here
+  ToolStepper stepper;
+  ContactSnapshot snap;
+  haptics::DeviceState d;
+  d.position = Eigen::Vector3d(0.0, 0.0, 0.1);
+  d.direction = Eigen::Vector3d(0, 0, -1);
+  d.buttons = 1;
+  device.set_state(d);
+  stepper.tick(ph, devices, settings, 0.0, 1e-3, snap);  // engages
+  d.position.z() -= 0.008;
+  device.set_state(d);
+  stepper.tick(ph, devices, settings, 1e-3, 1e-3, snap);
+  const Eigen::Vector3d held = device.last_force();
+  REQUIRE(held.norm() > 0.0);
+  // The cut's provisional state: the same model name, one cut more, no table.
+  auto provisional = std::make_shared<PhysicsState>(*ph);
+  provisional->table.reset();
+  provisional->cuts = ph->cuts + 1;
+  provisional->version = ph->version + 1;
+  for (int k = 2; k < 50; ++k) {
+    stepper.tick(provisional, devices, settings, k * 1e-3, 1e-3, snap);
+    REQUIRE(device.last_force() == held);  // the uncut model, unchanged: exactly the same force
+  }
+  CHECK(snap.physics_version == ph->version);
+  // The cut's tables arrive (here a 2 % softer table on the same surface): blended over 30 ms.
+  auto cut = std::make_shared<PhysicsState>(*provisional);
+  const GreensTable& t = *ph->table;
+  cut->table = std::make_shared<const GreensTable>(t.key(), t.region(), t.base_displacement(), t.base_traction(), t.base_kinds(),
+                                                   Eigen::MatrixXd(1.02 * t.columns()));
+  cut->version = ph->version + 2;
+  stepper.tick(cut, devices, settings, 0.050, 1e-3, snap);
+  const Eigen::Vector3d after = snap.slots[0].force;  // the new model's
+  CHECK((after - held).norm() > 0.005 * held.norm());
+  CHECK((device.last_force() - held).norm() <= 1e-12 * held.norm());  // weight 0: still the old force
+  stepper.tick(cut, devices, settings, 0.065, 1e-3, snap);
+  CHECK(snap.blend_weight == Approx(0.5));
+  CHECK((device.last_force() - haptics::ModelCrossfade::mix(held, after, 0.5)).norm() <= 1e-9 * held.norm());
+  stepper.tick(cut, devices, settings, 0.080, 1e-3, snap);
+  CHECK(snap.blend_weight == 1.0);
+  CHECK((device.last_force() - after).norm() <= 1e-12 * after.norm());
+  std::remove(path.c_str());
+}

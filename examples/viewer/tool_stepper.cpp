@@ -117,10 +117,30 @@ bool ToolStepper::reengage(Slot& s) {
   return solver_->try_set_translation(s.tool, s.translation);
 }
 
-void ToolStepper::follow_model(const std::shared_ptr<const PhysicsState>& physics) {
+bool ToolStepper::takes_over(const std::shared_ptr<const PhysicsState>& physics) const {
+  if (physics == physics_) return false;
+  // A cut's provisional state (the new surface, no tables yet) leaves the tools on the uncut model,
+  // which stays a valid linear model of the tissue until the exact tables of the cut arrive.
+  const bool provisional = physics && !physics->table && physics_ && physics_->table && solver_ &&
+                           physics->model_name == physics_->model_name && physics->cuts > physics_->cuts;
+  return !provisional;
+}
+
+void ToolStepper::follow_model(const std::shared_ptr<const PhysicsState>& physics, double time, double blend_s) {
   // A new model, table or parameter set (a cut, E, nu, gravity): a new solver on the new
   // snapshots; tools held through the change are engaged again where they were, at the same
-  // translation, so a cut under a held probe keeps the probe in the tissue.
+  // translation, so a cut under a held probe keeps the probe in the tissue. The old solver stays
+  // for the blend (the same model only: a new scene switches at once).
+  const bool blend = blend_s > 0.0 && solver_ && physics && physics->table && physics_ && physics_->model_name == physics->model_name;
+  previous_solver_.reset();
+  previous_physics_.reset();
+  if (blend) {
+    previous_physics_ = physics_;
+    previous_solver_ = std::move(solver_);
+    for (std::size_t i = 0; i < slots_.size(); ++i) previous_tool_[i] = slots_[i].engaged ? slots_[i].tool : -1;
+    blend_.set_duration(blend_s);
+    blend_.start(time);
+  }
   physics_ = physics;
   solver_.reset();
   if (physics_ && physics_->table) {
@@ -187,7 +207,20 @@ void ToolStepper::step_contact() {
     message_ = std::string("contact: ") + to_string(status);
 }
 
-void ToolStepper::send_force(int i, haptics::HapticDevice* dev, const StepperOptions& settings, double dt, SlotSnapshot& o) {
+void ToolStepper::step_previous() {
+  // The blended-out model: each tool still held follows the device as in the new one.
+  previous_force_.fill(Eigen::Vector3d::Zero());
+  if (!previous_solver_) return;
+  for (std::size_t i = 0; i < slots_.size(); ++i)
+    if (previous_tool_[i] >= 0 && slots_[i].engaged) previous_solver_->try_set_translation(previous_tool_[i], slots_[i].translation);
+  ContactUpdateResult report;
+  if (previous_solver_->step(report) != ContactStatus::Ok) return;  // a failed step: the new model alone
+  for (std::size_t i = 0; i < slots_.size(); ++i)
+    if (previous_tool_[i] >= 0 && slots_[i].engaged && previous_solver_->engaged(previous_tool_[i]))
+      previous_force_[i] = previous_solver_->force(previous_tool_[i]);
+}
+
+void ToolStepper::send_force(int i, haptics::HapticDevice* dev, const StepperOptions& settings, double dt, double weight, SlotSnapshot& o) {
   // The slot's state for the graphics thread, and its force to the device.
   Slot& s = slots_[static_cast<std::size_t>(i)];
   o.engaged = s.engaged;
@@ -207,7 +240,10 @@ void ToolStepper::send_force(int i, haptics::HapticDevice* dev, const StepperOpt
     s.rate = settings.force_rate;
     s.limiter = haptics::ForceLimiter(s.limit, s.rate);
   }
-  const Eigen::Vector3d limited = s.limiter(o.force, dt);
+  Eigen::Vector3d wanted = o.force;
+  if (previous_solver_ && weight < 1.0 && previous_force_[static_cast<std::size_t>(i)].allFinite())
+    wanted = haptics::ModelCrossfade::mix(previous_force_[static_cast<std::size_t>(i)], o.force, weight);
+  const Eigen::Vector3d limited = s.limiter(wanted, dt);
   o.sent_force = settings.haptic_force ? limited : Eigen::Vector3d::Zero();
   if (dev) dev->write_force(o.sent_force);
 }
@@ -215,13 +251,20 @@ void ToolStepper::send_force(int i, haptics::HapticDevice* dev, const StepperOpt
 void ToolStepper::tick(const std::shared_ptr<const PhysicsState>& physics, haptics::HapticDevice* const* devices,
                        const StepperOptions& settings, double time, double dt, ContactSnapshot& out) {
   const auto t0 = std::chrono::steady_clock::now();
-  if (physics != physics_) follow_model(physics);
+  if (takes_over(physics)) follow_model(physics, time, settings.blend_s);
   out.physics_version = physics_ ? physics_->version : 0;
   for (int i = 0; i < kMaxTools; ++i) follow_device(i, devices[i], settings.slots[static_cast<std::size_t>(i)], time);
   step_contact();
+  const double weight = previous_solver_ ? blend_.weight(time) : 1.0;
+  if (weight < 1.0) step_previous();
+  out.blend_weight = weight;
   // Snapshot for the graphics thread.
   out.count = 0;
-  for (int i = 0; i < kMaxTools; ++i) send_force(i, devices[i], settings, dt, out.slots[static_cast<std::size_t>(i)]);
+  for (int i = 0; i < kMaxTools; ++i) send_force(i, devices[i], settings, dt, weight, out.slots[static_cast<std::size_t>(i)]);
+  if (previous_solver_ && weight >= 1.0) {  // the blend is over
+    previous_solver_.reset();
+    previous_physics_.reset();
+  }
   if (solver_) {
     const CapacitanceContact& c = solver_->contact();
     const std::size_t need = static_cast<std::size_t>(c.num_elements());

@@ -20,6 +20,7 @@
 
 #include "bemsurg/haptics/force_limiter.hpp"
 #include "bemsurg/haptics/haptic_device.hpp"
+#include "bemsurg/haptics/model_crossfade.hpp"
 #include "bemsurg/haptics/triple_buffer.hpp"
 #include "bemsurg/presolution/contact_tools.hpp"
 #include "model_worker.hpp"
@@ -81,6 +82,7 @@ struct StepperOptions {
   bool haptic_force = true;   // write the force to the device (off: zero)
   double force_limit = 3.3;   // newtons (a Touch-class desktop device)
   double force_rate = 300.0;  // newtons per second: the largest change of the sent force
+  double blend_s = haptics::kDefaultModelBlendSeconds;  // old model's force to the new one's after a swap
 };
 
 struct SlotSnapshot {
@@ -91,8 +93,8 @@ struct SlotSnapshot {
   Eigen::Vector3d direction = -Eigen::Vector3d::UnitZ();
   double radius = 0.0;
   double plate_size = 0.0;
-  Eigen::Vector3d force = Eigen::Vector3d::Zero();       // contact force on the tool (newtons)
-  Eigen::Vector3d sent_force = Eigen::Vector3d::Zero();  // after the limiter (or zero when off)
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();       // contact force on the tool (newtons), newest model
+  Eigen::Vector3d sent_force = Eigen::Vector3d::Zero();  // blended from the old model's after a swap, limited (or zero when off)
   Index contact_elements = 0;
 };
 
@@ -103,6 +105,7 @@ struct ContactSnapshot {
   std::vector<double> tractions;  // 3 per contact element: contact traction added to the base state
   Index count = 0;
   double force_seconds = 0.0;       // time of this tick's contact update
+  double blend_weight = 1.0;        // the newest model's share of the force sent (< 1 while a swap blends)
   std::array<char, 200> message{};  // last problem ("contact set full", ...) or empty
 };
 
@@ -110,7 +113,11 @@ class ToolStepper {
  public:
   ToolStepper();
   /// One tick at session time `time`, `dt` seconds after the previous one. `physics` may be null
-  /// or without a table (nothing happens but the snapshot).
+  /// or without a table (nothing happens but the snapshot). A cut's provisional state (no table
+  /// yet) does not replace the model in use: the tools keep the uncut model until the cut's
+  /// tables are ready (Wang et al. 2007 §5.3), and every model swap (a cut, E, nu, gravity) blends
+  /// the force sent from the old model's to the new one's over `blend_s` (haptics/model_crossfade.hpp).
+  /// A new scene (another model_name) switches at once.
   void tick(const std::shared_ptr<const PhysicsState>& physics, haptics::HapticDevice* const* devices, const StepperOptions& settings,
             double time, double dt, ContactSnapshot& out);
 
@@ -137,13 +144,25 @@ class ToolStepper {
   /// translation, on the new solver.
   bool reengage(Slot& s);
   // The steps of tick(), in order.
-  void follow_model(const std::shared_ptr<const PhysicsState>& physics);
+  void follow_model(const std::shared_ptr<const PhysicsState>& physics, double time, double blend_s);
   void follow_device(int slot, haptics::HapticDevice* device, const SlotOptions& want, double time);
   void step_contact();
-  void send_force(int slot, haptics::HapticDevice* device, const StepperOptions& settings, double dt, SlotSnapshot& out);
+  void send_force(int slot, haptics::HapticDevice* device, const StepperOptions& settings, double dt, double weight, SlotSnapshot& out);
+
+  /// Whether `physics` replaces the model in use now (false: a cut's state without its tables).
+  bool takes_over(const std::shared_ptr<const PhysicsState>& physics) const;
+  /// During a blend: the old solver's tools follow the devices too; their forces, per slot.
+  void step_previous();
 
   std::shared_ptr<const PhysicsState> physics_;
   std::unique_ptr<ToolContactSolver> solver_;
+  // The model blended out after a swap (docs/haptics.md, "Model swaps"), its tool per slot, and
+  // the force each slot's tool had in it this tick.
+  std::shared_ptr<const PhysicsState> previous_physics_;
+  std::unique_ptr<ToolContactSolver> previous_solver_;
+  std::array<int, kMaxTools> previous_tool_{{-1, -1}};
+  std::array<Eigen::Vector3d, kMaxTools> previous_force_{};
+  haptics::ModelCrossfade blend_;
   std::array<Slot, kMaxTools> slots_;
   std::string message_;
 };

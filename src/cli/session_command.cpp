@@ -143,10 +143,10 @@ int run_session(int argc, char** argv) {
   j["jitter_us"] = percentiles_json(s.jitter_us);
   j["force_us"] = percentiles_json(s.force_us);
   j["max_force_jump_fraction"] = r.max_force_jump_fraction;
-  j["min_delivered_force_ratio"] = r.min_delivered_ratio;
-  j["min_delivered_force_ratio_time"] = r.min_delivered_ratio_time;
-  j["max_tick_change_fraction"] = r.max_tick_change_fraction;
-  j["max_tick_change_time"] = r.max_tick_change_time;
+  j["min_delivered_force_ratio"] = r.felt.min_delivered_ratio;
+  j["min_delivered_force_ratio_time"] = r.felt.min_delivered_ratio_time;
+  j["max_tick_change_fraction"] = r.felt.max_tick_change_fraction;
+  j["max_tick_change_time"] = r.felt.max_tick_change_time;
   j["cut_step_seconds"] = r.cut_step_seconds;
   j["ticks"] = s.ticks;
   j["dropped_packets"] = s.dropped_packets;
@@ -188,7 +188,7 @@ int run_session(int argc, char** argv) {
     std::cout << "session: " << s.ticks << " ticks at " << s.achieved_rate_hz << " Hz (" << (virtual_clock ? "virtual" : "real")
               << " clock), " << s.overruns << " overruns, jitter p99.9 " << s.jitter_us.p999 << " us, force p99.9 " << s.force_us.p999
               << " us, largest force jump " << 100.0 * r.max_force_jump_fraction << " %; delivered force at least "
-              << 100.0 * r.min_delivered_ratio << " % of the model's, largest tick-to-tick change " << 100.0 * r.max_tick_change_fraction
+              << 100.0 * r.felt.min_delivered_ratio << " % of the model's, largest tick-to-tick change " << 100.0 * r.felt.max_tick_change_fraction
               << " %; " << r.cuts << " cut steps; wrote " << output << "\n";
   return 0;
 }

@@ -1,10 +1,6 @@
 // Implementation of bemsurg/haptics/background_threads.hpp.
 #include "bemsurg/haptics/background_threads.hpp"
 
-#include <sys/resource.h>
-#include <sys/syscall.h>
-#include <unistd.h>
-
 #include <algorithm>
 
 #ifdef _OPENMP
@@ -51,11 +47,6 @@ void enter_background_thread(int threads) noexcept {
   if (threads > 0) omp_set_num_threads(std::min(threads, omp_get_max_threads()));
 #else
   (void)threads;
-#endif
-#ifdef __linux__
-  // Linux nice values are per thread: this lowers the worker only.
-  const auto tid = static_cast<id_t>(syscall(SYS_gettid));
-  setpriority(PRIO_PROCESS, tid, std::min(19, getpriority(PRIO_PROCESS, tid) + 10));
 #endif
 }
 

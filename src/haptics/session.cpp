@@ -184,7 +184,11 @@ class ToolTrack {
 
 Session::Session(std::shared_ptr<const TriangleMesh> mesh, std::shared_ptr<const GreensTable> table, ActionScript script,
                  SessionOptions options)
-    : mesh_(std::move(mesh)), table_(std::move(table)), script_(std::move(script)), options_(std::move(options)) {
+    : mesh_(std::move(mesh)),
+      table_(std::move(table)),
+      script_(std::move(script)),
+      options_(std::move(options)),
+      felt_(static_cast<int>(script_.tools.size()), options_.loop.max_force) {
   if (!mesh_ || !table_) throw InvalidArgumentError("Session: the mesh or the table is missing");
   if (!(options_.simulation_hz > 0.0) || options_.graphics_hz < 0.0 || !(options_.slide_margin_radii >= 0.0))
     throw InvalidArgumentError("Session: simulation_hz must be positive, graphics_hz and slide_margin_radii non-negative");
@@ -204,7 +208,6 @@ Session::Session(std::shared_ptr<const TriangleMesh> mesh, std::shared_ptr<const
   position_.assign(n, Eigen::Vector3d::Zero());
   direction_.assign(n, -Eigen::Vector3d::UnitZ());
   last_force_.assign(n, Eigen::Vector3d::Zero());
-  last_delivered_.assign(n, Eigen::Vector3d::Zero());
   have_last_.assign(n, false);
   peak_.assign(n, 0.0);
   build_keyframes();
@@ -314,9 +317,7 @@ void Session::drain(HapticLoop& loop, SessionObserver* observer) {
           jump_time_.push_back(sample.time);
         }
       }
-      felt_.push_back({sample.time, static_cast<int>(t), mag, c.force.norm(), (c.force - last_delivered_[t]).norm(),
-                       have_last_[t] ? last_force_[t].norm() : -1.0});
-      last_delivered_[t] = c.force;
+      felt_.add(static_cast<int>(t), sample.time, f, c.force);
       last_force_[t] = f;
       have_last_[t] = true;
     }
@@ -430,9 +431,8 @@ void Session::simulation_step(HapticLoop& loop, SessionObserver* observer, Sessi
 }
 
 void Session::finish_metrics(SessionResult& result) const {
-  // The jump of the model force, and what the hand feels: the smallest delivered / model ratio and
-  // the largest tick-to-tick change of the delivered force, each over ticks whose model force is at
-  // least 10 % of the tool's peak (docs/haptics.md, "Force continuity").
+  // The jump of the model force, and what the hand feels (felt_force.hpp), each over ticks whose
+  // model force is at least 10 % of the tool's peak (docs/haptics.md, "Force continuity").
   for (std::size_t i = 0; i < jumps_.size(); ++i) {
     const double threshold = 0.1 * peak_[static_cast<std::size_t>(jump_tool_[i])];
     if (jumps_[i].second >= threshold && threshold > 0.0 && jumps_[i].first > result.max_force_jump_fraction) {
@@ -441,25 +441,7 @@ void Session::finish_metrics(SessionResult& result) const {
       result.max_force_jump_tool = jump_tool_[i];
     }
   }
-  for (const FeltSample& f : felt_) {
-    const double threshold = 0.1 * peak_[static_cast<std::size_t>(f.tool)];
-    if (!(threshold > 0.0) || f.model < threshold) continue;
-    // The magnitude limit is a safety stage, not a fade: the model force is counted up to it.
-    const double cap = options_.loop.max_force;
-    const double ratio = f.delivered / std::min(f.model, cap);
-    if (ratio < result.min_delivered_ratio) {
-      result.min_delivered_ratio = ratio;
-      result.min_delivered_ratio_time = f.time;
-      result.min_delivered_ratio_tool = f.tool;
-    }
-    if (f.model_prev < threshold) continue;
-    const double change = f.change / std::min(std::max(f.model, f.model_prev), cap);
-    if (change > result.max_tick_change_fraction) {
-      result.max_tick_change_fraction = change;
-      result.max_tick_change_time = f.time;
-      result.max_tick_change_tool = f.tool;
-    }
-  }
+  result.felt = felt_.result();
 }
 
 SessionResult Session::run(SessionObserver* observer) {

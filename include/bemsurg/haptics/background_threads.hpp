@@ -34,8 +34,10 @@ class BackgroundThreadBudget {
 };
 
 /// Called first on a background worker thread: its OpenMP regions use at most `threads` threads
-/// (<= 0: unchanged), and on Linux it runs at a lower scheduling priority (nice + 10) than the
-/// simulation side and the haptic thread, which matters where SCHED_FIFO is refused.
+/// (<= 0: unchanged). Its scheduling priority is left alone: lowered (nice + 10, tried), a cut step
+/// beside a compile took 4-8 s instead of 0.8-1.6 s, and the SCHED_FIFO haptic thread does not need
+/// it; where SCHED_FIFO is refused, nothing in the process can raise the haptic thread above other
+/// programs (docs/haptics.md, "Threads while a loop runs").
 void enter_background_thread(int threads) noexcept;
 
 }  // namespace bemsurg::haptics

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "bemsurg/haptics/background_task.hpp"
+#include "bemsurg/haptics/felt_force.hpp"
 #include "bemsurg/haptics/haptic_loop.hpp"
 #include "bemsurg/haptics/scripted_device.hpp"
 #include "bemsurg/io/action_script.hpp"
@@ -84,19 +85,10 @@ struct SessionResult {
   double max_force_jump_fraction = 0.0;
   double max_force_jump_time = 0.0;  // session time of that jump (s)
   int max_force_jump_tool = -1;
-  /// What a hand feels (docs/haptics.md, "Force continuity"), over a tool's ticks whose
-  /// contact-model force is at least 10 % of that tool's peak: the smallest |delivered| / |model|
-  /// (a fade shows as a ratio near 0; 1 when no tick qualifies; |model| counted up to
-  /// loop.max_force, since the magnitude limit is a safety stage, not a fade) ...
-  double min_delivered_ratio = 1.0;
-  double min_delivered_ratio_time = 0.0;
-  int min_delivered_ratio_tool = -1;
-  /// ... and the largest tick-to-tick change of the delivered force, |D_k - D_(k-1)| /
-  /// max(|M_k|, |M_(k-1)|) over consecutive ticks whose model forces M both qualify: a drop of the
-  /// delivered force to zero counts as 1.
-  double max_tick_change_fraction = 0.0;
-  double max_tick_change_time = 0.0;
-  int max_tick_change_tool = -1;
+  /// What a hand feels (felt_force.hpp): the smallest delivered / model ratio and the largest
+  /// tick-to-tick change of the delivered force, over ticks whose model force is at least 10 % of
+  /// the tool's peak.
+  FeltForce felt;
   std::vector<double> peak_force;  // per tool, N (model force)
   int models_built = 0;
   int cuts = 0;
@@ -177,16 +169,7 @@ class Session {
   std::vector<std::pair<double, double>> jumps_;  // (jump fraction, smaller magnitude) per tool pair
   std::vector<double> jump_time_;
   std::vector<int> jump_tool_;
-  struct FeltSample {  // per tool per tick: what a hand feels (min ratio, tick change)
-    double time;
-    int tool;
-    double model;      // |M_k|
-    double delivered;  // |D_k|
-    double change;     // |D_k - D_(k-1)|
-    double model_prev;  // |M_(k-1)|, -1 on a tool's first tick
-  };
-  std::vector<FeltSample> felt_;
-  std::vector<Eigen::Vector3d> last_delivered_;
+  FeltForceRecorder felt_;
   std::vector<double> peak_;
   double next_graphics_ = 0.0;
   Eigen::VectorXd field_;

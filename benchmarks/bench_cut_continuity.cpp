@@ -1,0 +1,209 @@
+// bench_cut_continuity: feel through a cut (issue 26; docs/haptics.md, "Feeling through a cut").
+// A sphere probe is held 3 mm deep on the liver-like organ (examples/scenes/liver.json: graded to
+// about 1,800 elements, 5,400 equations) while a 4-step cut runs 10 mm beside it
+// (examples/liver-cut-session.json), in real time through Session and the cutting module's exact
+// table updates (haptics/surface_cut_hook.hpp), in two configurations run in the same process:
+//   * before: the cut step on the simulation thread (no heartbeat while it computes), the new model
+//     switched in at once, background work on every core, normal priority (bemsurg 0.3);
+//   * after:  the defaults: the step on a background thread (the heartbeat keeps beating), the old
+//     model blended into the new over HapticLoopOptions::blend_s, background work on cores - 1
+//     threads, SCHED_FIFO asked for (where the machine grants it);
+// each quiet and (full run) beside a load of one busy thread per core at normal priority, what a
+// compile on the trainee's laptop does. The baseline, also in the same process: the empty loop (the
+// same machinery and script length, the probe in the air, no cut) quiet and loaded.
+// Reported per run: achieved rate, overruns per second, the smallest delivered / model force ratio
+// and the largest tick-to-tick change of the delivered force (haptics/felt_force.hpp), the model
+// force's largest jump, watchdog ticks and each cut step's time; --csv-dir writes the probe's force
+// trace of every run (trace_<configuration>_<load>.csv: time, model, delivered, watchdog_gain,
+// blend_weight, model_version) for the report's before/after chart.
+//
+// usage: bench_cut_continuity [--quick] [--json PATH] [--csv-dir DIR] [--scene FILE] [--script FILE]
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "bemsurg/haptics/session.hpp"
+#include "bemsurg/haptics/surface_cut_hook.hpp"
+#include "bemsurg/io/action_script.hpp"
+#include "bemsurg/io/scene.hpp"
+#include "bemsurg/presolution/greens_table.hpp"
+#include "bench_support.hpp"
+
+using namespace bemsurg;
+
+namespace {
+
+/// One busy thread per core at normal priority for as long as it lives (the "compile beside it").
+class BusyLoad {
+ public:
+  explicit BusyLoad(bool on) {
+    if (!on) return;
+    for (unsigned k = 0; k < std::max(1U, std::thread::hardware_concurrency()); ++k)
+      threads_.emplace_back([this] {
+        volatile double x = 1.0;
+        while (!stop_.load(std::memory_order_relaxed)) x = x * 1.0000001 + 1e-9;
+      });
+  }
+  ~BusyLoad() {
+    stop_.store(true);
+    for (auto& t : threads_) t.join();
+  }
+
+ private:
+  std::atomic<bool> stop_{false};
+  std::vector<std::thread> threads_;
+};
+
+/// The probe's force, tick by tick (tool 0).
+struct ProbeTrace : haptics::SessionObserver {
+  struct Row {
+    double time, model, delivered, gain, blend;
+    std::uint64_t version;
+  };
+  std::vector<Row> rows;
+  void on_sample(const haptics::TickSample& s) override {
+    const auto& c = s.channel[0];
+    rows.push_back({s.time, c.model_force.norm(), c.force.norm(), s.watchdog_gain, s.blend_weight, s.model_version});
+  }
+  bool write(const std::string& path) const {
+    std::ofstream out(path);
+    use_classic_locale(out);
+    out << "time,model,delivered,watchdog_gain,blend_weight,model_version\n";
+    for (const Row& r : rows)
+      out << general_text(r.time, 9) << ',' << general_text(r.model, 9) << ',' << general_text(r.delivered, 9) << ','
+          << general_text(r.gain, 6) << ',' << general_text(r.blend, 6) << ',' << r.version << '\n';
+    return static_cast<bool>(out);
+  }
+};
+
+/// The same probe in the air for the script's length: nothing to compute, no cut.
+std::string air_script(double seconds) {
+  return R"({"format": "bemsurg-actions", "version": 1, "rate_hz": 1000,
+    "tools": [{"name": "probe", "shape": "sphere", "radius": 0.015, "start": [0.022, 0.0, 0.2]}],
+    "actions": [{"time": 0.0, "tool": "probe", "type": "move", "to": [0.022, 0.001, 0.2], "duration": )" +
+         number_text(seconds) + "}]}";
+}
+
+struct Run {
+  std::string configuration, load;
+  haptics::SessionResult result;
+};
+
+nlohmann::json run_json(const Run& r) {
+  const auto& s = r.result.loop;
+  const double seconds = s.achieved_rate_hz > 0.0 ? double(s.ticks) / s.achieved_rate_hz : 0.0;
+  return {{"configuration", r.configuration},
+          {"load", r.load},
+          {"rate_hz", s.achieved_rate_hz},
+          {"ticks", s.ticks},
+          {"overruns", s.overruns},
+          {"overruns_per_s", seconds > 0.0 ? double(s.overruns) / seconds : 0.0},
+          {"realtime_priority", s.realtime_priority},
+          {"watchdog_ticks", s.watchdog_ticks},
+          {"min_delivered_force_ratio", r.result.felt.min_delivered_ratio},
+          {"min_delivered_force_ratio_time", r.result.felt.min_delivered_ratio_time},
+          {"max_tick_change_fraction", r.result.felt.max_tick_change_fraction},
+          {"max_tick_change_time", r.result.felt.max_tick_change_time},
+          {"max_force_jump_fraction", r.result.max_force_jump_fraction},
+          {"cuts", r.result.cuts},
+          {"cut_step_seconds", r.result.cut_step_seconds},
+          {"peak_model_force", r.result.peak_force.empty() ? 0.0 : r.result.peak_force[0]}};
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  bool quick = false;
+  std::string json_path, csv_dir;
+  std::string scene_path = std::string(BEMSURG_EXAMPLES_DIR) + "/scenes/liver.json";
+  std::string script_path = std::string(BEMSURG_EXAMPLES_DIR) + "/liver-cut-session.json";
+  cli::OptionParser parser = bench::command_line(
+      "bench_cut_continuity", "The force a hand feels while cut steps compute beside a held probe, before and after (docs/haptics.md).\n",
+      quick, json_path);
+  parser.value("--csv-dir", "DIR", csv_dir, "write the probe's force trace of every run there");
+  parser.value("--scene", "FILE", scene_path, "the organ scene (default examples/scenes/liver.json)");
+  parser.value("--script", "FILE", script_path, "the session (default examples/liver-cut-session.json)");
+  if (const std::optional<int> status = cli::parse_command_line(parser, argc, argv)) return *status;
+
+  const auto t0 = std::chrono::steady_clock::now();
+  const Scene scene = load_scene(scene_path);
+  const ActionScript script = load_action_script(script_path);
+  GreensTableOptions table_options;
+  table_options.region = scene.operating_elements;
+  auto mesh = std::make_shared<const TriangleMesh>(scene.problem.mesh);
+  auto table = std::make_shared<const GreensTable>(
+      GreensTable::compute(scene.problem.mesh, scene.problem.material, scene.problem.boundary_conditions, table_options));
+  const double precompute_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::printf("bench_cut_continuity: %ld elements, %ld table columns, scene and table in %s s; %u cores\n",
+              static_cast<long>(mesh->num_elements()), static_cast<long>(table->columns().cols()), fixed_text(precompute_s, 2).c_str(),
+              std::thread::hardware_concurrency());
+
+  auto session_options = [](bool after) {
+    haptics::SessionOptions o;
+    o.cut_hook = haptics::surface_cut_hook();  // a fresh cutter per run
+    if (!after) {
+      o.background_steps = false;
+      o.limit_background_threads = false;
+      o.loop.blend_s = 0.0;
+      o.loop.realtime_priority = 0;
+    }
+    return o;
+  };
+  std::vector<Run> runs;
+  bool ok = true;
+  auto run = [&](const std::string& configuration, const std::string& load, const ActionScript& s, bool after) {
+    const BusyLoad busy(load == "loaded");
+    ProbeTrace trace;
+    haptics::Session session(mesh, table, s, session_options(after));
+    runs.push_back({configuration, load, session.run(&trace)});
+    if (!csv_dir.empty() && !trace.write(csv_dir + "/trace_" + configuration + "_" + load + ".csv")) ok = false;
+  };
+  const ActionScript air = load_action_script_from_string(air_script(script.duration), ".", "empty loop");
+  for (const std::string& load : quick ? std::vector<std::string>{"quiet"} : std::vector<std::string>{"quiet", "loaded"}) {
+    if (!quick) run("empty", load, air, true);
+    run("before", load, script, false);
+    run("after", load, script, true);
+  }
+  if (!ok) {
+    std::fprintf(stderr, "bench_cut_continuity: cannot write the traces into %s\n", csv_dir.c_str());
+    return 1;
+  }
+
+  std::printf("%-8s %-7s %8s %9s %5s %9s %9s %9s %5s  %s\n", "config", "load", "rate Hz", "overrun/s", "prio", "min D/M %",
+              "max dD %", "jump M %", "cuts", "cut steps (s)");
+  nlohmann::json j_runs = nlohmann::json::array();
+  for (const Run& r : runs) {
+    const nlohmann::json j = run_json(r);
+    j_runs.push_back(j);
+    std::string steps;
+    for (double s : r.result.cut_step_seconds) steps += fixed_text(s, 3) + " ";
+    std::printf("%-8s %-7s %8s %9s %5d %9s %9s %9s %5d  %s\n", r.configuration.c_str(), r.load.c_str(),
+                fixed_text(j["rate_hz"].get<double>(), 1).c_str(), fixed_text(j["overruns_per_s"].get<double>(), 2).c_str(),
+                r.result.loop.realtime_priority, fixed_text(100.0 * r.result.felt.min_delivered_ratio, 1).c_str(),
+                fixed_text(100.0 * r.result.felt.max_tick_change_fraction, 2).c_str(),
+                fixed_text(100.0 * r.result.max_force_jump_fraction, 2).c_str(), r.result.cuts, steps.c_str());
+  }
+  std::vector<double> cut_times;
+  for (const Action& a : script.actions)
+    if (a.type == ActionType::Cut)
+      for (int s = 0; s < a.steps; ++s) cut_times.push_back(a.time + s * a.step_interval);
+  nlohmann::json out = {{"elements", mesh->num_elements()},
+                        {"table_columns", table->columns().cols()},
+                        {"precompute_seconds", precompute_s},
+                        {"cores", std::thread::hardware_concurrency()},
+                        {"blend_s", haptics::HapticLoopOptions{}.blend_s},
+                        {"stale_after_s", haptics::HapticLoopOptions{}.stale_after_s},
+                        {"cut_times", cut_times},
+                        {"script_seconds", script.duration},
+                        {"runs", j_runs}};
+  return bench::write_json_file(json_path, out, "bench_cut_continuity") ? 0 : 1;
+}
