@@ -17,6 +17,7 @@
 #include "bemsurg/io/scene.hpp"
 #include "bemsurg/mesh/brain_model.hpp"
 #include "bemsurg/mesh/graded_remesher.hpp"
+#include "bemsurg/mesh/liver_model.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/mesh/mesh_topology.hpp"
 #include "bemsurg/mesh/mesh_validation.hpp"
@@ -69,6 +70,30 @@ std::string box_scene(const std::string& region) {
 }
 
 }  // namespace
+
+TEST_CASE("The liver model is a valid, deterministic surface that holds both lobes and stays within the smooth union's bound",
+          "[graded][liver]") {
+  const LiverModelOptions o{Vec3(0.2, 0.15, 0.1), 3};
+  const TriangleMesh a = liver_mesh(o), b = liver_mesh(o);
+  REQUIRE_NOTHROW(require_valid_mesh(a));
+  CHECK(find_self_intersections(a).empty());
+  CHECK(a.vertices() == b.vertices());  // bit for bit
+  // Every vertex is the surface point of its own direction (the radial graph, outward).
+  for (Index v = 0; v < a.num_vertices(); v += 37)
+    CHECK((liver_surface_point(o, a.vertex(v)) - a.vertex(v)).norm() <= 8 * kEps * a.vertex(v).norm());
+  // R = (R1^6 + R2^6)^(1/6) lies between max(R1, R2) and 2^(1/6) max(R1, R2): the body holds each
+  // lobe's ellipsoid and lies within 2^(1/2) times their union's volume. The lobes' volumes (the
+  // semi-axes of liver_model_impl.hpp, as fractions of the size) bound the mesh's volume, less the
+  // inscribed polyhedron's shortfall at 3 subdivisions (a few %).
+  const double v1 = 4.0 / 3.0 * M_PI * (0.38 * 0.2) * (0.48 * 0.15) * (0.44 * 0.1);
+  const double v2 = 4.0 / 3.0 * M_PI * (0.32 * 0.2) * (0.34 * 0.15) * (0.26 * 0.1);
+  const double volume = a.enclosed_volume();
+  CHECK(volume > 0.95 * std::max(v1, v2));
+  CHECK(volume < std::sqrt(2.0) * (v1 + v2));
+  CHECK(volume > 1.05 * v1);  // the left lobe adds to the right one
+  CHECK_THROWS_AS(liver_mesh(LiverModelOptions{Vec3(0.2, -0.1, 0.1), 3}), InvalidMeshError);
+  CHECK_THROWS_AS(liver_mesh(LiverModelOptions{Vec3(0.2, 0.15, 0.1), 8}), InvalidMeshError);
+}
 
 TEST_CASE("The brain model is a valid, deterministic, mirror-symmetric surface with a fissure and a flat underside", "[graded][brain]") {
   const BrainModelOptions o = test_brain();
