@@ -178,8 +178,8 @@ int main(int argc, char** argv) {
     return 1;
   }
 
-  std::printf("%-8s %-7s %8s %9s %5s %9s %9s %9s %5s  %s\n", "config", "load", "rate Hz", "overrun/s", "prio", "min D/M %",
-              "max dD %", "jump M %", "cuts", "cut steps (s)");
+  std::printf("%-8s %-7s %8s %9s %5s %9s %9s %9s %5s  %s\n", "config", "load", "rate Hz", "overrun/s", "prio", "min D/M %", "max dD %",
+              "jump M %", "cuts", "cut steps (s)");
   nlohmann::json j_runs = nlohmann::json::array();
   for (const Run& r : runs) {
     const nlohmann::json j = run_json(r);

@@ -37,8 +37,8 @@ struct Block {  // the block of test_haptic_loop.cpp (same cached table)
     std::vector<Index> bottom;
     for (Index e = 0; e < m->num_elements(); ++e)
       if (m->normal(e).z() < -0.99) bottom.push_back(e);
-    table = std::make_shared<const GreensTable>(testing::cached_greens_table(
-        "haptic-loop-block", *m, Material{2000.0, 0.3, 1000.0}, supported_base_conditions(m->num_elements(), bottom), {}));
+    table = std::make_shared<const GreensTable>(testing::cached_greens_table("haptic-loop-block", *m, Material{2000.0, 0.3, 1000.0},
+                                                                             supported_base_conditions(m->num_elements(), bottom), {}));
     mesh = m;
   }
 };
@@ -152,7 +152,8 @@ TEST_CASE("the watchdog still fades the force when the simulation side is gone",
     stop_simulation.store(true);  // the simulation side is gone
     simulation.join();
     const double gone = last_beat.load();
-    while (loop.time() < gone + 0.4 && std::chrono::steady_clock::now() < deadline) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    while (loop.time() < gone + 0.4 && std::chrono::steady_clock::now() < deadline)
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
     loop.stop();
     double felt_before = 0.0, zero_at = -1.0;
     TickSample x;

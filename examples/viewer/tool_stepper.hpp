@@ -79,9 +79,9 @@ struct SlotOptions {
 
 struct StepperOptions {
   std::array<SlotOptions, kMaxTools> slots;
-  bool haptic_force = true;   // write the force to the device (off: zero)
-  double force_limit = 3.3;   // newtons (a Touch-class desktop device)
-  double force_rate = 300.0;  // newtons per second: the largest change of the sent force
+  bool haptic_force = true;                             // write the force to the device (off: zero)
+  double force_limit = 3.3;                             // newtons (a Touch-class desktop device)
+  double force_rate = 300.0;                            // newtons per second: the largest change of the sent force
   double blend_s = haptics::kDefaultModelBlendSeconds;  // old model's force to the new one's after a swap
 };
 

@@ -79,6 +79,52 @@ nlohmann::json percentiles_json(const bemsurg::haptics::Percentiles& p) {
   return {{"p50", p.p50}, {"p99", p.p99}, {"p999", p.p999}, {"max", p.max}};
 }
 
+/// report.json (docs/cli.md "bemsurg session"): the loop's statistics, what a hand felt, the cuts.
+nlohmann::json report_json(const bemsurg::haptics::SessionResult& r, const bemsurg::ActionScript& script,
+                           const std::vector<std::string>& meshes, bool virtual_clock, bemsurg::Index elements, bool loaded) {
+  const auto& s = r.loop;
+  nlohmann::json j;
+  j["rate_hz"] = s.achieved_rate_hz;
+  j["requested_rate_hz"] = s.rate_hz;
+  j["overruns"] = s.overruns;
+  j["jitter_us"] = percentiles_json(s.jitter_us);
+  j["force_us"] = percentiles_json(s.force_us);
+  j["max_force_jump_fraction"] = r.max_force_jump_fraction;
+  j["min_delivered_force_ratio"] = r.felt.min_delivered_ratio;
+  j["min_delivered_force_ratio_time"] = r.felt.min_delivered_ratio_time;
+  j["max_tick_change_fraction"] = r.felt.max_tick_change_fraction;
+  j["max_tick_change_time"] = r.felt.max_tick_change_time;
+  j["cut_step_seconds"] = r.cut_step_seconds;
+  j["ticks"] = s.ticks;
+  j["dropped_packets"] = s.dropped_packets;
+  j["model_swaps"] = s.model_swaps;
+  j["models_built"] = r.models_built;
+  j["nan_guards"] = s.nan_guards;
+  j["failed_steps"] = s.failed_steps;
+  j["watchdog_ticks"] = s.watchdog_ticks;
+  j["clamped_ticks"] = s.clamped_ticks;
+  j["faults"] = s.faults;
+  j["trace_dropped"] = s.trace_dropped;
+  j["realtime_priority"] = s.realtime_priority;
+  j["field_updates"] = r.field_updates;
+  j["field_ms"] = percentiles_json(r.field_ms);
+  j["cuts"] = r.cuts;
+  j["meshes_after_cuts"] = meshes;
+  j["clock"] = virtual_clock ? "virtual" : "realtime";
+  j["session_seconds"] = script.duration;
+  j["wall_seconds"] = r.session_seconds;
+  j["elements"] = elements;
+  j["table_loaded_from_file"] = loaded;
+  nlohmann::json tools = nlohmann::json::array();
+  for (std::size_t t = 0; t < script.tools.size(); ++t)
+    tools.push_back({{"name", script.tools[t].name},
+                     {"shape", bemsurg::to_string(script.tools[t].shape)},
+                     {"device", script.tools[t].device},
+                     {"peak_model_force", r.peak_force[t]}});
+  j["tools"] = tools;
+  return j;
+}
+
 }  // namespace
 
 int run_session(int argc, char** argv) {
@@ -136,45 +182,7 @@ int run_session(int argc, char** argv) {
   trace.finish();
 
   const auto& s = r.loop;
-  nlohmann::json j;
-  j["rate_hz"] = s.achieved_rate_hz;
-  j["requested_rate_hz"] = s.rate_hz;
-  j["overruns"] = s.overruns;
-  j["jitter_us"] = percentiles_json(s.jitter_us);
-  j["force_us"] = percentiles_json(s.force_us);
-  j["max_force_jump_fraction"] = r.max_force_jump_fraction;
-  j["min_delivered_force_ratio"] = r.felt.min_delivered_ratio;
-  j["min_delivered_force_ratio_time"] = r.felt.min_delivered_ratio_time;
-  j["max_tick_change_fraction"] = r.felt.max_tick_change_fraction;
-  j["max_tick_change_time"] = r.felt.max_tick_change_time;
-  j["cut_step_seconds"] = r.cut_step_seconds;
-  j["ticks"] = s.ticks;
-  j["dropped_packets"] = s.dropped_packets;
-  j["model_swaps"] = s.model_swaps;
-  j["models_built"] = r.models_built;
-  j["nan_guards"] = s.nan_guards;
-  j["failed_steps"] = s.failed_steps;
-  j["watchdog_ticks"] = s.watchdog_ticks;
-  j["clamped_ticks"] = s.clamped_ticks;
-  j["faults"] = s.faults;
-  j["trace_dropped"] = s.trace_dropped;
-  j["realtime_priority"] = s.realtime_priority;
-  j["field_updates"] = r.field_updates;
-  j["field_ms"] = percentiles_json(r.field_ms);
-  j["cuts"] = r.cuts;
-  j["meshes_after_cuts"] = trace.meshes();
-  j["clock"] = virtual_clock ? "virtual" : "realtime";
-  j["session_seconds"] = script.duration;
-  j["wall_seconds"] = r.session_seconds;
-  j["elements"] = p.mesh.num_elements();
-  j["table_loaded_from_file"] = loaded;
-  nlohmann::json tools = nlohmann::json::array();
-  for (std::size_t t = 0; t < script.tools.size(); ++t)
-    tools.push_back({{"name", script.tools[t].name},
-                     {"shape", bemsurg::to_string(script.tools[t].shape)},
-                     {"device", script.tools[t].device},
-                     {"peak_model_force", r.peak_force[t]}});
-  j["tools"] = tools;
+  const nlohmann::json j = report_json(r, script, trace.meshes(), virtual_clock, p.mesh.num_elements(), loaded);
   const std::string json_path = (std::filesystem::path(output) / "report.json").string();
   std::ofstream js(json_path);
   if (!js) throw bemsurg::IoError("cannot write " + json_path);
@@ -188,7 +196,7 @@ int run_session(int argc, char** argv) {
     std::cout << "session: " << s.ticks << " ticks at " << s.achieved_rate_hz << " Hz (" << (virtual_clock ? "virtual" : "real")
               << " clock), " << s.overruns << " overruns, jitter p99.9 " << s.jitter_us.p999 << " us, force p99.9 " << s.force_us.p999
               << " us, largest force jump " << 100.0 * r.max_force_jump_fraction << " %; delivered force at least "
-              << 100.0 * r.felt.min_delivered_ratio << " % of the model's, largest tick-to-tick change " << 100.0 * r.felt.max_tick_change_fraction
-              << " %; " << r.cuts << " cut steps; wrote " << output << "\n";
+              << 100.0 * r.felt.min_delivered_ratio << " % of the model's, largest tick-to-tick change "
+              << 100.0 * r.felt.max_tick_change_fraction << " %; " << r.cuts << " cut steps; wrote " << output << "\n";
   return 0;
 }

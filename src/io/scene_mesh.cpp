@@ -163,7 +163,8 @@ TriangleMesh generate_mesh(const JsonReader& m, std::string& source) {
   } catch (const SceneError&) { throw; } catch (const ResourceError&) {
     throw;
   } catch (const Error& e) { m.fail(std::string("generator '") + kind + "' failed: " + e.what()); }
-  if (!mesh) generator.fail("unknown generator '" + kind + "' (expected box, box_grid, icosphere, ellipsoid, hollow_sphere, brain or liver)");
+  if (!mesh)
+    generator.fail("unknown generator '" + kind + "' (expected box, box_grid, icosphere, ellipsoid, hollow_sphere, brain or liver)");
   return std::move(*mesh);
 }
 

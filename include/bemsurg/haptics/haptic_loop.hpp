@@ -92,7 +92,7 @@ struct ChannelSample {
   // What the newest contact model gave (model frame); during a swap the force sent is blended
   // from the old model's to this (TickSample::blend_weight).
   Eigen::Vector3d model_force = Eigen::Vector3d::Zero();
-  Eigen::Vector3d force = Eigen::Vector3d::Zero();        // what was sent, after the safety stages
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();  // what was sent, after the safety stages
   std::uint32_t buttons = 0;
   int contact_elements = 0;
   ContactStatus status = ContactStatus::Ok;
