@@ -21,7 +21,7 @@
 #include "bemsurg/haptics/session.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/presolution/greens_table.hpp"
-#include "support/cached_greens_table.hpp"
+#include "support/haptic_block.hpp"
 
 using namespace bemsurg;
 using namespace bemsurg::haptics;
@@ -29,19 +29,7 @@ using Vec3 = Eigen::Vector3d;
 
 namespace {
 
-struct Block {  // the block of test_haptic_loop.cpp (same cached table)
-  std::shared_ptr<const TriangleMesh> mesh;
-  std::shared_ptr<const GreensTable> table;
-  Block() {
-    auto m = std::make_shared<TriangleMesh>(box_mesh(Vec3(0, 0, 0), Vec3(1, 1, 0.5), 6, 6, 3));
-    std::vector<Index> bottom;
-    for (Index e = 0; e < m->num_elements(); ++e)
-      if (m->normal(e).z() < -0.99) bottom.push_back(e);
-    table = std::make_shared<const GreensTable>(testing::cached_greens_table("haptic-loop-block", *m, Material{2000.0, 0.3, 1000.0},
-                                                                             supported_base_conditions(m->num_elements(), bottom), {}));
-    mesh = m;
-  }
-};
+using Block = testing::HapticBlock;  // the block of test_haptic_loop.cpp (same cached table)
 
 // A pinch pulls the top 1 mm up (slowly: 400 ticks, so no tick of the pull itself changes the force
 // by more than 2.5 % of it above 10 % of the peak) and holds it while two cut steps run; each step
@@ -60,9 +48,7 @@ CutHook slow_hook(double seconds) {
   // Captures by value only: a hung step's detached thread may outlive the test's locals.
   return [seconds](const CutRequest& r) {
     std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
-    return CutResult{r.mesh, std::make_shared<const GreensTable>(r.table->key(), r.table->region(), r.table->base_displacement(),
-                                                                 r.table->base_traction(), r.table->base_kinds(),
-                                                                 Eigen::MatrixXd(1.01 * r.table->columns()))};
+    return CutResult{r.mesh, testing::scaled_table(*r.table, 1.01)};
   };
 }
 
@@ -74,7 +60,7 @@ struct Trace : SessionObserver {
 }  // namespace
 
 TEST_CASE("a cut step longer than the watchdog's staleness keeps the force: the simulation side stays alive", "[haptics][continuity]") {
-  const Block b;
+  const Block& b = testing::haptic_block();
   SessionOptions options;
   options.cut_hook = slow_hook(0.4);
   options.loop.realtime_priority = 0;  // behaviour, not timing: the same at any priority
@@ -117,7 +103,7 @@ TEST_CASE("a cut step longer than the watchdog's staleness keeps the force: the 
 }
 
 TEST_CASE("the watchdog still fades the force when the simulation side is gone", "[haptics][continuity][safety]") {
-  const Block b;
+  const Block& b = testing::haptic_block();
   SECTION("its thread stopped: zero force within stale_after_s + ramp_s of the last heartbeat") {
     NullDevice device(100.0);
     HapticLoopOptions settings;

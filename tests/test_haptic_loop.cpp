@@ -19,8 +19,8 @@
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/presolution/greens_table.hpp"
 #include "support/allocation_counter.hpp"
-#include "support/cached_greens_table.hpp"
 #include "support/half_space_table.hpp"
+#include "support/haptic_block.hpp"
 #include "support/temp_dir.hpp"
 
 using namespace bemsurg;
@@ -35,33 +35,9 @@ namespace {
 constexpr double kEps = std::numeric_limits<double>::epsilon();
 constexpr double kCond = 30.0;
 
-// A 1 x 1 x 0.5 block held at the bottom, soft (E = 2 kPa) so millimetre presses give newtons.
-struct Block {
-  std::shared_ptr<const TriangleMesh> mesh;
-  std::shared_ptr<const GreensTable> table;
-  Block() {
-    auto m = std::make_shared<TriangleMesh>(box_mesh(Vec3(0, 0, 0), Vec3(1, 1, 0.5), 6, 6, 3));
-    std::vector<Index> bottom;
-    for (Index e = 0; e < m->num_elements(); ++e)
-      if (m->normal(e).z() < -0.99) bottom.push_back(e);
-    const Material material{2000.0, 0.3, 1000.0};
-    // Shared by 14 cases, each its own process under ctest: computed once, then read from its file.
-    table = std::make_shared<const GreensTable>(
-        testing::cached_greens_table("haptic-loop-block", *m, material, supported_base_conditions(m->num_elements(), bottom), {}));
-    mesh = m;
-  }
-};
-Block& block() {
-  static Block b;
-  return b;
-}
-
-/// The same table with every compliance column scaled: a stiffer or softer body on the same mesh
-/// (what a cut's new table is to the loop: a different snapshot of the same shape).
-std::shared_ptr<const GreensTable> scaled_table(const GreensTable& t, double factor) {
-  return std::make_shared<const GreensTable>(t.key(), t.region(), t.base_displacement(), t.base_traction(), t.base_kinds(),
-                                             Eigen::MatrixXd(factor * t.columns()));
-}
+using Block = testing::HapticBlock;
+Block& block() { return testing::haptic_block(); }
+using testing::scaled_table;
 
 /// A model with one point tool (bonded) engaged at the top centre and driven by channel 0.
 std::unique_ptr<ContactModel> point_model(std::shared_ptr<const GreensTable> table, std::uint64_t version) {

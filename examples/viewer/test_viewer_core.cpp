@@ -162,33 +162,43 @@ TEST_CASE("a scene that fails to load is reported with its file name and publish
   std::remove(path.c_str());
 }
 
-TEST_CASE("the haptic tick presses a sphere through a device as the contact solver does directly", "[viewer]") {
-  const std::string path = write_temp("scene2.json", kSmallScene);
+/// The small scene loaded and precomputed by a worker, a sphere tool (radius 30 mm, force limit 100 N)
+/// on slot 0 driven by a null device 0.1 m above the top face with its button down.
+struct SphereRig {
+  std::string path;
   ModelWorker worker;
-  worker.load(path);
-  worker.wait_idle();
-  const auto ph = worker.state();
-  REQUIRE(ph->table);
-
+  std::shared_ptr<const PhysicsState> ph;
   haptics::NullDevice device;
   haptics::HapticDevice* devices[kMaxTools] = {&device, nullptr};
   StepperOptions settings;
-  settings.slots[0].kind = ToolKind::Sphere;
-  settings.slots[0].radius = 0.03;
-  settings.force_limit = 100.0;
   ToolStepper stepper;
   ContactSnapshot snap;
   haptics::DeviceState d;
-  d.position = Eigen::Vector3d(0.0, 0.0, 0.1);
-  d.direction = Eigen::Vector3d(0, 0, -1);
-  d.buttons = 1;
-  device.set_state(d);
-  stepper.tick(ph, devices, settings, 0.0, 1e-3, snap);  // engages
-  const Eigen::Vector3d sent_first = device.last_force();
-  d.position.z() -= 0.008;  // 8 mm in
-  device.set_state(d);
-  stepper.tick(ph, devices, settings, 1e-3, 1e-3, snap);
-  const Eigen::Vector3d f = snap.slots[0].force;
+  explicit SphereRig(const std::string& name) : path(write_temp(name, kSmallScene)) {
+    worker.load(path);
+    worker.wait_idle();
+    ph = worker.state();
+    settings.slots[0].kind = ToolKind::Sphere;
+    settings.slots[0].radius = 0.03;
+    settings.force_limit = 100.0;
+    d.position = Eigen::Vector3d(0.0, 0.0, 0.1);
+    d.direction = Eigen::Vector3d(0, 0, -1);
+    d.buttons = 1;
+    device.set_state(d);
+  }
+  ~SphereRig() { std::remove(path.c_str()); }
+};
+
+TEST_CASE("the haptic tick presses a sphere through a device as the contact solver does directly", "[viewer]") {
+  SphereRig rig("scene2.json");
+  const auto& ph = rig.ph;
+  REQUIRE(ph->table);
+  rig.stepper.tick(ph, rig.devices, rig.settings, 0.0, 1e-3, rig.snap);  // engages
+  const Eigen::Vector3d sent_first = rig.device.last_force();
+  rig.d.position.z() -= 0.008;  // 8 mm in
+  rig.device.set_state(rig.d);
+  rig.stepper.tick(ph, rig.devices, rig.settings, 1e-3, 1e-3, rig.snap);
+  const Eigen::Vector3d f = rig.snap.slots[0].force;
 
   // The same press straight on the solver: the sphere resting on the surface point under the
   // axis, pushed 8 mm along -z.
@@ -206,48 +216,31 @@ TEST_CASE("the haptic tick presses a sphere through a device as the contact solv
   // (measured 4.5e-14).
   const double pose = 30.0 * (0.1 / 0.008) * 4 * kEps;
   CHECK((f - expected).norm() <= pose * expected.norm());
-  // The device gets the force through the rate limiter (300 N/s default): one tick of 1 ms after
+  // The rig.device gets the force through the rate limiter (300 N/s default): one tick of 1 ms after
   // the engagement tick allows at most 0.3 N (measured exactly 0.3 N; slack 8 eps for forces <= 1 N).
-  CHECK((device.last_force() - sent_first).norm() <= 0.3 + 8 * kEps);
-  CHECK(device.last_force().norm() < expected.norm());
+  CHECK((rig.device.last_force() - sent_first).norm() <= 0.3 + 8 * kEps);
+  CHECK(rig.device.last_force().norm() < expected.norm());
 
-  // The limiter caps what the device receives, not what is displayed.
-  settings.force_limit = 0.5 * expected.norm();
-  settings.force_rate = 1e6;
-  stepper.tick(ph, devices, settings, 2e-3, 1e-3, snap);
-  CHECK(std::abs(device.last_force().norm() - 0.5 * expected.norm()) <= 4 * kEps * expected.norm());  // a clip: measured 0
-  CHECK((snap.slots[0].force - expected).norm() <= pose * expected.norm());                           // measured 4.5e-14
-  std::remove(path.c_str());
+  // The limiter caps what the rig.device receives, not what is displayed.
+  rig.settings.force_limit = 0.5 * expected.norm();
+  rig.settings.force_rate = 1e6;
+  rig.stepper.tick(ph, rig.devices, rig.settings, 2e-3, 1e-3, rig.snap);
+  CHECK(std::abs(rig.device.last_force().norm() - 0.5 * expected.norm()) <= 4 * kEps * expected.norm());  // a clip: measured 0
+  CHECK((rig.snap.slots[0].force - expected).norm() <= pose * expected.norm());                           // measured 4.5e-14
 }
 
 TEST_CASE("a cut keeps the held force on the uncut model until its tables are ready, then blends the new one in", "[viewer]") {
   // Issue 26: the cut's provisional state (new surface, no table) used to reset the solver, so the
   // force fell to zero for as long as the tables took (docs/haptics.md, "Model swaps").
-  const std::string path = write_temp("scene3.json", kSmallScene);
-  ModelWorker worker;
-  worker.load(path);
-  worker.wait_idle();
-  const auto ph = worker.state();
+  SphereRig rig("scene3.json");
+  const auto& ph = rig.ph;
   REQUIRE(ph->table);
-  haptics::NullDevice device;
-  haptics::HapticDevice* devices[kMaxTools] = {&device, nullptr};
-  StepperOptions settings;
-  settings.slots[0].kind = ToolKind::Sphere;
-  settings.slots[0].radius = 0.03;
-  settings.force_limit = 100.0;
-  settings.force_rate = 1e6;  // the blend alone shapes the force here
-  ToolStepper stepper;
-  ContactSnapshot snap;
-  haptics::DeviceState d;
-  d.position = Eigen::Vector3d(0.0, 0.0, 0.1);
-  d.direction = Eigen::Vector3d(0, 0, -1);
-  d.buttons = 1;
-  device.set_state(d);
-  stepper.tick(ph, devices, settings, 0.0, 1e-3, snap);  // engages
-  d.position.z() -= 0.008;
-  device.set_state(d);
-  stepper.tick(ph, devices, settings, 1e-3, 1e-3, snap);
-  const Eigen::Vector3d held = device.last_force();
+  rig.settings.force_rate = 1e6;                                         // the blend alone shapes the force here
+  rig.stepper.tick(ph, rig.devices, rig.settings, 0.0, 1e-3, rig.snap);  // engages
+  rig.d.position.z() -= 0.008;
+  rig.device.set_state(rig.d);
+  rig.stepper.tick(ph, rig.devices, rig.settings, 1e-3, 1e-3, rig.snap);
+  const Eigen::Vector3d held = rig.device.last_force();
   REQUIRE(held.norm() > 0.0);
   // The cut's provisional state: the same model name, one cut more, no table.
   auto provisional = std::make_shared<PhysicsState>(*ph);
@@ -255,25 +248,24 @@ TEST_CASE("a cut keeps the held force on the uncut model until its tables are re
   provisional->cuts = ph->cuts + 1;
   provisional->version = ph->version + 1;
   for (int k = 2; k < 50; ++k) {
-    stepper.tick(provisional, devices, settings, k * 1e-3, 1e-3, snap);
-    REQUIRE(device.last_force() == held);  // the uncut model, unchanged: exactly the same force
+    rig.stepper.tick(provisional, rig.devices, rig.settings, k * 1e-3, 1e-3, rig.snap);
+    REQUIRE(rig.device.last_force() == held);  // the uncut model, unchanged: exactly the same force
   }
-  CHECK(snap.physics_version == ph->version);
+  CHECK(rig.snap.physics_version == ph->version);
   // The cut's tables arrive (here a 2 % softer table on the same surface): blended over 30 ms.
   auto cut = std::make_shared<PhysicsState>(*provisional);
   const GreensTable& t = *ph->table;
   cut->table = std::make_shared<const GreensTable>(t.key(), t.region(), t.base_displacement(), t.base_traction(), t.base_kinds(),
                                                    Eigen::MatrixXd(1.02 * t.columns()));
   cut->version = ph->version + 2;
-  stepper.tick(cut, devices, settings, 0.050, 1e-3, snap);
-  const Eigen::Vector3d after = snap.slots[0].force;  // the new model's
+  rig.stepper.tick(cut, rig.devices, rig.settings, 0.050, 1e-3, rig.snap);
+  const Eigen::Vector3d after = rig.snap.slots[0].force;  // the new model's
   CHECK((after - held).norm() > 0.005 * held.norm());
-  CHECK((device.last_force() - held).norm() <= 1e-12 * held.norm());  // weight 0: still the old force
-  stepper.tick(cut, devices, settings, 0.065, 1e-3, snap);
-  CHECK(snap.blend_weight == Approx(0.5));
-  CHECK((device.last_force() - haptics::ModelCrossfade::mix(held, after, 0.5)).norm() <= 1e-9 * held.norm());
-  stepper.tick(cut, devices, settings, 0.080, 1e-3, snap);
-  CHECK(snap.blend_weight == 1.0);
-  CHECK((device.last_force() - after).norm() <= 1e-12 * after.norm());
-  std::remove(path.c_str());
+  CHECK((rig.device.last_force() - held).norm() <= 1e-12 * held.norm());  // weight 0: still the old force
+  rig.stepper.tick(cut, rig.devices, rig.settings, 0.065, 1e-3, rig.snap);
+  CHECK(rig.snap.blend_weight == Approx(0.5));
+  CHECK((rig.device.last_force() - haptics::ModelCrossfade::mix(held, after, 0.5)).norm() <= 1e-9 * held.norm());
+  rig.stepper.tick(cut, rig.devices, rig.settings, 0.080, 1e-3, rig.snap);
+  CHECK(rig.snap.blend_weight == 1.0);
+  CHECK((rig.device.last_force() - after).norm() <= 1e-12 * after.norm());
 }
