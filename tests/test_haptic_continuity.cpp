@@ -72,22 +72,23 @@ TEST_CASE("a cut step longer than the watchdog's staleness keeps the force: the 
     REQUIRE(r.cut_step_seconds.size() == 2);
     CHECK(r.cut_step_seconds[0] >= 0.4);
     CHECK(r.loop.watchdog_ticks == 0);
-    // The delivered force stays at the model's: the rate limiter's lag only.
-    CHECK(r.felt.min_delivered_ratio > 0.95);
-    // While the pinch holds still and the two 1 % softer models are blended in, no tick changes
-    // the force sent by more than 1 % / 30 of it per 1 ms tick; a late tick (real time) moves the
-    // weight by its own dt, so the bound allows ticks up to 3 ms apart, still a tenth of the 1 %
-    // that switching would give. (A real-time ramp would add the machine's timing jitter, so the
-    // hold is checked from the trace; the session's metric covers the whole run.)
-    double hold_change = 0.0, peak = 0.0;
+    // While the pinch holds still and the two 1 % softer models are blended in (the trace, not the
+    // whole-run metric: a slow machine, e.g. under the sanitizers, can engage the pinch late, and
+    // the engagement's own blend then starts below the model force): the delivered force stays at
+    // the model's, and no tick changes it by more than its share of the 1 % difference, dt / blend_s
+    // of it (a late tick moves the weight by its own dt), where switching would move all of it.
+    double hold_ratio = 1.0, hold_excess = 0.0, peak = 0.0;
     for (std::size_t k = 1; k < trace.samples.size(); ++k) {
       const TickSample &a = trace.samples[k - 1], &z = trace.samples[k];
       peak = std::max(peak, z.channel[0].model_force.norm());
-      if (a.time > 0.42 && z.time < 1.2) hold_change = std::max(hold_change, (z.channel[0].force - a.channel[0].force).norm());
+      if (a.time <= 0.42 || z.time >= 1.2) continue;
+      hold_ratio = std::min(hold_ratio, z.channel[0].force.norm() / z.channel[0].model_force.norm());
+      const double allowed = 0.0101 * std::min(1.0, (z.time - a.time) / options.loop.blend_s) * z.channel[0].model_force.norm();
+      hold_excess = std::max(hold_excess, (z.channel[0].force - a.channel[0].force).norm() / allowed);
     }
     REQUIRE(peak > 0.0);
-    CHECK(hold_change / peak < 0.01 / 10.0);
-    CHECK(r.felt.max_tick_change_fraction >= hold_change / peak * 0.99);
+    CHECK(hold_ratio > 0.98);
+    CHECK(hold_excess <= 1.0);
   }
   SECTION("steps on the simulation thread (before): the watchdog fades the force, and the metric shows it") {
     options.background_steps = false;
