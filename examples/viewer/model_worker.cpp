@@ -13,6 +13,9 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 #include "bemsurg/error.hpp"
 #include "bemsurg/io/scene.hpp"
@@ -282,6 +285,12 @@ void ModelWorker::run() {
       cuts.swap(cuts_pending_);
       if (r.load) cuts.clear();  // a new model: cuts of the old one are void
     }
+    // The thread budget, if one is set, for this job (OpenMP's setting is per thread: this one's).
+#ifdef _OPENMP
+    static thread_local const int default_threads = omp_get_max_threads();
+    const int budget = thread_budget_.load();
+    omp_set_num_threads(budget > 0 ? std::min(budget, default_threads) : default_threads);
+#endif
     try {
       if (r.load) {
         do_load(r.path);

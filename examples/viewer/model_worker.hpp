@@ -12,6 +12,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <atomic>
 #include <condition_variable>
 #include <cstdint>
 #include <memory>
@@ -87,6 +88,11 @@ class ModelWorker {
   /// docs/design.md §7) when the reference table kept its factorisation, else by recomputation.
   void apply_cut(std::shared_ptr<const TriangleMesh> mesh, const MeshDelta& delta);
 
+  /// Threads the worker's OpenMP regions use from its next job on (0: the default). The
+  /// interactive viewer sets cores - 1 while its haptic thread runs (haptics/background_threads.hpp),
+  /// so that the 1 kHz tick keeps a core while a cut's tables or a new table compute.
+  void set_thread_budget(int threads) { thread_budget_.store(threads); }
+
   double young_modulus() const;
   double poisson_ratio() const;
   bool gravity_on() const;
@@ -141,6 +147,7 @@ class ModelWorker {
   // Cost model (seconds per E^2, per n^3, per n^2 m), refined by every precomputation done here.
   double c_assembly_ = 2.0e-7, c_factor_ = 1.0e-10, c_table_ = 1.0e-10;
 
+  std::atomic<int> thread_budget_{0};
   std::thread thread_;
 };
 

@@ -12,12 +12,17 @@
 #include <backends/imgui_impl_opengl3.h>
 #include <imgui.h>
 
+#include <pthread.h>
+#include <sched.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <iomanip>
 #include <iostream>
 
+#include "bemsurg/haptics/background_threads.hpp"
+#include "bemsurg/haptics/haptic_loop.hpp"
 #include "viewer_state.hpp"
 
 namespace bemsurg::viewer {
@@ -25,7 +30,11 @@ namespace bemsurg::viewer {
 namespace {
 
 void haptic_loop(App* app) {
-  // 1 kHz: read the mice, solve the contact, publish the snapshot (docs/design.md §9).
+  // 1 kHz: read the mice, solve the contact, publish the snapshot (docs/design.md §9). SCHED_FIFO
+  // where the machine grants it, as the haptics module's loop asks (refused quietly otherwise).
+  sched_param rt{};
+  rt.sched_priority = haptics::HapticLoopOptions{}.realtime_priority;
+  pthread_setschedparam(pthread_self(), SCHED_FIFO, &rt);
   haptics::HapticDevice* devices[kMaxTools];
   for (int i = 0; i < kMaxTools; ++i) devices[i] = app->mice[static_cast<std::size_t>(i)].get();
   auto next = Clock::now();
@@ -157,6 +166,10 @@ int run_interactive(App& app, const ViewerOptions& o) {
     app.record_path = o.record;
     app.record_message = "recording to " + o.record + " (saved at exit)";
   }
+  // While the haptic thread runs, background work (the worker's tables, cut updates) leaves it a
+  // core: cores - 1 threads for OpenBLAS and the worker's OpenMP regions (docs/haptics.md).
+  const haptics::BackgroundThreadBudget budget;
+  app.worker.set_thread_budget(budget.threads());
   app.haptic_run = true;
   app.haptic_thread = std::thread(haptic_loop, &app);
   const auto opened = Clock::now();
@@ -186,6 +199,7 @@ int run_interactive(App& app, const ViewerOptions& o) {
   }
   app.haptic_run = false;
   app.haptic_thread.join();
+  app.worker.set_thread_budget(0);
   if (o.quit_after > 0.0) print_rates(app, graphics_sum, haptic_sum, rate_samples);
   if (!o.record.empty() && app.recorder.on) save_recording(app, o.record);
   return 0;
