@@ -173,6 +173,7 @@ void ToolStepper::follow_device(int i, haptics::HapticDevice* dev, const SlotOpt
     return;
   }
   try {
+    if (button != s.button) previous_tool_[static_cast<std::size_t>(i)] = -1;  // a new engagement or a release: not blended
     if (button && !s.button && want.kind != ToolKind::Cut) {
       std::string why;
       s.missed = !engage(s, want, d, why);
