@@ -28,7 +28,7 @@ struct ElastostaticProblem {
   ElementType elements = ElementType::Constant;
   // Linear elements only, optional: the prescribed values at the collocation nodes, 3E x 3 (row 3e + k
   // for node k of element e; the kinds stay boundary_conditions'). Empty: every node takes its element's value.
-  RowMatrixX3d node_values;
+  RowMatrixX3d node_values = RowMatrixX3d();
 };
 
 /// Size and timings of one solve_elastostatic call: elements, equations, seconds spent assembling and building the

@@ -92,6 +92,15 @@ inline Eigen::Matrix3d linear_nodes_to_corners(const Eigen::Matrix3d& node_rows)
   return LinearElement::shape_matrix().transpose() * node_rows;
 }
 
+/// N_k(x) of the linear element with corners c and unit normal n at a point x in its plane:
+/// lambda_v = ((c_(v+1) - x) x (c_(v+2) - x)) . n / (2 A), N = S lambda.
+inline Eigen::Vector3d linear_shape_values(const std::array<Vec3, 3>& c, const Eigen::Vector3d& n, const Eigen::Vector3d& x) {
+  const double twice_area = (c[1] - c[0]).cross(c[2] - c[0]).dot(n);
+  Eigen::Vector3d lambda;
+  for (int v = 0; v < 3; ++v) lambda(v) = (c[(v + 1) % 3] - x).cross(c[(v + 2) % 3] - x).dot(n) / twice_area;
+  return LinearElement::shape_matrix() * lambda;
+}
+
 /// One triangle per linear collocation node: the corner child (v_k, mid(v_k, v_k+1), mid(v_k, v_k+2))
 /// of each element, same orientation, vertices unshared, 3E triangles (triangle 3e + k). Its centroid
 /// is node k for the fraction 1/2: what the near-field preconditioner and other per-"element"

@@ -46,7 +46,28 @@ namespace detail {
 
 /// Indices of the weighted kernel terms one quadrature point contributes (G symmetric: 6, H: 9,
 /// gravity: w dr/dn and w r,i).
-enum NodeTerm : int { kNGxx, kNGyy, kNGzz, kNGxy, kNGxz, kNGyz, kNHxx, kNHyy, kNHzz, kNHxy, kNHyx, kNHxz, kNHzx, kNHyz, kNHzy, kNPn, kNPx, kNPy, kNPz, kNTerms };
+enum NodeTerm : int {
+  kNGxx,
+  kNGyy,
+  kNGzz,
+  kNGxy,
+  kNGxz,
+  kNGyz,
+  kNHxx,
+  kNHyy,
+  kNHzz,
+  kNHxy,
+  kNHyx,
+  kNHxz,
+  kNHzx,
+  kNHyz,
+  kNHzy,
+  kNPn,
+  kNPx,
+  kNPy,
+  kNPz,
+  kNTerms
+};
 inline constexpr int kNodeTile = 64;
 inline constexpr int kNodeG[3][3] = {{kNGxx, kNGxy, kNGxz}, {kNGxy, kNGyy, kNGyz}, {kNGxz, kNGyz, kNGzz}};
 inline constexpr int kNodeH[3][3] = {{kNHxx, kNHxy, kNHxz}, {kNHyx, kNHyy, kNHyz}, {kNHzx, kNHzy, kNHzz}};
@@ -57,8 +78,8 @@ inline constexpr int kNodeH[3][3] = {{kNHxx, kNHxy, kNHxz}, {kNHyx, kNHyy, kNHyz
 ///   T_ij = t_scale [dr/dn ((1 - 2 nu) delta_ij + 3 r,i r,j) - (1 - 2 nu)(r,i n_j - r,j n_i)] / r^2
 /// Plain loops over arrays so that the compiler vectorises them.
 inline void node_kernel_terms(const KelvinConstants& k, int m, const double* __restrict w, double nx, double ny, double nz,
-                              const double* __restrict rx, const double* __restrict ry, const double* __restrict rz,
-                              double* __restrict inv, double (*__restrict out)[kNodeTile]) {
+                              const double* __restrict rx, const double* __restrict ry, const double* __restrict rz, double* __restrict inv,
+                              double (*__restrict out)[kNodeTile]) {
   for (int j = 0; j < m; ++j) inv[j] = rx[j] * rx[j] + ry[j] * ry[j] + rz[j] * rz[j];
   Eigen::Map<Eigen::ArrayXd> r2(inv, m);
   r2 = r2.sqrt().inverse();

@@ -95,8 +95,8 @@ BEMSURG_INLINE BoundaryConditions linear_node_conditions(const ElastostaticProbl
   const BoundaryConditions& bc = problem.boundary_conditions;
   const Index E = bc.num_elements();
   if (problem.node_values.size() != 0 && problem.node_values.rows() != 3 * E)
-    throw BoundaryConditionError("node_values has " + std::to_string(problem.node_values.rows()) + " rows; linear elements need 3 per element (" +
-                                 std::to_string(3 * E) + ")");
+    throw BoundaryConditionError("node_values has " + std::to_string(problem.node_values.rows()) +
+                                 " rows; linear elements need 3 per element (" + std::to_string(3 * E) + ")");
   BoundaryConditions nodes(3 * E);
   for (Index e = 0; e < E; ++e)
     for (int k = 0; k < 3; ++k)

@@ -197,11 +197,10 @@ inline RelativeErrors node_relative_l2_errors(const TriangleMesh& mesh, const Bo
 /// The linear-element counterpart of solve_exact_trace_problem: exact values at the nodes (kinds
 /// per element as there), errors at the nodes over the elements where include(e) is true; the
 /// per-node solution is returned through `nodes` when given.
-inline RelativeErrors solve_linear_exact_trace_problem(const TriangleMesh& mesh, const Material& m, const ElasticField& field,
-                                                       const std::function<bool(Index)>& displacement_prescribed,
-                                                       const Eigen::Vector3d& gravity = Eigen::Vector3d::Zero(),
-                                                       BoundarySolution* nodes = nullptr,
-                                                       const std::function<bool(Index)>& include = [](Index) { return true; }) {
+inline RelativeErrors solve_linear_exact_trace_problem(
+    const TriangleMesh& mesh, const Material& m, const ElasticField& field, const std::function<bool(Index)>& displacement_prescribed,
+    const Eigen::Vector3d& gravity = Eigen::Vector3d::Zero(), BoundarySolution* nodes = nullptr,
+    const std::function<bool(Index)>& include = [](Index) { return true; }) {
   const BoundarySolution exact = exact_node_traces(mesh, field);
   ElastostaticProblem p{mesh, m, gravity, exact_trace_conditions(mesh, field, displacement_prescribed), QuadratureOptions()};
   p.elements = ElementType::Linear;
