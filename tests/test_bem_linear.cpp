@@ -8,10 +8,12 @@
 
 #include "../benchmarks/stability/grading_setup.hpp"
 #include "bemsurg/assembly/node_influence_assembler.hpp"
+#include "bemsurg/io/scene.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/mesh/red_green_refinement.hpp"
 #include "bemsurg/verification/reference_solutions.hpp"
 #include "support/convergence.hpp"
+#include "support/temp_dir.hpp"
 
 using namespace bemsurg;
 using namespace bemsurg::verification;
@@ -58,7 +60,8 @@ TEST_CASE(
   CHECK((c.G - g.G).norm() < 1e-9 * c.G.norm());
 }
 
-TEST_CASE("linear elements: a rigid motion is reproduced exactly, the memory estimate counts 9 unknowns per element") {
+TEST_CASE(
+    "linear elements: a rigid motion is reproduced exactly, the Krylov solvers agree with LU, the memory estimate counts 9 unknowns per element") {
   // u = a + w x x (linear, so represented exactly at the nodes), zero stress: traction 0 everywhere.
   const Eigen::Vector3d a(0.01, -0.02, 0.03), w(0.002, 0.001, -0.003);
   const ElasticField rigid{[=](const Eigen::Vector3d& x) { return Eigen::Vector3d(a + w.cross(x)); },
@@ -71,6 +74,22 @@ TEST_CASE("linear elements: a rigid motion is reproduced exactly, the memory est
   CHECK((s.displacement - exact.displacement).cwiseAbs().maxCoeff() < 1e-7 * a.norm());
   CHECK(s.traction.cwiseAbs().maxCoeff() < 1e-6 * a.norm() * kMaterial.shear_modulus());
   CHECK(estimate_elastostatic_bytes(100, ElementType::Linear) > 8.9 * estimate_elastostatic_bytes(100));
+  // The Krylov methods with block-Jacobi (3x3 node blocks) and the near-field preconditioner (on the
+  // proxy mesh of corner children) agree with LU on a mixed Kelvin problem.
+  ElastostaticProblem p{m, kMaterial, Eigen::Vector3d::Zero(), exact_trace_conditions(m, kKelvin, lower_half(m)), QuadratureOptions()};
+  p.elements = ElementType::Linear;
+  const ElastostaticSolution lu = solve_elastostatic(p);
+  REQUIRE(lu.nodes.displacement.rows() == 3 * m.num_elements());
+  for (SolverMethod method : {SolverMethod::Gmres, SolverMethod::BiCgStab, SolverMethod::BiCg})
+    for (PreconditionerKind pre : {PreconditionerKind::BlockJacobi, PreconditionerKind::NearField}) {
+      LinearSolverOptions o;
+      o.method = method;
+      o.preconditioner = pre;
+      const ElastostaticSolution k = solve_elastostatic(p, o);
+      INFO(to_string(method) << " with " << to_string(pre) << ": " << k.report.solver.iterations << " iterations");
+      CHECK((k.nodes.displacement - lu.nodes.displacement).norm() < 1e-7 * lu.nodes.displacement.norm());
+      CHECK((k.nodes.traction - lu.nodes.traction).norm() < 1e-7 * lu.nodes.traction.norm());
+    }
 }
 
 TEST_CASE("linear elements, Kelvin box: second-order displacement and a fifth of the constant error on the same mesh") {
@@ -174,4 +193,53 @@ TEST_CASE("linear elements: refining either half of the surface keeps the error 
   INFO("clamped box: u " << p.displacement << " -> " << r.displacement << ", t " << p.traction << " -> " << r.traction);
   CHECK(r.displacement <= 1.05 * p.displacement);
   CHECK(r.traction <= 1.05 * p.traction);
+}
+
+TEST_CASE(
+    "linear scenes: corner values interpolated to the nodes, their mean for constant elements, bad corner rows named, other commands refuse") {
+  bemsurg_test::TempDir dir("bemsurg_test_linear_");
+  const std::string head = R"({"mesh": {"generator": "box", "min": [0, 0, 0], "max": [1, 1, 1], "divisions": [1, 1, 1]},
+    "material": {"young_modulus": 1, "poisson_ratio": 0.3},
+    "boundary_conditions": {"rules": [{"select": {"all": true}, "displacement": [0, 0, 0]}], "file": "bc.csv"})";
+  const std::string corner_header = "element,corner,kind_x,kind_y,kind_z,value_x,value_y,value_z\n";
+  dir.write("bc.csv", corner_header + "3,0,u,t,u,1,0,0\n3,1,u,t,u,2,0,0\n3,2,u,t,u,6,0,0\n");
+  const Scene linear = load_scene_from_string(head + R"(, "elements": "linear"})", dir.path.string(), "s.json");
+  REQUIRE(linear.problem.elements == ElementType::Linear);
+  // Node k = (2/3) corner k + (1/6) the others: 1 -> 2/3 + 8/6 = 2, 2 -> 4/3 + 7/6 = 2.5, 6 -> 4 + 0.5 = 4.5.
+  CHECK(linear.problem.node_values(9, 0) == Approx(2.0));
+  CHECK(linear.problem.node_values(10, 0) == Approx(2.5));
+  CHECK(linear.problem.node_values(11, 0) == Approx(4.5));
+  CHECK(linear.problem.boundary_conditions.kind(3 * 3 + 1) == BcKind::Traction);
+  CHECK(linear.problem.node_values(0, 0) == 0.0);  // rules: their constant at every node
+  const Scene constant = load_scene_from_string(head + "}", dir.path.string(), "s.json");
+  CHECK(constant.problem.boundary_conditions.value(9) == Approx(3.0));  // the mean, the value at the centroid
+  CHECK(constant.problem.node_values.size() == 0);
+  require_constant_elements(constant, "bemsurg press");
+  CHECK_THROWS_WITH(require_constant_elements(linear, "bemsurg press"),
+                    Catch::Contains("s.json: elements: \"linear\" is not supported by bemsurg press"));
+  auto error = [&](const std::string& csv) {
+    dir.write("bc.csv", csv);
+    try {
+      load_scene_from_string(head + "}", dir.path.string(), "s.json");
+    } catch (const SceneError& e) { return std::string(e.what()); }
+    return std::string("no error");
+  };
+  CHECK_THAT(error(corner_header + "3,0,u,u,u,0,0,0\n3,2,u,u,u,0,0,0\n"),
+             Catch::Contains("boundary_conditions.file line 3: element 3 lacks corner 1: the corner variant needs every listed element"));
+  CHECK_THAT(error(corner_header + "3,0,u,u,u,0,0,0\n3,1,u,t,u,0,0,0\n3,2,u,u,u,0,0,0\n"),
+             Catch::Contains("boundary_conditions.file line 3: element 3, kind_y: kind 'u' at corner 0 (line 2) but 't' at corner 1"));
+  CHECK_THAT(error(corner_header + "3,3,u,u,u,0,0,0\n"),
+             Catch::Contains("boundary_conditions.file line 2: corner: expected a corner 0, 1 or 2"));
+  CHECK_THAT(error("element,corner,kind_x\n"),
+             Catch::Contains("expected the header 'element,kind_x,kind_y,kind_z,value_x,value_y,value_z' or "
+                             "'element,corner,kind_x,kind_y,kind_z,value_x,value_y,value_z'"));
+  dir.write("bc.csv", corner_header);
+  CHECK_THAT(
+      [&] {
+        try {
+          load_scene_from_string(head + R"(, "elements": "quadratic"})", dir.path.string(), "s.json");
+        } catch (const SceneError& e) { return std::string(e.what()); }
+        return std::string("no error");
+      }(),
+      Catch::Contains("elements: expected \"constant\" or \"linear\", got \"quadratic\""));
 }

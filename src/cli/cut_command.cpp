@@ -168,6 +168,7 @@ int run_cut(int argc, char** argv) {
   const CutCommandOptions& o = *parsed;
   const auto t_start = SteadyClock::now();
   const Scene scene = load_scene(o.scene);
+  require_constant_elements(scene, "bemsurg cut");
   for (const std::string& w : scene.warnings) std::cerr << "bemsurg: warning: " << o.scene << ": " << w << "\n";
   namespace fs = std::filesystem;
   std::error_code ec;
