@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "accuracy_elements.hpp"
 #include "bemsurg/assembly/influence_assembler.hpp"
 #include "bemsurg/elastostatic_solver.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
@@ -97,6 +98,61 @@ void add_orders(std::vector<Row>& rows) {
 std::string fmt(double v, int prec = 3, bool percent = false) {
   if (std::isnan(v)) return "–";
   return fixed_text(percent ? 100.0 * v : v, prec);
+}
+
+// ---- the two element types (accuracy_elements.hpp, docs/elements.md) ------------------------------
+struct ElementComparison {
+  std::vector<bench::elements::Run> runs;
+  std::vector<bench::elements::HalfRow> halves;
+};
+
+ElementComparison compare_element_types(bool quick) {
+  namespace el = bench::elements;
+  ElementComparison out;
+  for (const el::Problem& p : el::problems()) {
+    const auto [constant_levels, linear_levels] = el::levels(p.name, quick);
+    const bool dirichlet = p.name == "kelvin box (dirichlet)";
+    for (const auto& [type, list] : {std::pair{ElementType::Constant, constant_levels}, std::pair{ElementType::Linear, linear_levels}})
+      for (int level : list) {
+        const TriangleMesh mesh = p.mesh(level);
+        const Eigen::Vector3d spacing(2.0 / (3 * level), 1.2 / (2 * level), 1.2 / (2 * level));
+        out.runs.push_back(el::solve(p, mesh, type, level, dirichlet ? el::first_row(mesh, spacing) : nullptr));
+      }
+  }
+  for (const auto& [p, base] : el::half_problems(quick))
+    for (ElementType type : {ElementType::Constant, ElementType::Linear}) out.halves.push_back(el::half_refinement(p, base, type));
+  return out;
+}
+
+std::string ratio_text(double a, double b) { return b > 0.0 ? fixed_text(a / b, 2) : "–"; }
+
+void write_element_tables(std::ostream& md, const ElementComparison& c) {
+  namespace el = bench::elements;
+  md << "\nConstant and linear elements (docs/elements.md; errors at each type's collocation points, exact values prescribed there; "
+        "memory = estimate_elastostatic_bytes, H and G; assembly per entry = assembly time / equations^2):\n\n"
+        "| problem | elements type | level | elements | equations | error u (%) | error t (%) | edge-row t (%) | assembly (s) | "
+        "assembly per entry (ns) | solve (s) | memory (MB) |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const el::Run& r : c.runs)
+    md << "| " << r.problem << " | " << r.type << " | " << r.level << " | " << r.elements << " | " << r.equations << " | "
+       << fmt(r.error_u, 3, true) << " | " << fmt(r.error_t, 3, true) << " | " << (r.edge_t > 0 ? fmt(r.edge_t, 2, true) : "–") << " | "
+       << fmt(r.assembly_s, 3) << " | " << fmt(1e9 * r.assembly_s / (double(r.equations) * double(r.equations)), 2) << " | "
+       << fmt(r.solve_s, 3) << " | " << fmt(r.memory_bytes / 1e6, 1) << " |\n";
+  md << "\nLinear elements at level k against constant elements at level k + 1 (four times the elements, 4/3 the unknowns): "
+        "error ratios (target: at most 0.5):\n\n| problem | linear elements | constant elements | ratio u | ratio t |\n|---|---|---|---|---|\n";
+  for (const el::Run& l : c.runs) {
+    if (l.type != "linear") continue;
+    for (const el::Run& k : c.runs)
+      if (k.type == "constant" && k.problem == l.problem && k.elements == 4 * l.elements)
+        md << "| " << l.problem << " | " << l.elements << " | " << k.elements << " | " << ratio_text(l.error_u, k.error_u) << " | "
+           << ratio_text(l.error_t, k.error_t) << " |\n";
+  }
+  md << "\nRefining either half (x < 0, x > 0) of the surface red-green once, against the uniform parent: error ratios "
+        "(target for linear elements: at most 1.05):\n\n| problem | elements type | parent u / t (%) | half x<0: u, t | half x>0: u, t |\n"
+        "|---|---|---|---|---|\n";
+  for (const el::HalfRow& h : c.halves)
+    md << "| " << h.problem << " | " << h.type << " | " << fmt(h.parent_u, 3, true) << " / " << fmt(h.parent_t, 3, true) << " | "
+       << ratio_text(h.minus_u, h.parent_u) << ", " << ratio_text(h.minus_t, h.parent_t) << " | " << ratio_text(h.plus_u, h.parent_u)
+       << ", " << ratio_text(h.plus_t, h.parent_t) << " |\n";
 }
 
 }  // namespace
@@ -190,6 +246,7 @@ int main(int argc, char** argv) {
     rows.push_back(solve_case("hanging bar", "gravity dropped", mesh, m, bar, top));
   }
   add_orders(rows);
+  const ElementComparison elements = compare_element_types(quick);
 
   // ---- report --------------------------------------------------------------------------------
   std::ostringstream md;
@@ -209,6 +266,7 @@ int main(int argc, char** argv) {
         "| problem | elements | error u (%) | error stress (%) |\n|---|---|---|---|\n";
   for (const InteriorRow& r : interior_rows)
     md << "| " << r.problem << " | " << r.elements << " | " << fmt(r.u, 2, true) << " | " << fmt(r.stress, 2, true) << " |\n";
+  write_element_tables(md, elements);
   std::cout << md.str();
   if (!md_path.empty()) std::ofstream(md_path) << md.str();
   if (!csv_path.empty()) {
@@ -239,6 +297,25 @@ int main(int argc, char** argv) {
     for (const InteriorRow& r : interior_rows)
       j["interior"].push_back({{"problem", r.problem}, {"elements", r.elements}, {"error_u", r.u}, {"error_stress", r.stress}});
     for (const auto& [E, ratio] : rigid) j["rigid_body"].push_back({{"elements", E}, {"row_sum_ratio", ratio}});
+    for (const bench::elements::Run& r : elements.runs)
+      j["element_types"].push_back({{"problem", r.problem},
+                                    {"element_type", r.type},
+                                    {"level", r.level},
+                                    {"elements", r.elements},
+                                    {"equations", r.equations},
+                                    {"mean_h", r.h},
+                                    {"error_u", r.error_u},
+                                    {"error_t", r.error_t},
+                                    {"error_t_edge_row", r.edge_t},
+                                    {"assembly_s", r.assembly_s},
+                                    {"solve_s", r.solve_s},
+                                    {"memory_bytes", r.memory_bytes}});
+    for (const bench::elements::HalfRow& h : elements.halves)
+      j["half_refinement"].push_back({{"problem", h.problem},
+                                      {"element_type", h.type},
+                                      {"parent", {h.parent_u, h.parent_t}},
+                                      {"half_minus", {h.minus_u, h.minus_t}},
+                                      {"half_plus", {h.plus_u, h.plus_t}}});
     if (!bench::write_json_file(json_path, j, "bench_accuracy")) return 1;  // say so: the doc is generated from it
   }
   return 0;
