@@ -130,13 +130,23 @@ void write_element_tables(std::ostream& md, const ElementComparison& c) {
   namespace el = bench::elements;
   md << "\nConstant and linear elements (docs/elements.md; errors at each type's collocation points, exact values prescribed there; "
         "memory = estimate_elastostatic_bytes, H and G; assembly per entry = assembly time / equations^2):\n\n"
-        "| problem | elements type | level | elements | equations | error u (%) | error t (%) | edge-row t (%) | assembly (s) | "
-        "assembly per entry (ns) | solve (s) | memory (MB) |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
-  for (const el::Run& r : c.runs)
+        "| problem | elements type | level | elements | equations | error u (%) | order u | error t (%) | order t | edge-row t (%) | "
+        "order edge-row t | assembly (s) | assembly per entry (ns) | solve (s) | memory (MB) |\n"
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  const el::Run* previous = nullptr;
+  for (const el::Run& r : c.runs) {
+    const bool same = previous && previous->problem == r.problem && previous->type == r.type;
+    auto order = [&](double coarse, double fine) {
+      return same && coarse > 0 && fine > 0 ? fmt(std::log(coarse / fine) / std::log(previous->h / r.h), 2) : std::string("–");
+    };
     md << "| " << r.problem << " | " << r.type << " | " << r.level << " | " << r.elements << " | " << r.equations << " | "
-       << fmt(r.error_u, 3, true) << " | " << fmt(r.error_t, 3, true) << " | " << (r.edge_t > 0 ? fmt(r.edge_t, 2, true) : "–") << " | "
-       << fmt(r.assembly_s, 3) << " | " << fmt(1e9 * r.assembly_s / (double(r.equations) * double(r.equations)), 2) << " | "
-       << fmt(r.solve_s, 3) << " | " << fmt(r.memory_bytes / 1e6, 1) << " |\n";
+       << fmt(r.error_u, 3, true) << " | " << order(same ? previous->error_u : 0, r.error_u) << " | " << fmt(r.error_t, 3, true) << " | "
+       << order(same ? previous->error_t : 0, r.error_t) << " | " << (r.edge_t > 0 ? fmt(r.edge_t, 2, true) : "–") << " | "
+       << order(same ? previous->edge_t : 0, r.edge_t) << " | " << fmt(r.assembly_s, 3) << " | "
+       << fmt(1e9 * r.assembly_s / (double(r.equations) * double(r.equations)), 2) << " | " << fmt(r.solve_s, 3) << " | "
+       << fmt(r.memory_bytes / 1e6, 1) << " |\n";
+    previous = &r;
+  }
   md << "\nLinear elements at level k against constant elements at level k + 1 (four times the elements, 4/3 the unknowns): "
         "error ratios (target: at most 0.5):\n\n| problem | linear elements | constant elements | ratio u | ratio t |\n|---|---|---|---|---|\n";
   for (const el::Run& l : c.runs) {
