@@ -5,11 +5,14 @@
 // along the box's sharp edges; refinement of either half of the surface against the uniform parent.
 #pragma once
 
+#include <algorithm>
+#include <chrono>
 #include <functional>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "bemsurg/assembly/node_influence_assembler.hpp"
 #include "bemsurg/elastostatic_solver.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/mesh/red_green_refinement.hpp"
@@ -146,6 +149,41 @@ inline std::vector<std::pair<Problem, TriangleMesh>> half_problems(bool quick) {
                   [](const TriangleMesh& mesh, Index e) { return g::on_top(mesh, e); }};
   clamped.material = g::kMaterial;
   out.emplace_back(clamped, g::base_box(2));
+  return out;
+}
+
+/// Assembly time per matrix entry of the two types at (nearly) equal matrix size on the same box:
+/// linear elements on box(n) against constant elements on a grid with three times the elements;
+/// median of three assemblies of H and G each (OpenMP, all threads).
+struct EntryTiming {
+  Index linear_equations = 0, constant_equations = 0;
+  double linear_ns = 0.0, constant_ns = 0.0;  // per entry of H and G (n^2 entries each)
+};
+
+inline EntryTiming assembly_per_entry(bool quick) {
+  const Material m{1.0, 0.3, 1.0};
+  const Eigen::Vector3d lo(-1, -0.6, -0.6), hi(1, 0.6, 0.6);
+  // 4 (nx ny + ny nz + nz nx) elements: (6, 4, 4) = 256 linear (2,304 equations) against
+  // (9, 8, 7) = 764 constant (2,292); quick: (3, 2, 2) = 64 (576) against (5, 4, 3) = 188 (564).
+  const TriangleMesh lin = quick ? box_mesh(lo, hi, 3, 2, 2) : box_mesh(lo, hi, 6, 4, 4);
+  const TriangleMesh con = quick ? box_mesh(lo, hi, 5, 4, 3) : box_mesh(lo, hi, 9, 8, 7);
+  auto median_seconds = [](const std::function<void()>& f) {
+    std::vector<double> t;
+    for (int k = 0; k < 3; ++k) {
+      const auto start = std::chrono::steady_clock::now();
+      f();
+      t.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    }
+    std::sort(t.begin(), t.end());
+    return t[1];
+  };
+  EntryTiming out;
+  out.linear_equations = 9 * lin.num_elements();
+  out.constant_equations = 3 * con.num_elements();
+  const double tl = median_seconds([&] { (void)LinearInfluenceAssembler(lin, m).assemble(); });
+  const double tc = median_seconds([&] { (void)InfluenceAssembler(con, m).assemble(); });
+  out.linear_ns = 1e9 * tl / (double(out.linear_equations) * double(out.linear_equations));
+  out.constant_ns = 1e9 * tc / (double(out.constant_equations) * double(out.constant_equations));
   return out;
 }
 

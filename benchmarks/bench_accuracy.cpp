@@ -104,6 +104,7 @@ std::string fmt(double v, int prec = 3, bool percent = false) {
 struct ElementComparison {
   std::vector<bench::elements::Run> runs;
   std::vector<bench::elements::HalfRow> halves;
+  bench::elements::EntryTiming entry;
 };
 
 ElementComparison compare_element_types(bool quick) {
@@ -121,6 +122,7 @@ ElementComparison compare_element_types(bool quick) {
   }
   for (const auto& [p, base] : el::half_problems(quick))
     for (ElementType type : {ElementType::Constant, ElementType::Linear}) out.halves.push_back(el::half_refinement(p, base, type));
+  out.entry = el::assembly_per_entry(quick);
   return out;
 }
 
@@ -156,6 +158,11 @@ void write_element_tables(std::ostream& md, const ElementComparison& c) {
         md << "| " << l.problem << " | " << l.elements << " | " << k.elements << " | " << ratio_text(l.error_u, k.error_u) << " | "
            << ratio_text(l.error_t, k.error_t) << " |\n";
   }
+  md << "\nAssembly time per matrix entry (H and G, median of three, all threads) at nearly equal matrix size on the Kelvin box: "
+        "linear "
+     << c.entry.linear_equations << " equations " << fmt(c.entry.linear_ns, 2) << " ns, constant " << c.entry.constant_equations
+     << " equations " << fmt(c.entry.constant_ns, 2) << " ns: ratio " << ratio_text(c.entry.linear_ns, c.entry.constant_ns)
+     << " (target: at most 3).\n";
   md << "\nRefining either half (x < 0, x > 0) of the surface red-green once, against the uniform parent: error ratios "
         "(target for linear elements: at most 1.05):\n\n| problem | elements type | parent u / t (%) | half x<0: u, t | half x>0: u, t |\n"
         "|---|---|---|---|---|\n";
@@ -320,6 +327,10 @@ int main(int argc, char** argv) {
                                     {"assembly_s", r.assembly_s},
                                     {"solve_s", r.solve_s},
                                     {"memory_bytes", r.memory_bytes}});
+    j["assembly_per_entry"] = {{"linear_equations", elements.entry.linear_equations},
+                               {"linear_ns", elements.entry.linear_ns},
+                               {"constant_equations", elements.entry.constant_equations},
+                               {"constant_ns", elements.entry.constant_ns}};
     for (const bench::elements::HalfRow& h : elements.halves)
       j["half_refinement"].push_back({{"problem", h.problem},
                                       {"element_type", h.type},

@@ -95,11 +95,22 @@ TEST_CASE(
 TEST_CASE("linear elements, Kelvin box: second-order displacement and a fifth of the constant error on the same mesh") {
   // Mixed problem (lower half held): u on the upper half, t on the lower; h = 0.6 -> 0.3.
   std::vector<RelativeErrors> lin, con;
+  std::vector<InteriorErrors> lin_inside, con_inside;
+  RowMatrixX3d points(4, 3);  // bench_accuracy's interior points
+  points << 0.0, 0.0, 0.0, 0.5, -0.2, 0.1, -0.4, 0.3, -0.2, 0.2, 0.1, 0.3;
   for (int n : {1, 2}) {
     const TriangleMesh m = box(n);
-    lin.push_back(solve_linear_exact_trace_problem(m, kMaterial, kKelvin, lower_half(m)));
-    con.push_back(solve_exact_trace_problem(m, kMaterial, kKelvin, lower_half(m)));
+    BoundarySolution nodes, centroids;
+    lin.push_back(solve_linear_exact_trace_problem(m, kMaterial, kKelvin, lower_half(m), Eigen::Vector3d::Zero(), &nodes));
+    con.push_back(solve_exact_trace_problem(m, kMaterial, kKelvin, lower_half(m), Eigen::Vector3d::Zero(), &centroids));
+    // Somigliana's identity with the linear field (the 3E-row per-node solution).
+    lin_inside.push_back(interior_relative_errors(m, kMaterial, kKelvin, nodes, points));
+    con_inside.push_back(interior_relative_errors(m, kMaterial, kKelvin, centroids, points));
   }
+  INFO("interior u: linear " << lin_inside[0].displacement << " -> " << lin_inside[1].displacement << ", constant "
+                             << con_inside[0].displacement << " -> " << con_inside[1].displacement);
+  INFO("interior stress: linear " << lin_inside[0].stress << " -> " << lin_inside[1].stress << ", constant " << con_inside[0].stress
+                                  << " -> " << con_inside[1].stress);
   INFO("linear u " << lin[0].displacement << " -> " << lin[1].displacement << ", t " << lin[0].traction << " -> " << lin[1].traction);
   INFO("constant u " << con[0].displacement << " -> " << con[1].displacement << ", t " << con[0].traction << " -> " << con[1].traction);
   // Measured: u 2.37e-2 -> 2.68e-3 (order 3.1), t 4.69e-2 -> 1.78e-2 (1.4); constant on the same
@@ -111,6 +122,9 @@ TEST_CASE("linear elements, Kelvin box: second-order displacement and a fifth of
   // Against constant elements on the same mesh (level k against k + 1 is bench_accuracy's, docs/elements.md).
   CHECK(lin[1].displacement < 0.2 * con[1].displacement);
   CHECK(lin[1].traction < 0.4 * con[1].traction);
+  CHECK(lin_inside[1].displacement < 0.5 * con_inside[1].displacement);
+  CHECK(lin_inside[1].stress < 0.5 * con_inside[1].stress);
+  CHECK(observed_order(lin_inside[0].displacement, lin_inside[1].displacement, 0.6, 0.3) > 1.5);
 }
 
 TEST_CASE("linear elements, Kelvin box: the traction in the first row along the sharp edges falls with refinement") {

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
@@ -158,11 +159,16 @@ Scene load_scene(const std::string& path) {
   return build_scene(io::JsonDocument(read_scene_text(path), path), scene_directory(path), path);
 }
 
-void require_constant_elements(const Scene& scene, const std::string& command) {
-  if (scene.problem.elements == ElementType::Constant) return;
+const Scene& require_constant_elements(const Scene& scene, const std::string& command) {
+  if (scene.problem.elements == ElementType::Constant) return scene;
   throw SceneError(scene.path + ": elements: \"" + std::string(to_string(scene.problem.elements)) + "\" is not supported by " + command +
                    ": contact tables, cutting, the haptic session and the viewer use constant elements (docs/elements.md); "
                    "remove the key or set \"elements\": \"constant\"");
+}
+
+Scene require_constant_elements(Scene&& scene, const std::string& command) {
+  require_constant_elements(static_cast<const Scene&>(scene), command);
+  return std::move(scene);
 }
 
 Scene load_scene_with_mesh(const std::string& path, const std::string& mesh_file) {
