@@ -158,7 +158,8 @@ BEMSURG_INLINE ElastostaticSolution solve_elastostatic(const ElastostaticProblem
   const double limit = default_memory_limit_bytes();
   if (need > limit) {
     const double physical = physical_memory_bytes();
-    throw ResourceError("solve_elastostatic: the dense solve of " + std::to_string(E) + " " + to_string(problem.elements) + " elements (" +
+    throw ResourceError("solve_elastostatic: the dense solve of " + std::to_string(E) + " elements (" +
+                        (problem.elements == ElementType::Linear ? std::string("linear, 9 unknowns each: ") : std::string()) +
                         std::to_string(unknowns) + " equations) needs about " + format_gib(need) + " (H and G, each " +
                         format_gib(8.0 * double(unknowns) * double(unknowns)) + "), more than " + format_gib(limit) +
                         " (80 % of this machine's " + (physical > 0.0 ? format_gib(physical) : std::string("unknown")) +
