@@ -256,11 +256,13 @@ class NodeInfluenceAssembler {
     int count = 0;
     auto flush = [&] {
       detail::node_kernel_terms(constants_, count, w, n.x(), n.y(), n.z(), rx, ry, rz, inv, terms);
-      for (int k = 0; k < kNodes; ++k)
-        for (int a = 0; a < detail::kNPn; ++a)
-          for (int j = 0; j < count; ++j) sums[k][a] += nshape[k][j] * terms[a][j];
-      for (int a = detail::kNPn; a < detail::kNTerms; ++a)
-        for (int j = 0; j < count; ++j) sums[0][a] += terms[a][j];
+      // Points outermost: the kNodes x kNTerms sums are independent chains (an inner loop over the
+      // points would make each sum one long chain of dependent additions).
+      for (int j = 0; j < count; ++j) {
+        for (int k = 0; k < kNodes; ++k)
+          for (int a = 0; a < detail::kNPn; ++a) sums[k][a] += nshape[k][j] * terms[a][j];
+        for (int a = detail::kNPn; a < detail::kNTerms; ++a) sums[0][a] += terms[a][j];
+      }
       count = 0;
     };
     const auto c = mesh_.corners(e);
