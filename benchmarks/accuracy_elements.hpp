@@ -152,6 +152,29 @@ inline std::vector<std::pair<Problem, TriangleMesh>> half_problems(bool quick) {
   return out;
 }
 
+/// The Kelvin box (mixed) graded towards the point force (graded_coordinates: spacing h/2 near the
+/// source's projection, growing by at most 1.5 to the uniform box's h) against the uniform box: a
+/// refined region should lower the error.
+struct GradedRow {
+  std::string type;
+  Index uniform_elements = 0, graded_elements = 0;
+  double uniform_u = 0, uniform_t = 0, graded_u = 0, graded_t = 0;
+};
+
+inline std::vector<GradedRow> graded_comparison() {
+  const Problem kelvin = problems()[0];
+  const TriangleMesh uniform = kelvin.mesh(2);  // cells 1/3 x 0.3 x 0.3
+  const TriangleMesh graded =
+      box_mesh_from_grid(graded_coordinates(-1.0, 1.0, 0.3, 1.0 / 6.0, 1.0 / 3.0, 1.5), graded_coordinates(-0.6, 0.6, 0.2, 0.15, 0.3, 1.5),
+                         graded_coordinates(-0.6, 0.6, 0.6, 0.15, 0.3, 1.5));
+  std::vector<GradedRow> out;
+  for (ElementType type : {ElementType::Constant, ElementType::Linear}) {
+    const Run u = solve(kelvin, uniform, type, 2), g = solve(kelvin, graded, type, 2);
+    out.push_back({to_string(type), u.elements, g.elements, u.error_u, u.error_t, g.error_u, g.error_t});
+  }
+  return out;
+}
+
 /// Assembly time per matrix entry of the two types at (nearly) equal matrix size on the same box:
 /// linear elements on box(n) against constant elements on a grid with three times the elements;
 /// median of three assemblies of H and G each (OpenMP, all threads).

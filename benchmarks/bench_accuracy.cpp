@@ -105,6 +105,7 @@ struct ElementComparison {
   std::vector<bench::elements::Run> runs;
   std::vector<bench::elements::HalfRow> halves;
   bench::elements::EntryTiming entry;
+  std::vector<bench::elements::GradedRow> graded;
 };
 
 ElementComparison compare_element_types(bool quick) {
@@ -123,6 +124,7 @@ ElementComparison compare_element_types(bool quick) {
   for (const auto& [p, base] : el::half_problems(quick))
     for (ElementType type : {ElementType::Constant, ElementType::Linear}) out.halves.push_back(el::half_refinement(p, base, type));
   out.entry = el::assembly_per_entry(quick);
+  if (!quick) out.graded = el::graded_comparison();
   return out;
 }
 
@@ -163,6 +165,15 @@ void write_element_tables(std::ostream& md, const ElementComparison& c) {
      << c.entry.linear_equations << " equations " << fmt(c.entry.linear_ns, 2) << " ns, constant " << c.entry.constant_equations
      << " equations " << fmt(c.entry.constant_ns, 2) << " ns: ratio " << ratio_text(c.entry.linear_ns, c.entry.constant_ns)
      << " (target: at most 3).\n";
+  if (!c.graded.empty()) {
+    md << "\nThe Kelvin box (mixed) graded towards the point force (spacing halved near it, growth 1.5) against the uniform box "
+          "it refines: error ratios graded / uniform:\n\n| elements type | uniform elements | graded elements | uniform u / t (%) | "
+          "graded u / t (%) | ratio u | ratio t |\n|---|---|---|---|---|---|---|\n";
+    for (const el::GradedRow& g : c.graded)
+      md << "| " << g.type << " | " << g.uniform_elements << " | " << g.graded_elements << " | " << fmt(g.uniform_u, 3, true) << " / "
+         << fmt(g.uniform_t, 3, true) << " | " << fmt(g.graded_u, 3, true) << " / " << fmt(g.graded_t, 3, true) << " | "
+         << ratio_text(g.graded_u, g.uniform_u) << " | " << ratio_text(g.graded_t, g.uniform_t) << " |\n";
+  }
   md << "\nRefining either half (x < 0, x > 0) of the surface red-green once, against the uniform parent: error ratios "
         "(target for linear elements: at most 1.05):\n\n| problem | elements type | parent u / t (%) | half x<0: u, t | half x>0: u, t |\n"
         "|---|---|---|---|---|\n";
@@ -331,6 +342,12 @@ int main(int argc, char** argv) {
                                {"linear_ns", elements.entry.linear_ns},
                                {"constant_equations", elements.entry.constant_equations},
                                {"constant_ns", elements.entry.constant_ns}};
+    for (const bench::elements::GradedRow& g : elements.graded)
+      j["graded"].push_back({{"element_type", g.type},
+                             {"uniform_elements", g.uniform_elements},
+                             {"graded_elements", g.graded_elements},
+                             {"uniform", {g.uniform_u, g.uniform_t}},
+                             {"graded", {g.graded_u, g.graded_t}}});
     for (const bench::elements::HalfRow& h : elements.halves)
       j["half_refinement"].push_back({{"problem", h.problem},
                                       {"element_type", h.type},
