@@ -145,7 +145,7 @@ TEST_CASE("linear elements, Kelvin box: the traction in the first row along the 
   CHECK(lin[1].traction < 0.4 * con[1].edge.traction);
 }
 
-TEST_CASE("linear elements, Lamé sphere: second-order displacement and traction on two shells") {
+TEST_CASE("linear elements, Lamé sphere: second-order displacement and a converging traction on two shells") {
   const ElasticField lame = lame_field(kMaterial, Eigen::Vector3d::Zero(), 1.0, 2.0, 1.0, 0.0);
   std::vector<RelativeErrors> e;
   std::vector<double> h;
