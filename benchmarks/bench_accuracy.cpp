@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "accuracy_elements.hpp"
 #include "bemsurg/assembly/influence_assembler.hpp"
 #include "bemsurg/elastostatic_solver.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
@@ -97,6 +98,89 @@ void add_orders(std::vector<Row>& rows) {
 std::string fmt(double v, int prec = 3, bool percent = false) {
   if (std::isnan(v)) return "–";
   return fixed_text(percent ? 100.0 * v : v, prec);
+}
+
+// ---- the two element types (accuracy_elements.hpp, docs/elements.md) ------------------------------
+struct ElementComparison {
+  std::vector<bench::elements::Run> runs;
+  std::vector<bench::elements::HalfRow> halves;
+  bench::elements::EntryTiming entry;
+  std::vector<bench::elements::GradedRow> graded;
+};
+
+ElementComparison compare_element_types(bool quick) {
+  namespace el = bench::elements;
+  ElementComparison out;
+  for (const el::Problem& p : el::problems()) {
+    const auto [constant_levels, linear_levels] = el::levels(p.name, quick);
+    const bool dirichlet = p.name == "kelvin box (dirichlet)";
+    for (const auto& [type, list] : {std::pair{ElementType::Constant, constant_levels}, std::pair{ElementType::Linear, linear_levels}})
+      for (int level : list) {
+        const TriangleMesh mesh = p.mesh(level);
+        const Eigen::Vector3d spacing(2.0 / (3 * level), 1.2 / (2 * level), 1.2 / (2 * level));
+        out.runs.push_back(el::solve(p, mesh, type, level, dirichlet ? el::first_row(mesh, spacing) : nullptr));
+      }
+  }
+  for (const auto& [p, base] : el::half_problems(quick))
+    for (ElementType type : {ElementType::Constant, ElementType::Linear}) out.halves.push_back(el::half_refinement(p, base, type));
+  out.entry = el::assembly_per_entry(quick);
+  if (!quick) out.graded = el::graded_comparison();
+  return out;
+}
+
+std::string ratio_text(double a, double b) { return b > 0.0 ? fixed_text(a / b, 2) : "–"; }
+
+void write_element_tables(std::ostream& md, const ElementComparison& c) {
+  namespace el = bench::elements;
+  md << "\nConstant and linear elements (docs/elements.md; errors at each type's collocation points, exact values prescribed there; "
+        "memory = estimate_elastostatic_bytes, H and G; assembly per entry = assembly time / equations^2):\n\n"
+        "| problem | elements type | level | elements | equations | error u (%) | order u | error t (%) | order t | edge-row t (%) | "
+        "order edge-row t | assembly (s) | assembly per entry (ns) | solve (s) | memory (MB) |\n"
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  const el::Run* previous = nullptr;
+  for (const el::Run& r : c.runs) {
+    const bool same = previous && previous->problem == r.problem && previous->type == r.type;
+    auto order = [&](double coarse, double fine) {
+      return same && coarse > 0 && fine > 0 ? fmt(std::log(coarse / fine) / std::log(previous->h / r.h), 2) : std::string("–");
+    };
+    md << "| " << r.problem << " | " << r.type << " | " << r.level << " | " << r.elements << " | " << r.equations << " | "
+       << fmt(r.error_u, 3, true) << " | " << order(same ? previous->error_u : 0, r.error_u) << " | " << fmt(r.error_t, 3, true) << " | "
+       << order(same ? previous->error_t : 0, r.error_t) << " | " << (r.edge_t > 0 ? fmt(r.edge_t, 2, true) : "–") << " | "
+       << order(same ? previous->edge_t : 0, r.edge_t) << " | " << fmt(r.assembly_s, 3) << " | "
+       << fmt(1e9 * r.assembly_s / (double(r.equations) * double(r.equations)), 2) << " | " << fmt(r.solve_s, 3) << " | "
+       << fmt(r.memory_bytes / 1e6, 1) << " |\n";
+    previous = &r;
+  }
+  md << "\nLinear elements at level k against constant elements at level k + 1 (four times the elements, 4/3 the unknowns): "
+        "error ratios (target: at most 0.5):\n\n| problem | linear elements | constant elements | ratio u | ratio t |\n|---|---|---|---|---|\n";
+  for (const el::Run& l : c.runs) {
+    if (l.type != "linear") continue;
+    for (const el::Run& k : c.runs)
+      if (k.type == "constant" && k.problem == l.problem && k.elements == 4 * l.elements)
+        md << "| " << l.problem << " | " << l.elements << " | " << k.elements << " | " << ratio_text(l.error_u, k.error_u) << " | "
+           << ratio_text(l.error_t, k.error_t) << " |\n";
+  }
+  md << "\nAssembly time per matrix entry (H and G, median of three, all threads) at nearly equal matrix size on the Kelvin box: "
+        "linear "
+     << c.entry.linear_equations << " equations " << fmt(c.entry.linear_ns, 2) << " ns, constant " << c.entry.constant_equations
+     << " equations " << fmt(c.entry.constant_ns, 2) << " ns: ratio " << ratio_text(c.entry.linear_ns, c.entry.constant_ns)
+     << " (target: at most 3).\n";
+  if (!c.graded.empty()) {
+    md << "\nThe Kelvin box (mixed) graded towards the point force (spacing halved near it, growth 1.5) against the uniform box "
+          "it refines: error ratios graded / uniform:\n\n| elements type | uniform elements | graded elements | uniform u / t (%) | "
+          "graded u / t (%) | ratio u | ratio t |\n|---|---|---|---|---|---|---|\n";
+    for (const el::GradedRow& g : c.graded)
+      md << "| " << g.type << " | " << g.uniform_elements << " | " << g.graded_elements << " | " << fmt(g.uniform_u, 3, true) << " / "
+         << fmt(g.uniform_t, 3, true) << " | " << fmt(g.graded_u, 3, true) << " / " << fmt(g.graded_t, 3, true) << " | "
+         << ratio_text(g.graded_u, g.uniform_u) << " | " << ratio_text(g.graded_t, g.uniform_t) << " |\n";
+  }
+  md << "\nRefining either half (x < 0, x > 0) of the surface red-green once, against the uniform parent: error ratios "
+        "(target for linear elements: at most 1.05):\n\n| problem | elements type | parent u / t (%) | half x<0: u, t | half x>0: u, t |\n"
+        "|---|---|---|---|---|\n";
+  for (const el::HalfRow& h : c.halves)
+    md << "| " << h.problem << " | " << h.type << " | " << fmt(h.parent_u, 3, true) << " / " << fmt(h.parent_t, 3, true) << " | "
+       << ratio_text(h.minus_u, h.parent_u) << ", " << ratio_text(h.minus_t, h.parent_t) << " | " << ratio_text(h.plus_u, h.parent_u)
+       << ", " << ratio_text(h.plus_t, h.parent_t) << " |\n";
 }
 
 }  // namespace
@@ -190,6 +274,7 @@ int main(int argc, char** argv) {
     rows.push_back(solve_case("hanging bar", "gravity dropped", mesh, m, bar, top));
   }
   add_orders(rows);
+  const ElementComparison elements = compare_element_types(quick);
 
   // ---- report --------------------------------------------------------------------------------
   std::ostringstream md;
@@ -209,6 +294,7 @@ int main(int argc, char** argv) {
         "| problem | elements | error u (%) | error stress (%) |\n|---|---|---|---|\n";
   for (const InteriorRow& r : interior_rows)
     md << "| " << r.problem << " | " << r.elements << " | " << fmt(r.u, 2, true) << " | " << fmt(r.stress, 2, true) << " |\n";
+  write_element_tables(md, elements);
   std::cout << md.str();
   if (!md_path.empty()) std::ofstream(md_path) << md.str();
   if (!csv_path.empty()) {
@@ -239,6 +325,35 @@ int main(int argc, char** argv) {
     for (const InteriorRow& r : interior_rows)
       j["interior"].push_back({{"problem", r.problem}, {"elements", r.elements}, {"error_u", r.u}, {"error_stress", r.stress}});
     for (const auto& [E, ratio] : rigid) j["rigid_body"].push_back({{"elements", E}, {"row_sum_ratio", ratio}});
+    for (const bench::elements::Run& r : elements.runs)
+      j["element_types"].push_back({{"problem", r.problem},
+                                    {"element_type", r.type},
+                                    {"level", r.level},
+                                    {"elements", r.elements},
+                                    {"equations", r.equations},
+                                    {"mean_h", r.h},
+                                    {"error_u", r.error_u},
+                                    {"error_t", r.error_t},
+                                    {"error_t_edge_row", r.edge_t},
+                                    {"assembly_s", r.assembly_s},
+                                    {"solve_s", r.solve_s},
+                                    {"memory_bytes", r.memory_bytes}});
+    j["assembly_per_entry"] = {{"linear_equations", elements.entry.linear_equations},
+                               {"linear_ns", elements.entry.linear_ns},
+                               {"constant_equations", elements.entry.constant_equations},
+                               {"constant_ns", elements.entry.constant_ns}};
+    for (const bench::elements::GradedRow& g : elements.graded)
+      j["graded"].push_back({{"element_type", g.type},
+                             {"uniform_elements", g.uniform_elements},
+                             {"graded_elements", g.graded_elements},
+                             {"uniform", {g.uniform_u, g.uniform_t}},
+                             {"graded", {g.graded_u, g.graded_t}}});
+    for (const bench::elements::HalfRow& h : elements.halves)
+      j["half_refinement"].push_back({{"problem", h.problem},
+                                      {"element_type", h.type},
+                                      {"parent", {h.parent_u, h.parent_t}},
+                                      {"half_minus", {h.minus_u, h.minus_t}},
+                                      {"half_plus", {h.plus_u, h.plus_t}}});
     if (!bench::write_json_file(json_path, j, "bench_accuracy")) return 1;  // say so: the doc is generated from it
   }
   return 0;

@@ -84,26 +84,35 @@ nlohmann::json run_config(const Config& c, int max_repeats) {
   const Material m{1.0, 0.3, 1.0};
   const Setup s = make_setup(c, m);
   const auto prescribed = [&](Index e) { return s.displacement_prescribed_at(s.mesh.centroid(e)); };
-  const ElastostaticProblem p{s.mesh, m, s.gravity, verification::exact_trace_conditions(s.mesh, s.field, prescribed),
-                              quadrature_setting(c.quadrature)};
+  ElastostaticProblem p{s.mesh, m, s.gravity, verification::exact_trace_conditions(s.mesh, s.field, prescribed),
+                        quadrature_setting(c.quadrature)};
+  p.elements = parse_element_type(c.element_type);
+  const bool linear = p.elements == ElementType::Linear;
+  // Exact values at each type's collocation points (docs/elements.md); errors measured there.
+  const BoundarySolution exact = linear ? verification::exact_node_traces(s.mesh, s.field) : verification::exact_traces(s.mesh, s.field);
+  if (linear) {
+    p.node_values.resize(exact.displacement.rows(), 3);
+    for (Index r = 0; r < exact.displacement.rows(); ++r)
+      for (int k = 0; k < 3; ++k)
+        p.node_values(r, k) =
+            p.boundary_conditions.kind(3 * (r / 3) + k) == BcKind::Displacement ? exact.displacement(r, k) : exact.traction(r, k);
+  }
   const LinearSolverOptions options = solver_options(c);
-  nlohmann::json j = {{"problem", c.problem},
-                      {"study", c.study},
-                      {"level", c.level},
-                      {"quadrature", c.quadrature},
-                      {"solver", c.solver},
-                      {"tolerance", c.tolerance},
-                      {"mesh", c.mesh},
-                      {"baseline", kBaseline},
-                      {"preconditioner", c.solver == "lu" ? "none" : "block_jacobi"}};
+  nlohmann::json j = {{"problem", c.problem},  {"study", c.study},
+                      {"level", c.level},      {"quadrature", c.quadrature},
+                      {"solver", c.solver},    {"tolerance", c.tolerance},
+                      {"mesh", c.mesh},        {"element_type", c.element_type},
+                      {"baseline", kBaseline}, {"preconditioner", c.solver == "lu" ? "none" : "block_jacobi"}};
   j["elements"] = s.mesh.num_elements();
-  j["equations"] = 3 * s.mesh.num_elements();
+  j["equations"] = 3 * nodes_per_element(p.elements) * s.mesh.num_elements();
   j["mean_h"] = s.mesh.diameters().mean();
   const Repeated run = solve_repeated(p, options, max_repeats);
   if (run.solution) {
     const ElastostaticResult& r = run.solution->report;
-    const verification::RelativeErrors err = verification::relative_l2_errors(p.mesh, p.boundary_conditions, run.solution->boundary,
-                                                                              verification::exact_traces(p.mesh, s.field));
+    const auto all = [](Index) { return true; };
+    const verification::RelativeErrors err =
+        linear ? verification::node_relative_l2_errors(p.mesh, p.boundary_conditions, run.solution->nodes, exact, all)
+               : verification::relative_l2_errors(p.mesh, p.boundary_conditions, run.solution->boundary, exact);
     // An error is measured where some element has that quantity unknown (both problems here do).
     bool any_u = false, any_t = false;
     for (Index e = 0; e < s.mesh.num_elements(); ++e) (prescribed(e) ? any_t : any_u) = true;
@@ -153,6 +162,7 @@ int main(int argc, char** argv) {
   parser.value("--solver", "NAME", c.solver, "lu, gmres or bicgstab (block-Jacobi preconditioned)");
   parser.value("--tolerance", "T", c.tolerance, "Krylov relative residual (0 for lu)");
   parser.value("--mesh", "KIND", c.mesh, "uniform");
+  parser.value("--element_type", "TYPE", c.element_type, "constant or linear (docs/elements.md)");
   parser.value("--repeats", "N", repeats, "solve up to N times (stopping after 10 s) and report median times");
   if (const std::optional<int> status = cli::parse_command_line(parser, argc, argv)) return *status;
   if (repeats < 1) {

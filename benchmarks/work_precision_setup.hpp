@@ -31,12 +31,13 @@ struct Config {
   std::string solver = "lu";            // lu, gmres, bicgstab
   double tolerance = 0.0;               // Krylov relative residual; 0 for LU
   std::string mesh = "uniform";
+  std::string element_type = "constant";  // constant, linear (docs/elements.md)
 };
 
 /// The command-line arguments that run `c` (one line of --list).
 inline std::string arguments(const Config& c) {
   return "--problem " + c.problem + " --study " + c.study + " --level " + std::to_string(c.level) + " --quadrature " + c.quadrature +
-         " --solver " + c.solver + " --tolerance " + number_text(c.tolerance) + " --mesh " + c.mesh;
+         " --solver " + c.solver + " --tolerance " + number_text(c.tolerance) + " --mesh " + c.mesh + " --element_type " + c.element_type;
 }
 
 /// The named quadrature settings of the `quadrature` study; throws InvalidArgumentError for an
@@ -65,6 +66,8 @@ inline QuadratureOptions quadrature_setting(const std::string& name) {
 inline int level_count(const std::string& problem) { return problem == "kelvin" ? 3 : problem == "lame" ? 5 : 6; }
 /// The two mid levels where the quadrature and solver studies change one factor.
 inline std::vector<int> mid_levels(bool quick) { return quick ? std::vector<int>{1} : std::vector<int>{3, 4}; }
+/// The levels solved with linear elements too (9 unknowns per element: up to about 6,000 equations).
+inline int linear_level_count(const std::string& problem) { return problem == "kelvin" ? 2 : 3; }
 
 /// A problem ready to solve: the mesh, the closed form, where u is prescribed, and gravity.
 struct Setup {
@@ -135,6 +138,15 @@ inline std::vector<Config> all_configs(bool quick) {
       Config c;
       c.problem = p;
       c.level = l;
+      out.push_back(c);
+    }
+  for (const char* p : {"lame", "kelvin", "bar"})  // the second front: linear elements (study "elements")
+    for (int l = 1; l <= (quick ? 1 : linear_level_count(p)); ++l) {
+      Config c;
+      c.problem = p;
+      c.level = l;
+      c.study = "elements";
+      c.element_type = "linear";
       out.push_back(c);
     }
   const std::vector<double> tolerances = quick ? std::vector<double>{1e-2, 1e-6} : std::vector<double>{1e-2, 1e-4, 1e-6, 1e-8};

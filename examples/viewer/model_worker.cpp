@@ -331,7 +331,7 @@ void ModelWorker::do_load(const std::string& path) {
   cuts_ = 0;
   auto l = std::make_shared<Loaded>();
   try {
-    l->scene = path.empty() ? default_cuboid_scene() : load_scene(path);
+    l->scene = require_constant_elements(path.empty() ? default_cuboid_scene() : load_scene(path), "the viewer");
   } catch (const SceneError& e) {
     // Name the file in every message (the window shows it without the command line beside it).
     const std::string what = e.what();

@@ -7,10 +7,14 @@
 /// Headers (each can be included on its own for faster builds):
 /// - boundary_conditions.hpp
 /// - cut_change.hpp
+/// - element_types.hpp
 /// - influence_assembler.hpp
 /// - linear_system.hpp
+/// - node_influence_assembler.hpp
 
 #include "bemsurg/assembly/boundary_conditions.hpp"
 #include "bemsurg/assembly/cut_change.hpp"
+#include "bemsurg/assembly/element_types.hpp"
 #include "bemsurg/assembly/influence_assembler.hpp"
 #include "bemsurg/assembly/linear_system.hpp"
+#include "bemsurg/assembly/node_influence_assembler.hpp"

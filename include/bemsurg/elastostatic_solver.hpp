@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "bemsurg/assembly/boundary_conditions.hpp"
+#include "bemsurg/assembly/element_types.hpp"
 #include "bemsurg/assembly/linear_system.hpp"
 #include "bemsurg/material.hpp"
 #include "bemsurg/mesh/triangle_mesh.hpp"
@@ -17,18 +18,23 @@
 namespace bemsurg {
 
 /// The whole boundary value problem solve_elastostatic takes: mesh, material, gravity (an acceleration; body force =
-/// density * gravity), boundary conditions and quadrature options.
+/// density * gravity), boundary conditions, quadrature options and the element type (docs/elements.md).
 struct ElastostaticProblem {
   TriangleMesh mesh;
   Material material;
   Eigen::Vector3d gravity = Eigen::Vector3d::Zero();  // acceleration; body force = density * gravity
-  BoundaryConditions boundary_conditions;
+  BoundaryConditions boundary_conditions;             // per element: the kinds, and the values at the centroids
   QuadratureOptions quadrature;
+  ElementType elements = ElementType::Constant;
+  // Linear elements only, optional: the prescribed values at the collocation nodes, 3E x 3 (row 3e + k
+  // for node k of element e; the kinds stay boundary_conditions'). Empty: every node takes its element's value.
+  RowMatrixX3d node_values = RowMatrixX3d();
 };
 
 /// Size and timings of one solve_elastostatic call: elements, equations, seconds spent assembling and building the
 /// system, and the linear solver's summary.
 struct ElastostaticResult {
+  ElementType element_type = ElementType::Constant;
   Index elements = 0;
   Index equations = 0;
   double assembly_seconds = 0.0;  // H, G and gravity
@@ -41,15 +47,17 @@ struct ElastostaticResult {
 /// Deprecated name (before 0.2), kept one minor version: use ElastostaticResult.
 using ElastostaticReport [[deprecated("renamed to ElastostaticResult in bemsurg 0.2")]] = ElastostaticResult;
 
-/// What solve_elastostatic returns: the displacement and traction of every element, and the report of the run.
+/// What solve_elastostatic returns: the displacement and traction of every element (for linear elements the values
+/// at the centroids, interpolated), per collocation node for linear elements, and the report of the run.
 struct ElastostaticSolution {
-  BoundarySolution boundary;
+  BoundarySolution boundary;  // E rows
+  BoundarySolution nodes;     // linear elements: 3E rows, row 3e + k = node k of element e; empty for constant
   ElastostaticResult report;
 };
 
-/// Bytes solve_elastostatic needs at its peak for a mesh of `num_elements`: H, G and A*
-/// (n = 3E; 3 n^2 doubles) plus a few vectors.
-double estimate_elastostatic_bytes(Index num_elements);
+/// Bytes solve_elastostatic needs at its peak for a mesh of `num_elements`: H and G (n = 3E unknowns
+/// for constant elements, 9E for linear; 2 n^2 doubles) plus a few vectors.
+double estimate_elastostatic_bytes(Index num_elements, ElementType type = ElementType::Constant);
 
 /// The closed connected surface components (by shared vertices; every edge shared by two of their
 /// elements) on which no element has a traction component prescribed, each as {first element,

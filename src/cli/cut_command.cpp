@@ -167,7 +167,7 @@ int run_cut(int argc, char** argv) {
   if (!parsed) return 0;
   const CutCommandOptions& o = *parsed;
   const auto t_start = SteadyClock::now();
-  const Scene scene = load_scene(o.scene);
+  const Scene scene = require_constant_elements(load_scene(o.scene), "bemsurg cut");
   for (const std::string& w : scene.warnings) std::cerr << "bemsurg: warning: " << o.scene << ": " << w << "\n";
   namespace fs = std::filesystem;
   std::error_code ec;

@@ -126,7 +126,7 @@ int run_press(int argc, char** argv) {
   if (!parsed) return 0;
   const PressOptions& o = *parsed;
   const auto t_start = SteadyClock::now();
-  const bemsurg::Scene scene = bemsurg::load_scene(o.scene);
+  const bemsurg::Scene scene = bemsurg::require_constant_elements(bemsurg::load_scene(o.scene), "bemsurg press");
   if (!o.quiet)
     for (const auto& w : scene.warnings) std::cerr << "bemsurg: warning: " << w << "\n";
   const bemsurg::ElastostaticProblem& p = scene.problem;

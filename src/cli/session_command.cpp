@@ -154,7 +154,7 @@ int run_session(int argc, char** argv) {
   }
 
   const bemsurg::ActionScript script = bemsurg::load_action_script(script_path);
-  const bemsurg::Scene scene = bemsurg::load_scene(scene_path);
+  const bemsurg::Scene scene = bemsurg::require_constant_elements(bemsurg::load_scene(scene_path), "bemsurg session");
   if (!quiet) {
     for (const auto& w : scene.warnings) std::cerr << "bemsurg: warning: " << w << "\n";
     for (const auto& w : script.warnings) std::cerr << "bemsurg: warning: " << w << "\n";

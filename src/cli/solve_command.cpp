@@ -22,6 +22,7 @@ constexpr const char* kSolveUsage =
     "Solves the scene and writes into OUTDIR (created if needed):\n"
     "  elements.csv   element,cx,cy,cz,nx,ny,nz,area,ux,uy,uz,tx,ty,tz (every element)\n"
     "  interior.csv   x,y,z,ux,uy,uz,sxx,syy,szz,sxy,syz,sxz (when the scene has interior_points)\n"
+    "  corners.csv    element,corner,x,y,z,ux,uy,uz,tx,ty,tz (linear elements: the field at each corner)\n"
     "  surface.vtk    the surface with displacement and traction fields\n"
     "  report.json    sizes, time per phase, peak memory, solver method, iterations and residual\n"
     "\n"
@@ -61,26 +62,35 @@ int run_solve(int argc, char** argv) {
                   "': " + (ec ? ec.message() : std::string("a file of that name exists")));
 
   if (!options.quiet)
-    std::cout << "bemsurg solve: " << scene.problem.mesh.num_elements() << " elements, " << scene.problem.mesh.num_dofs()
-              << " equations, mesh " << scene.mesh_source << ", solver " << to_string(scene.solver.method) << std::endl;
+    std::cout << "bemsurg solve: " << scene.problem.mesh.num_elements() << " " << to_string(scene.problem.elements) << " elements, "
+              << 3 * nodes_per_element(scene.problem.elements) * scene.problem.mesh.num_elements() << " equations, mesh "
+              << scene.mesh_source << ", solver " << to_string(scene.solver.method) << std::endl;
 
   const ElastostaticSolution solution = solve_elastostatic(scene.problem, scene.solver);
   for (const std::string& w : solution.report.warnings) std::cerr << "bemsurg: warning: " << options.scene << ": " << w << "\n";
   const SteadyClock::time_point solved = SteadyClock::now();
 
   const fs::path out(options.output);
-  if (scene.has_interior_points) {
+  const bool linear = scene.problem.elements == ElementType::Linear;
+  if (scene.has_interior_points) {  // Somigliana with the linear field for linear elements (per-node values)
     const InteriorEvaluator evaluator(scene.problem.mesh, scene.problem.material, scene.problem.gravity, scene.problem.quadrature);
-    const RowMatrixX3d u = evaluator.displacement(scene.interior_points, solution.boundary);
-    const StressRows s = evaluator.stress(scene.interior_points, solution.boundary);
+    const BoundarySolution& field = linear ? solution.nodes : solution.boundary;
+    const RowMatrixX3d u = evaluator.displacement(scene.interior_points, field);
+    const StressRows s = evaluator.stress(scene.interior_points, field);
     write_interior_csv((out / "interior.csv").string(), scene.interior_points, u, s);
   }
   write_elements_csv((out / "elements.csv").string(), scene.problem.mesh, solution.boundary);
-  write_solution_vtk((out / "surface.vtk").string(), scene.problem.mesh, solution.boundary);
+  if (linear) {
+    write_corners_csv((out / "corners.csv").string(), scene.problem.mesh, solution.nodes);
+    write_linear_solution_vtk((out / "surface.vtk").string(), scene.problem.mesh, solution.boundary, solution.nodes);
+  } else {
+    write_solution_vtk((out / "surface.vtk").string(), scene.problem.mesh, solution.boundary);
+  }
   const SteadyClock::time_point finished = SteadyClock::now();
 
   RunResult report;
   report.scene = options.scene;
+  report.element_type = to_string(scene.problem.elements);
   report.mesh_source = scene.mesh_source;
   report.elements = solution.report.elements;
   report.equations = solution.report.equations;
@@ -105,8 +115,9 @@ int run_solve(int argc, char** argv) {
               << report.timings.system << " s, solve " << report.timings.solve << " s, post " << report.timings.post << " s, total "
               << report.timings.total << " s; peak memory " << report.peak_memory_mb << " MiB\n"
               << "  wrote " << (out / "elements.csv").string()
-              << (scene.has_interior_points ? ", " + (out / "interior.csv").string() : std::string()) << ", "
-              << (out / "surface.vtk").string() << ", " << (out / "report.json").string() << "\n";
+              << (scene.has_interior_points ? ", " + (out / "interior.csv").string() : std::string())
+              << (linear ? ", " + (out / "corners.csv").string() : std::string()) << ", " << (out / "surface.vtk").string() << ", "
+              << (out / "report.json").string() << "\n";
   }
   return 0;
 }

@@ -35,11 +35,14 @@ std::string line_key(const std::string& key, std::size_t line) { return key + " 
 
 }  // namespace
 
-std::vector<CsvRow> read_csv(const std::string& path, const std::string& header, const std::string& key) {
+std::vector<CsvRow> read_csv(const std::string& path, const std::vector<std::string>& headers, const std::string& key, std::size_t& which) {
   std::ifstream in(path, std::ios::binary);
   if (!in) fail_at(key, "cannot read '" + path + "': " + std::strerror(errno));
+  std::string named;  // the accepted headers, for messages
+  for (std::size_t h = 0; h < headers.size(); ++h) named += (h == 0 ? "'" : (h + 1 == headers.size() ? "' or '" : "', '")) + headers[h];
+  named += "'";
   std::vector<CsvRow> rows;
-  const std::vector<std::string> expected = split_fields(header);
+  std::vector<std::string> expected;
   std::string line;
   std::size_t number = 0;
   bool header_seen = false;
@@ -50,7 +53,9 @@ std::vector<CsvRow> read_csv(const std::string& path, const std::string& header,
     if (t.empty() || t[0] == '#') continue;
     std::vector<std::string> fields = split_fields(t);
     if (!header_seen) {
-      if (fields != expected) fail_at(line_key(key, number), "expected the header '" + header + "', got '" + t + "'");
+      for (which = 0; which < headers.size() && fields != split_fields(headers[which]); ++which) {}
+      if (which == headers.size()) fail_at(line_key(key, number), "expected the header " + named + ", got '" + t + "'");
+      expected = std::move(fields);
       header_seen = true;
       continue;
     }
@@ -58,8 +63,13 @@ std::vector<CsvRow> read_csv(const std::string& path, const std::string& header,
       fail_at(line_key(key, number), "expected " + std::to_string(expected.size()) + " fields, got " + std::to_string(fields.size()));
     rows.push_back({number, std::move(fields)});
   }
-  if (!header_seen) fail_at(key, "'" + path + "' is empty (expected the header '" + header + "')");
+  if (!header_seen) fail_at(key, "'" + path + "' is empty (expected the header " + named + ")");
   return rows;
+}
+
+std::vector<CsvRow> read_csv(const std::string& path, const std::string& header, const std::string& key) {
+  std::size_t which = 0;
+  return read_csv(path, std::vector<std::string>{header}, key, which);
 }
 
 std::string csv_row_key(const std::string& key, const CsvRow& row) { return line_key(key, row.line); }

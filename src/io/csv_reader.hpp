@@ -21,6 +21,10 @@ struct CsvRow {
 /// (SceneError "<key> line <n>: ...").
 std::vector<CsvRow> read_csv(const std::string& path, const std::string& header, const std::string& key);
 
+/// The same for a file that may use one of several headers (variants of one format): `which` is set
+/// to the index of the header the file uses; a file with none of them names all in its message.
+std::vector<CsvRow> read_csv(const std::string& path, const std::vector<std::string>& headers, const std::string& key, std::size_t& which);
+
 /// "<key> line <n>": how a message names a row.
 std::string csv_row_key(const std::string& key, const CsvRow& row);
 

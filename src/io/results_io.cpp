@@ -14,6 +14,7 @@
 #include <system_error>
 #include <vector>
 
+#include "bemsurg/assembly/element_types.hpp"
 #include "bemsurg/error.hpp"
 #include "bemsurg/mesh/mesh_io.hpp"
 #include "bemsurg/number_text.hpp"
@@ -63,6 +64,34 @@ void write_elements_csv(const std::string& path, const TriangleMesh& mesh, const
   write_text(path, text);
 }
 
+void write_corners_csv(const std::string& path, const TriangleMesh& mesh, const BoundarySolution& nodes) {
+  const Index n = mesh.num_elements();
+  if (nodes.displacement.rows() != 3 * n || nodes.traction.rows() != 3 * n)
+    throw InvalidArgumentError("write_corners_csv: the per-node solution has " + std::to_string(nodes.displacement.rows()) +
+                               " rows, linear elements on this mesh have " + std::to_string(3 * n) + " nodes");
+  std::string text = kCornersCsvHeader;
+  text += '\n';
+  for (Index e = 0; e < n; ++e) {
+    const Eigen::Matrix3d u = linear_nodes_to_corners(nodes.displacement.middleRows<3>(3 * e));
+    const Eigen::Matrix3d t = linear_nodes_to_corners(nodes.traction.middleRows<3>(3 * e));
+    const auto corner = mesh.corners(e);
+    for (int k = 0; k < 3; ++k) {
+      double row[9];
+      for (int c = 0; c < 3; ++c) {
+        row[c] = corner[std::size_t(k)](c);
+        row[3 + c] = u(k, c);
+        row[6 + c] = t(k, c);
+      }
+      append_integer(text, e);
+      text += ',';
+      append_integer(text, k);
+      append_row(text, row, 9);
+      text += '\n';
+    }
+  }
+  write_text(path, text);
+}
+
 void write_interior_csv(const std::string& path, const RowMatrixX3d& points, const RowMatrixX3d& displacement, const StressRows& stress) {
   const Index n = points.rows();
   if (displacement.rows() != n || stress.rows() != n)
@@ -93,6 +122,30 @@ void write_solution_vtk(const std::string& path, const TriangleMesh& mesh, const
             {MeshField("displacement", mesh.element_to_vertex(solution.displacement))}, "bemsurg solve");
 }
 
+void write_linear_solution_vtk(const std::string& path, const TriangleMesh& mesh, const BoundarySolution& centroids,
+                               const BoundarySolution& nodes) {
+  const Index n = mesh.num_elements();
+  if (nodes.displacement.rows() != 3 * n || centroids.displacement.rows() != n)
+    throw InvalidArgumentError("write_linear_solution_vtk: expected " + std::to_string(n) + " centroid and " + std::to_string(3 * n) +
+                               " node rows");
+  RowMatrixX3d points(3 * n, 3), u(3 * n, 3), t(3 * n, 3);
+  RowMatrixX3i faces(n, 3);
+  for (Index e = 0; e < n; ++e) {
+    const auto corner = mesh.corners(e);
+    for (int k = 0; k < 3; ++k) points.row(3 * e + k) = corner[std::size_t(k)].transpose();
+    faces.row(e) << int(3 * e), int(3 * e + 1), int(3 * e + 2);
+    u.middleRows<3>(3 * e) = linear_nodes_to_corners(nodes.displacement.middleRows<3>(3 * e));
+    t.middleRows<3>(3 * e) = linear_nodes_to_corners(nodes.traction.middleRows<3>(3 * e));
+  }
+  const TriangleMesh unshared(points, faces);
+  Eigen::VectorXd normal_traction(n);
+  for (Index e = 0; e < n; ++e) normal_traction(e) = centroids.traction.row(e).dot(mesh.normals().row(e));
+  write_vtk(path, unshared,
+            {MeshField("displacement", centroids.displacement), MeshField("traction", centroids.traction),
+             MeshField("normal_traction", normal_traction)},
+            {MeshField("displacement", u), MeshField("traction", t)}, "bemsurg solve (linear elements)");
+}
+
 double peak_memory_mb() {
   // VmHWM is this image's own peak (it starts afresh at exec); getrusage's ru_maxrss is the fallback
   // only, because Linux carries it across fork and exec: a small program started by a large parent
@@ -116,6 +169,7 @@ void write_report_json(const std::string& path, const RunResult& report) {
   // Non-finite values are not JSON; a residual that is NaN is reported as null.
   const auto number = [](double x) { return std::isfinite(x) ? nlohmann::ordered_json(x) : nlohmann::ordered_json(); };
   nlohmann::ordered_json j;
+  j["element_type"] = report.element_type;
   j["elements"] = report.elements;
   j["equations"] = report.equations;
   j["interior_points"] = report.interior_points;

@@ -10,10 +10,12 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
 #include "bemsurg/error.hpp"
+#include "bemsurg/memory_budget.hpp"
 #include "json_reader.hpp"
 #include "scene_sections.hpp"
 
@@ -68,6 +70,18 @@ void warn_unsafe_grading(Scene& scene) {
   if (!w.empty()) scene.warnings.push_back("mesh: " + w);
 }
 
+/// Linear elements have 9 unknowns per element, not 3: the mesh (as generated, read or remeshed; the
+/// generators' own refusal counts 3) is refused here when the dense solve would not fit (docs/design.md §10).
+void require_linear_size(const Scene& scene) {
+  if (scene.problem.elements != ElementType::Linear) return;
+  const Index E = scene.problem.mesh.num_elements();
+  const double need = estimate_elastostatic_bytes(E, ElementType::Linear), limit = default_memory_limit_bytes();
+  if (need <= limit) return;
+  throw ResourceError("elements: the mesh has " + std::to_string(E) + " linear elements (" + std::to_string(9 * E) +
+                      " unknowns); the dense solve needs about " + format_gib(need) + ", more than the limit of " + format_gib(limit) +
+                      " (80 % of physical memory); coarsen the mesh or use constant elements");
+}
+
 Scene build_scene(const io::JsonDocument& document, const std::string& directory, const std::string& name) {
   Scene scene;
   scene.path = name;
@@ -76,9 +90,14 @@ Scene build_scene(const io::JsonDocument& document, const std::string& directory
   const io::JsonReader root(document.root(), source);
   if (!root.is_object()) throw SceneError(name + ": expected a JSON object at the top level, got " + root.type_name());
   root.warn_unknown_keys(
-      {"mesh", "material", "gravity", "boundary_conditions", "interior_points", "solver", "quadrature", "operating_region"});
+      {"mesh", "material", "gravity", "boundary_conditions", "interior_points", "solver", "quadrature", "operating_region", "elements"});
 
   ElastostaticProblem& problem = scene.problem;
+  if (const std::optional<io::JsonReader> t = root.optional("elements")) {
+    const std::string type = t->string();
+    if (type != "constant" && type != "linear") t->fail("expected \"constant\" or \"linear\", got \"" + type + "\"");
+    problem.elements = parse_element_type(type);
+  }
   if (const std::optional<io::JsonReader> g = root.optional("gravity")) problem.gravity = g->vec3();
   problem.material = io::load_material(root.required("material"), !problem.gravity.isZero(0.0));
   problem.mesh = io::load_mesh(root.required("mesh"), directory, scene.mesh_source);
@@ -92,7 +111,14 @@ Scene build_scene(const io::JsonDocument& document, const std::string& directory
     io::remesh_for_operating_region(request, scene);
   }
   scene.mesh_quality = measure_mesh_quality(problem.mesh);
-  problem.boundary_conditions = io::load_boundary_conditions(root.required("boundary_conditions"), directory, problem.mesh);
+  require_linear_size(scene);
+  RowMatrixX3d corners;
+  problem.boundary_conditions = io::load_boundary_conditions(root.required("boundary_conditions"), directory, problem.mesh, &corners);
+  if (problem.elements == ElementType::Linear) {  // values at the nodes: linear interpolation of the corners' (docs/elements.md)
+    problem.node_values.resize(corners.rows(), 3);
+    for (Index e = 0; e < problem.mesh.num_elements(); ++e)
+      problem.node_values.middleRows<3>(3 * e) = linear_corners_to_nodes(corners.middleRows<3>(3 * e));
+  }
   if (scene.has_operating_region) collect_operating_elements(scene);
   warn_unsafe_grading(scene);
   if (const std::optional<io::JsonReader> q = root.optional("quadrature")) problem.quadrature = io::load_quadrature(*q);
@@ -131,6 +157,18 @@ std::string scene_directory(const std::string& path) {
 
 Scene load_scene(const std::string& path) {
   return build_scene(io::JsonDocument(read_scene_text(path), path), scene_directory(path), path);
+}
+
+const Scene& require_constant_elements(const Scene& scene, const std::string& command) {
+  if (scene.problem.elements == ElementType::Constant) return scene;
+  throw SceneError(scene.path + ": elements: \"" + std::string(to_string(scene.problem.elements)) + "\" is not supported by " + command +
+                   ": contact tables, cutting, the haptic session and the viewer use constant elements (docs/elements.md); "
+                   "remove the key or set \"elements\": \"constant\"");
+}
+
+Scene require_constant_elements(Scene&& scene, const std::string& command) {
+  require_constant_elements(static_cast<const Scene&>(scene), command);
+  return std::move(scene);
 }
 
 Scene load_scene_with_mesh(const std::string& path, const std::string& mesh_file) {

@@ -2,6 +2,7 @@
 // docs/design.md §5): per element and component u or t prescribed; pressure p means t = -p n.
 // Rules select elements geometrically and apply in order; the per-element CSV file comes last.
 #include <algorithm>
+#include <cmath>
 #include <iterator>
 #include <limits>
 
@@ -144,8 +145,7 @@ void apply_rule(const JsonReader& rule, const TriangleMesh& mesh, BoundaryCondit
   }
 }
 
-void apply_bc_file(const std::string& path, const std::string& key, const TriangleMesh& mesh, BoundaryConditions& bc) {
-  const auto rows = read_csv(path, "element,kind_x,kind_y,kind_z,value_x,value_y,value_z", key);
+void apply_element_rows(const std::vector<CsvRow>& rows, const std::string& key, const TriangleMesh& mesh, BoundaryConditions& bc) {
   static const char* kind_names[3] = {"kind_x", "kind_y", "kind_z"};
   static const char* value_names[3] = {"value_x", "value_y", "value_z"};
   for (const CsvRow& row : rows) {
@@ -160,9 +160,76 @@ void apply_bc_file(const std::string& path, const std::string& key, const Triang
   }
 }
 
+/// The corner variant (element,corner,kind_x..,value_x..; docs/scene-format.md): values at the
+/// corners of the listed elements, every one given at its three corners, a component's kind the
+/// same at the three; the element's own value becomes the mean (the value at the centroid).
+void apply_corner_rows(const std::vector<CsvRow>& rows, const std::string& key, const TriangleMesh& mesh, BoundaryConditions& bc,
+                       RowMatrixX3d& corners) {
+  static const char* kind_names[3] = {"kind_x", "kind_y", "kind_z"};
+  static const char* value_names[3] = {"value_x", "value_y", "value_z"};
+  const std::size_t E = static_cast<std::size_t>(mesh.num_elements());
+  std::vector<std::size_t> line(3 * E, 0);  // the row that gave (element, corner); 0 = none
+  std::vector<BcKind> kinds(9 * E);
+  for (const CsvRow& row : rows) {
+    const std::string where = csv_row_key(key, row);
+    const long long e = parse_csv_integer(row.fields[0], where + ": element", "an integer element index");
+    if (e < 0 || e >= mesh.num_elements()) fail_at(where, out_of_range(e, mesh));
+    const long long k = parse_csv_integer(row.fields[1], where + ": corner", "a corner 0, 1 or 2");
+    if (k < 0 || k > 2) fail_at(where + ": corner", "expected a corner 0, 1 or 2 (the face's vertex order), got " + std::to_string(k));
+    const std::size_t slot = 3 * std::size_t(e) + std::size_t(k);
+    line[slot] = row.line;
+    for (int c = 0; c < 3; ++c) {
+      kinds[3 * slot + std::size_t(c)] = parse_kind(row.fields[std::size_t(2 + c)], where + ": " + kind_names[c]);
+      corners(Index(slot), c) = parse_csv_number(row.fields[std::size_t(5 + c)], where + ": " + value_names[c]);
+    }
+  }
+  for (std::size_t e = 0; e < E; ++e) {
+    const std::size_t* l = &line[3 * e];
+    const int given = (l[0] ? 1 : 0) + (l[1] ? 1 : 0) + (l[2] ? 1 : 0);
+    if (given == 0) continue;
+    const std::size_t first = std::max({l[0], l[1], l[2]});
+    if (given < 3) {
+      std::string missing;
+      for (int k = 0; k < 3; ++k)
+        if (!l[k]) missing += (missing.empty() ? "" : " and ") + std::to_string(k);
+      fail_at(key + " line " + std::to_string(first), "element " + std::to_string(e) + " lacks corner " + missing +
+                                                          ": the corner variant needs every listed element at all three corners");
+    }
+    for (int c = 0; c < 3; ++c) {
+      const BcKind k0 = kinds[9 * e + std::size_t(c)];
+      for (int k = 1; k < 3; ++k)
+        if (kinds[9 * e + 3 * std::size_t(k) + std::size_t(c)] != k0)
+          fail_at(key + " line " + std::to_string(l[k]), std::string("element ") + std::to_string(e) + ", " + kind_names[c] + ": kind '" +
+                                                             (k0 == BcKind::Displacement ? "u" : "t") + "' at corner 0 (line " +
+                                                             std::to_string(l[0]) + ") but '" + (k0 == BcKind::Displacement ? "t" : "u") +
+                                                             "' at corner " + std::to_string(k) +
+                                                             ": a component's kind must be the same at the three corners of an element");
+      const double mean = (corners(Index(3 * e), c) + corners(Index(3 * e + 1), c) + corners(Index(3 * e + 2), c)) / 3.0;
+      bc.prescribe_component(Index(e), c, k0, mean);
+    }
+  }
+}
+
+void apply_bc_file(const std::string& path, const std::string& key, const TriangleMesh& mesh, BoundaryConditions& bc,
+                   RowMatrixX3d& corners) {
+  std::size_t variant = 0;
+  const auto rows = read_csv(
+      path, {"element,kind_x,kind_y,kind_z,value_x,value_y,value_z", "element,corner,kind_x,kind_y,kind_z,value_x,value_y,value_z"}, key,
+      variant);
+  if (variant == 0) {
+    apply_element_rows(rows, key, mesh, bc);
+    return;
+  }
+  for (Index e = 0; e < mesh.num_elements(); ++e)  // the rules' values at every corner first
+    for (int k = 0; k < 3; ++k)
+      for (int c = 0; c < 3; ++c) corners(3 * e + k, c) = bc.value(3 * e + c);
+  apply_corner_rows(rows, key, mesh, bc, corners);
+}
+
 }  // namespace
 
-BoundaryConditions load_boundary_conditions(const JsonReader& b, const std::string& directory, const TriangleMesh& mesh) {
+BoundaryConditions load_boundary_conditions(const JsonReader& b, const std::string& directory, const TriangleMesh& mesh,
+                                            RowMatrixX3d* corner_values) {
   b.object().warn_unknown_keys({"file", "rules"});
   // Everything starts traction-free; rules apply in order (later ones win on shared elements);
   // the file comes last, so a per-element file can refine what the rules set.
@@ -171,7 +238,17 @@ BoundaryConditions load_boundary_conditions(const JsonReader& b, const std::stri
     if (!rules->is_array()) rules->fail("expected an array of rules, got " + rules->type_name());
     for (std::size_t i = 0; i < rules->size(); ++i) apply_rule((*rules)[i], mesh, bc);
   }
-  if (const std::optional<JsonReader> file = b.optional("file")) apply_bc_file(resolve_existing(directory, *file), file->path(), mesh, bc);
+  // Values at the corners: the element's value at all three unless the corner variant gives them.
+  RowMatrixX3d corners = RowMatrixX3d::Constant(3 * mesh.num_elements(), 3, std::numeric_limits<double>::quiet_NaN());
+  if (const std::optional<JsonReader> file = b.optional("file"))
+    apply_bc_file(resolve_existing(directory, *file), file->path(), mesh, bc, corners);
+  if (corner_values) {
+    for (Index e = 0; e < mesh.num_elements(); ++e)
+      for (int k = 0; k < 3; ++k)
+        for (int c = 0; c < 3; ++c)
+          if (std::isnan(corners(3 * e + k, c))) corners(3 * e + k, c) = bc.value(3 * e + c);
+    *corner_values = std::move(corners);
+  }
   return bc;
 }
 

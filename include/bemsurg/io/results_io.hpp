@@ -21,6 +21,8 @@ namespace bemsurg {
 
 /// Header of elements.csv, exactly.
 inline constexpr const char* kElementsCsvHeader = "element,cx,cy,cz,nx,ny,nz,area,ux,uy,uz,tx,ty,tz";
+/// Header of corners.csv (linear elements: the field at each corner of each element), exactly.
+inline constexpr const char* kCornersCsvHeader = "element,corner,x,y,z,ux,uy,uz,tx,ty,tz";
 /// Header of interior.csv, exactly.
 inline constexpr const char* kInteriorCsvHeader = "x,y,z,ux,uy,uz,sxx,syy,szz,sxy,syz,sxz";
 
@@ -28,12 +30,23 @@ inline constexpr const char* kInteriorCsvHeader = "x,y,z,ux,uy,uz,sxx,syy,szz,sx
 /// traction.
 void write_elements_csv(const std::string& path, const TriangleMesh& mesh, const BoundarySolution& solution);
 
+/// Linear elements (docs/elements.md): one row per element and corner (0-2, the face's vertex order):
+/// the corner's position and the element's linear field there (extrapolated from the three nodes,
+/// linear_nodes_to_corners). `nodes` is the per-node solution (3E rows, ElastostaticSolution::nodes).
+void write_corners_csv(const std::string& path, const TriangleMesh& mesh, const BoundarySolution& nodes);
+
 /// One row per point: position, displacement, stress (sxx, syy, szz, sxy, syz, sxz).
 void write_interior_csv(const std::string& path, const RowMatrixX3d& points, const RowMatrixX3d& displacement, const StressRows& stress);
 
 /// Legacy VTK surface with cell fields "displacement" and "traction" and the point field
 /// "displacement" (area-weighted vertex average, TriangleMesh::element_to_vertex).
 void write_solution_vtk(const std::string& path, const TriangleMesh& mesh, const BoundarySolution& solution);
+
+/// Linear elements: the surface with unshared points (three per element, the corners), point fields
+/// "displacement" and "traction" holding the linear field at each element's corners (a smooth colour
+/// map in ParaView) and the cell fields of write_solution_vtk at the centroids.
+void write_linear_solution_vtk(const std::string& path, const TriangleMesh& mesh, const BoundarySolution& centroids,
+                               const BoundarySolution& nodes);
 
 /// Seconds per phase of a run. `total` is wall time from start to the last file written.
 struct PhaseTimings {
@@ -49,6 +62,7 @@ struct PhaseTimings {
 /// peak memory and the solver summary.
 struct RunResult {
   std::string scene;
+  std::string element_type = "constant";  // "constant" or "linear" (docs/elements.md)
   std::string mesh_source;
   Index elements = 0;
   Index equations = 0;
@@ -65,7 +79,7 @@ using RunReport [[deprecated("renamed to RunResult in bemsurg 0.2")]] = RunResul
 /// own, not its parent's), getrusage's ru_maxrss where /proc is not there.
 double peak_memory_mb();
 
-/// report.json: {"elements", "equations", "interior_points", "timings": {load, assembly, system,
+/// report.json: {"element_type", "elements", "equations", "interior_points", "timings": {load, assembly, system,
 /// solve, post, total}, "peak_memory_mb", "solver": {method, preconditioner, iterations, status,
 /// relative_residual, setup_seconds, solve_seconds}, "warnings": [text, ...], "scene", "mesh", "bemsurg_version"}.
 void write_report_json(const std::string& path, const RunResult& report);

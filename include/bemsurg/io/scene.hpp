@@ -70,6 +70,14 @@ Scene load_scene(const std::string& path);
 /// `name` is used in messages in place of a file name.
 Scene load_scene_from_string(const std::string& json_text, const std::string& directory, const std::string& name = "<scene>");
 
+/// Throws SceneError naming the scene, its "elements" key and `command` (e.g. "bemsurg press") unless the
+/// scene uses constant elements: contact tables, cutting, the haptic session and the viewer do not
+/// support linear elements yet (docs/elements.md). A refusal, never a silent fallback. Returns the
+/// scene, so a loader's line can check in place: `Scene s = require_constant_elements(load_scene(p), "...")`.
+const Scene& require_constant_elements(const Scene& scene, const std::string& command);
+/// The same for a scene just loaded (moved through, not copied).
+Scene require_constant_elements(Scene&& scene, const std::string& command);
+
 /// The scene at `path` with its "mesh" replaced by the mesh file `mesh_file` (any format
 /// mesh_io.hpp reads): what the scene's rules prescribe on another surface, such as the mesh a
 /// cut produced (`bemsurg cut` checks its conditions against it).

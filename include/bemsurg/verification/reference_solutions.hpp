@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "bemsurg/assembly/boundary_conditions.hpp"
+#include "bemsurg/assembly/element_types.hpp"
 #include "bemsurg/assembly/influence_assembler.hpp"
 #include "bemsurg/assembly/linear_system.hpp"
 #include "bemsurg/elastostatic_solver.hpp"
@@ -155,6 +156,63 @@ inline RelativeErrors solve_exact_trace_problem(const TriangleMesh& mesh, const 
   const ElastostaticSolution s = solve_elastostatic(p);
   if (solution) *solution = s.boundary;
   return relative_l2_errors(mesh, p.boundary_conditions, s.boundary, exact_traces(mesh, field));
+}
+
+/// Exact traces at the collocation nodes of linear elements (3E rows, row 3e + k; docs/elements.md):
+/// u(x_k) and sigma(x_k) n_e.
+inline BoundarySolution exact_node_traces(const TriangleMesh& mesh, const ElasticField& field) {
+  const Index E = mesh.num_elements();
+  BoundarySolution s{RowMatrixX3d(3 * E, 3), RowMatrixX3d(3 * E, 3)};
+  for (Index e = 0; e < E; ++e)
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d x = collocation_node<LinearElement>(mesh.corners(e), k);
+      s.displacement.row(3 * e + k) = field.displacement(x).transpose();
+      s.traction.row(3 * e + k) = (field.stress(x) * mesh.normal(e)).transpose();
+    }
+  return s;
+}
+
+/// Relative L2 errors at the linear elements' nodes (weight area / 3 each) of the components that
+/// were solved for (the kinds of the per-element `bc`), over the elements where include(e) is true.
+inline RelativeErrors node_relative_l2_errors(const TriangleMesh& mesh, const BoundaryConditions& bc, const BoundarySolution& computed,
+                                              const BoundarySolution& exact, const std::function<bool(Index)>& include) {
+  double du = 0.0, nu = 0.0, dt = 0.0, nt = 0.0;
+  for (Index e = 0; e < mesh.num_elements(); ++e) {
+    if (!include(e)) continue;
+    const double a = mesh.area(e) / 3.0;
+    for (Index row = 3 * e; row < 3 * e + 3; ++row)
+      for (int c = 0; c < 3; ++c) {
+        if (bc.kind(3 * e + c) == BcKind::Traction) {
+          du += a * std::pow(computed.displacement(row, c) - exact.displacement(row, c), 2);
+          nu += a * std::pow(exact.displacement(row, c), 2);
+        } else {
+          dt += a * std::pow(computed.traction(row, c) - exact.traction(row, c), 2);
+          nt += a * std::pow(exact.traction(row, c), 2);
+        }
+      }
+  }
+  return {nu > 0.0 ? std::sqrt(du / nu) : 0.0, nt > 0.0 ? std::sqrt(dt / nt) : 0.0};
+}
+
+/// The linear-element counterpart of solve_exact_trace_problem: exact values at the nodes (kinds
+/// per element as there), errors at the nodes over the elements where include(e) is true; the
+/// per-node solution is returned through `nodes` when given.
+inline RelativeErrors solve_linear_exact_trace_problem(
+    const TriangleMesh& mesh, const Material& m, const ElasticField& field, const std::function<bool(Index)>& displacement_prescribed,
+    const Eigen::Vector3d& gravity = Eigen::Vector3d::Zero(), BoundarySolution* nodes = nullptr,
+    const std::function<bool(Index)>& include = [](Index) { return true; }) {
+  const BoundarySolution exact = exact_node_traces(mesh, field);
+  ElastostaticProblem p{mesh, m, gravity, exact_trace_conditions(mesh, field, displacement_prescribed), QuadratureOptions()};
+  p.elements = ElementType::Linear;
+  p.node_values.resize(3 * mesh.num_elements(), 3);
+  for (Index e = 0; e < mesh.num_elements(); ++e)
+    for (Index row = 3 * e; row < 3 * e + 3; ++row)
+      for (int c = 0; c < 3; ++c)
+        p.node_values(row, c) =
+            p.boundary_conditions.kind(3 * e + c) == BcKind::Displacement ? exact.displacement(row, c) : exact.traction(row, c);
+  const ElastostaticSolution s = solve_elastostatic(p);
+  if (nodes) *nodes = s.nodes;
+  return node_relative_l2_errors(mesh, p.boundary_conditions, s.nodes, exact, include);
 }
 
 /// Relative L2 errors over a set of interior points of the displacement u and of the six stress

@@ -19,12 +19,12 @@ TITLE = "Accuracy against cost"
 ORDER = 10
 
 PROGRAMS = ("bench_work_precision", "bench_contact_accuracy")
-PARAMS = ["program", "problem", "study", "level", "quadrature", "solver", "tolerance", "mesh"]
+PARAMS = ["program", "problem", "study", "level", "quadrature", "solver", "tolerance", "mesh", "element_type"]
 METRICS = ["elements", "equations", "mean_h", "error_u", "error_t", "assembly_s", "factor_s", "solve_s", "total_s",
            "iterations", "status", "peak_rss_bytes", "wall_s", "peak_hwm_bytes"]
 COLUMNS = PARAMS + METRICS
 ERRORS = (("error_u", "displacement u"), ("error_t", "traction t"))
-BASELINE = {"quadrature": "baseline", "solver": "lu", "mesh": "uniform"}
+BASELINE = {"quadrature": "baseline", "solver": "lu", "mesh": "uniform", "element_type": "constant"}
 # wait4's (and getrusage's) ru_maxrss holds the driver's own resident size at fork as a floor (Linux
 # keeps it across exec: about 60 MiB of Python and matplotlib here), so the charts use the program's
 # VmHWM (peak_hwm_bytes: its image's own peak) where it reports one, and wait4's figure otherwise.
@@ -100,6 +100,8 @@ def _label(r):
         return f"{r.get('solver')} tol {r.get('tolerance'):g}" if r.get("tolerance") else str(r.get("solver"))
     if study == "mesh":
         return f"mesh {r.get('mesh')}"
+    if study == "elements":
+        return f"{r.get('element_type')} elements"
     changed = [f"{k} {r.get(k)}" for k, v in BASELINE.items() if r.get(k) not in (None, v)]
     return f"{study}: " + (", ".join(changed) or "baseline")
 
@@ -246,6 +248,9 @@ def _section(ctx, problem, rows):
 def render(ctx):
     d = ctx.part_dir(NAME)
     rows = rl.read_csv(d / "work_precision.csv")
+    for r in rows:  # programs and runs before issue 27 have constant elements only
+        if not r.get("element_type"):
+            r["element_type"] = "constant"
     programs = rl.read_csv(d / "programs.csv") if (d / "programs.csv").exists() else []
     lines = ["Relative L2 errors of the solved boundary values (u where traction is prescribed, t where u is) "
              "against closed forms, versus total time (assembly + factorisation or preconditioner + solve) and the "

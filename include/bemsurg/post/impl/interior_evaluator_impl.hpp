@@ -5,6 +5,7 @@
 
 #include <sstream>
 
+#include "bemsurg/assembly/element_types.hpp"
 #include "bemsurg/kernels/kelvin_kernel.hpp"
 #include "bemsurg/kernels/kernel_gradients.hpp"
 #include "bemsurg/number_text.hpp"
@@ -74,6 +75,12 @@ BEMSURG_INLINE StressRows InteriorEvaluator::stress(const RowMatrixX3d& points, 
 template <class Accumulator, class Integrand, class Finish>
 void InteriorEvaluator::traverse(const RowMatrixX3d& points, const BoundarySolution& s, const Integrand& integrand,
                                  const Finish& finish) const {
+  const Index E = mesh_.num_elements();
+  const bool linear = s.displacement.rows() == 3 * E && E > 0;  // per-node values of linear elements (3E rows)
+  if (!linear && (s.displacement.rows() != E || s.traction.rows() != E))
+    throw InvalidArgumentError("InteriorEvaluator: the boundary solution has " + std::to_string(s.displacement.rows()) +
+                               " rows; expected one per element (" + std::to_string(E) + ") or one per linear node (" +
+                               std::to_string(3 * E) + ")");
 #pragma omp parallel for schedule(dynamic, 1)
   for (Index k = 0; k < points.rows(); ++k) {
     const Eigen::Vector3d p = points.row(k).transpose();
@@ -81,9 +88,18 @@ void InteriorEvaluator::traverse(const RowMatrixX3d& points, const BoundarySolut
     for (Index e = 0; e < mesh_.num_elements(); ++e) {
       const auto c = mesh_.corners(e);
       const Eigen::Vector3d n = mesh_.normal(e);
-      const Eigen::Vector3d te = s.traction.row(e).transpose(), ue = s.displacement.row(e).transpose();
-      quadrature_.integrate(p, c[0], c[1], c[2],
-                            [&](const Eigen::Vector3d& x, double w) { integrand(sum, Eigen::Vector3d(x - p), n, w, te, ue); });
+      if (!linear) {
+        const Eigen::Vector3d te = s.traction.row(e).transpose(), ue = s.displacement.row(e).transpose();
+        quadrature_.integrate(p, c[0], c[1], c[2],
+                              [&](const Eigen::Vector3d& x, double w) { integrand(sum, Eigen::Vector3d(x - p), n, w, te, ue); });
+        continue;
+      }
+      // Linear elements: the field N_k(x) u_(e,k) at each quadrature point (docs/elements.md).
+      const Eigen::Matrix3d tn = s.traction.middleRows<3>(3 * e), un = s.displacement.middleRows<3>(3 * e);
+      quadrature_.integrate(p, c[0], c[1], c[2], [&](const Eigen::Vector3d& x, double w) {
+        const Eigen::Vector3d N = linear_shape_values(c, n, x);
+        integrand(sum, Eigen::Vector3d(x - p), n, w, Eigen::Vector3d(tn.transpose() * N), Eigen::Vector3d(un.transpose() * N));
+      });
     }
     finish(k, sum);
   }
