@@ -123,6 +123,15 @@ TEST_CASE("bemsurg session cuts through the cutting module and writes each cut s
     CHECK(faces > previous);
     previous = faces;
   }
+  // With a table cache that exists: a table read from a file keeps no factorisation for the cut
+  // updates, so a cutting session computes it (and says so) instead of failing at the first cut.
+  const std::string table = temp.file("table.bin");
+  REQUIRE(run("press " + scene + " --at 0.05,0.05,0.08 --direction 0,0,-1 --depth 0.001 --tool point -q --table " + table + " -o " +
+                  temp.file("p"),
+              &err, temp.path / "e2.txt") == 0);
+  REQUIRE(run("session " + scene + " --script " + cut + " --virtual-clock --table " + table + " -o " + temp.file("o2"), &err,
+              temp.path / "e3.txt") == 0);
+  CHECK(err.find("the script cuts, so the table is computed") != std::string::npos);
 }
 
 TEST_CASE("bemsurg session computes its table on the scene's operating region and refuses another region's table file", "[haptics][cli]") {
