@@ -14,6 +14,7 @@
 /// - mesh_delta.hpp
 /// - mesh_generators.hpp
 /// - mesh_io.hpp
+/// - mesh_preparation.hpp
 /// - mesh_quality.hpp
 /// - mesh_thickness.hpp
 /// - mesh_topology.hpp
@@ -33,6 +34,7 @@
 #include "bemsurg/mesh/mesh_delta.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/mesh/mesh_io.hpp"
+#include "bemsurg/mesh/mesh_preparation.hpp"
 #include "bemsurg/mesh/mesh_quality.hpp"
 #include "bemsurg/mesh/mesh_thickness.hpp"
 #include "bemsurg/mesh/mesh_topology.hpp"

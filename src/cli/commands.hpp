@@ -45,3 +45,6 @@ int run_press(int argc, char** argv);
 int run_session(int argc, char** argv);
 /// bemsurg cut SCENE.json --from X,Y,Z --direction DX,DY,DZ --steps K ... (src/cli/cut_command.cpp)
 int run_cut(int argc, char** argv);
+
+/// bemsurg prepare IN -o OUT.obj ... (src/cli/prepare_command.cpp)
+int run_prepare(int argc, char** argv);
