@@ -17,7 +17,10 @@
 #include <string>
 #include <vector>
 
+#include "bemsurg/elastostatic_solver.hpp"
+#include "bemsurg/memory_budget.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
+#include "bemsurg/mesh/mesh_io.hpp"
 #include "support/temp_dir.hpp"
 
 using namespace bemsurg;
@@ -294,6 +297,41 @@ TEST_CASE("solve: a bad scene exits with 1 and names the key, line or element", 
   r = run_cli("solve '" + dir.file("missing.json") + "' -o '" + dir.file("out") + "'", dir);
   CHECK(r.exit_code == 1);
   CHECK_THAT(r.err, Catch::Contains("missing.json"));
+}
+
+TEST_CASE("a mesh file too large for the dense solve is refused at load with the estimate and the command that prepares it",
+          "[cli][errors]") {
+  // A raw 'segmentation' in millimetres: an icosphere of 81,920 triangles (radius 50 mm). Its dense
+  // solve (245,760 unknowns) needs about 900 GiB: more than any test machine's 80 %.
+  TempDir dir;
+  const TriangleMesh organ = icosphere_mesh(Vec3::Zero(), 50.0, 6);
+  REQUIRE(organ.num_elements() == 81920);
+  const double need = estimate_elastostatic_bytes(organ.num_elements());
+  if (need <= default_memory_limit_bytes()) {
+    WARN("this machine has more than 1.1 TB of memory; the refusal is not exercised");
+    return;
+  }
+  write_obj(dir.file("organ.obj"), organ);
+  const std::string scene = dir.write("organ.json", R"({"mesh": {"file": "organ.obj", "scale": 0.001},
+    "material": {"young_modulus": 3000, "poisson_ratio": 0.45},
+    "boundary_conditions": {"rules": [{"select": {"plane": {"point": [0, 0, -0.04], "normal": [0, 0, 1]}}, "displacement": [0, 0, 0]}]}})");
+  const std::string path = fs::path(dir.file("organ.obj")).lexically_normal().string();
+  const auto refused = [&](const Run& r) {
+    CHECK(r.exit_code == 1);
+    CHECK_THAT(r.err, Catch::StartsWith("bemsurg: error: ") && Catch::Contains("mesh.file: the mesh '" + path + "' has 81920 elements") &&
+                          Catch::Contains("(245760 unknowns); the dense solve needs about " + format_gib(need)) &&
+                          Catch::Contains("to make it solvable, remesh it: bemsurg prepare '" + path +
+                                          "' -o prepared.obj --scale 0.001 --target-elements 3000, then set mesh.file to prepared.obj "
+                                          "and remove mesh.scale") &&
+                          Catch::Contains("docs/organs.md") && Catch::Contains(R"(or add "prepare": {} to the scene's mesh section)"));
+  };
+  const auto t0 = std::chrono::steady_clock::now();
+  refused(run_cli("solve '" + scene + "' -o '" + dir.file("solve") + "'", dir));
+  CHECK_FALSE(fs::exists(dir.file("solve/elements.csv")));
+  refused(run_cli("press '" + scene + "' --tool point --at 0,0,0.05 --direction 0,0,-1 --depth 0.001 -o '" + dir.file("press") + "'", dir));
+  CHECK_FALSE(fs::exists(dir.file("press/force.json")));
+  // Refused before any matrix: reading and validating 81,920 triangles, not a dense assembly.
+  CHECK(std::chrono::steady_clock::now() - t0 < std::chrono::seconds(20));
 }
 
 TEST_CASE("press: --direction is any finite nonzero vector, however large or small", "[cli]") {

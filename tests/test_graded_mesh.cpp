@@ -19,10 +19,13 @@
 #include "bemsurg/mesh/graded_remesher.hpp"
 #include "bemsurg/mesh/liver_model.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
+#include "bemsurg/mesh/mesh_io.hpp"
+#include "bemsurg/mesh/mesh_thickness.hpp"
 #include "bemsurg/mesh/mesh_topology.hpp"
 #include "bemsurg/mesh/mesh_validation.hpp"
 #include "bemsurg/mesh/self_intersection.hpp"
 #include "support/skip.hpp"
+#include "support/temp_dir.hpp"
 
 using namespace bemsurg;
 namespace fs = std::filesystem;
@@ -315,4 +318,48 @@ TEST_CASE("The brain scene is graded around its operating region and held on its
       CHECK(std::abs(s.problem.mesh.centroid(e).z()) < 64.0 * kEps * 0.1);  // on z = 0: measured 0
     }
   CHECK(held > 20);  // measured 70
+}
+
+TEST_CASE("The thin-part warning judges the graded mesh solved, not the file read, and names its elements", "[graded][scene]") {
+  testing::skip_unless(graded_remesher_available(), "this build has no graded remesher (BEMSURG_WITH_REMESHER=OFF)");
+  // A plate 10 x 10 x 1 cm read from a file in 2 x 2 x 1 divisions: elements of size 5 cm over a
+  // 1 cm thickness, thin as read.
+  bemsurg_test::TempDir dir("bemsurg_test_graded_thin_");
+  const TriangleMesh plate = box_mesh(Vec3(0, 0, 0), Vec3(0.1, 0.1, 0.01), 2, 2, 1);
+  write_obj(dir.file("plate.obj"), plate);
+  const ThinElements as_read = find_thin_elements(plate);
+  REQUIRE(as_read.count == 16u);  // top and bottom
+  CHECK(as_read.size == Approx(0.05).epsilon(1e-12));
+  const auto load = [&](const std::string& region) {
+    return load_scene_from_string(R"({"mesh": {"file": "plate.obj"}, "material": {"young_modulus": 3000, "poisson_ratio": 0.45},
+      "boundary_conditions": {"rules": [{"select": {"plane": {"point": [0, 0, 0], "normal": [0, 0, 1]}}, "displacement": [0, 0, 0]}]},
+      "operating_region": )" + region +
+                                      "}",
+                                  dir.path.string(), "plate.json");
+  };
+  const auto thin_warning = [](const Scene& s) {
+    for (const std::string& w : s.warnings)
+      if (w.find("larger than the body is thick") != std::string::npos) return w;
+    return std::string();
+  };
+  // Remeshed at 6 mm everywhere (elements ~5.6 mm across a 1 cm thickness): nothing to warn about.
+  const Scene fine = load(R"({"sphere": {"center": [0.05, 0.05, 0.01], "radius": 0.02}, "inside_edge_length": 0.006,
+                              "outside_edge_length": 0.006})");
+  REQUIRE(fine.graded);
+  CHECK(find_thin_elements(fine.problem.mesh).count == 0u);
+  CHECK(thin_warning(fine).empty());
+  // Fine (4 mm) around one corner, 4 cm elsewhere: the coarse part of the graded mesh is thin, and
+  // the warning names the worst element of that mesh with its figures, and says which mesh it is.
+  const Scene graded = load(R"({"sphere": {"center": [0.0, 0.0, 0.01], "radius": 0.02}, "inside_edge_length": 0.004,
+                                "outside_edge_length": 0.04})");
+  REQUIRE(graded.graded);
+  const ThinElements solved = find_thin_elements(graded.problem.mesh);
+  REQUIRE(solved.count > 0u);
+  CHECK(solved.element < graded.problem.mesh.num_elements());
+  CHECK(solved.count != as_read.count);  // not the file's elements
+  CHECK(solved.size < 0.9 * as_read.size);
+  CHECK(thin_warning(graded) == "mesh: " + thin_elements_warning(solved) + " (element numbers refer to the solved mesh, " +
+                                    std::to_string(graded.problem.mesh.num_elements()) +
+                                    " elements after the graded remesh, not to the input; bemsurg solve, press, cut and session "
+                                    "write it to OUTDIR/solved_mesh.obj)");
 }

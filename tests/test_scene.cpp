@@ -452,4 +452,36 @@ TEST_CASE("overlapping shells are refused at load, a body thinner than its eleme
   REQUIRE(plate.warnings.size() == 1);
   CHECK_THAT(plate.warnings[0], Catch::Contains("mesh: 16 elements are larger than the body is thick under them") &&
                                     Catch::Contains("size 0.5, thickness 0.001"));
+  CHECK(plate.warnings[0].find("solved mesh") == std::string::npos);  // the elements are the generator's
+}
+
+TEST_CASE("the thin-part warning judges the refined mesh solved and names its elements", "[scene]") {
+  // A plate 1 x 1 x 0.1 in 2 x 2 x 1 divisions: 32 elements of size 0.5 over a 0.1 thickness.
+  const std::string plate = R"("mesh": {"generator": "box", "min": [0,0,0], "max": [1,1,0.1], "divisions": [2,2,1], "refine": )";
+  // Refined 3 levels everywhere (size 0.5 / 8 = 0.0625 < 0.1): no warning.
+  const Scene fixed =
+      load_scene_from_string(scene(plate + R"({"box": {"min": [-1,-1,-1], "max": [2,2,2]}, "levels": 3}})", kMaterial, kFixBottom), ".");
+  REQUIRE(fixed.problem.mesh.num_elements() == 32 * 64);
+  for (const std::string& x : fixed.warnings) CHECK(x.find("thick under them") == std::string::npos);
+  // Only the top face refined: the bottom's elements (up to 0.5 over 0.1) stay thin, and they are
+  // numbered in the refined mesh, which the warning says.
+  const Scene half =
+      load_scene_from_string(scene(plate + R"({"box": {"min": [-1,-1,0.09], "max": [2,2,2]}, "levels": 3}})", kMaterial, kFixBottom), ".");
+  const Index E = half.problem.mesh.num_elements();
+  REQUIRE(E > 32 + 8 * 63);  // the 8 top elements became 64 each
+  std::string w;
+  for (const std::string& x : half.warnings)
+    if (x.find("thick under them") != std::string::npos) w = x;
+  CHECK_THAT(w, Catch::StartsWith("mesh: ") && Catch::Contains("elements are larger than the body is thick under them (element ") &&
+                    Catch::Contains(", thickness 0.1 ") &&
+                    Catch::EndsWith("(element numbers refer to the solved mesh, " + std::to_string(E) +
+                                    " elements after the red-green refinement, not to the input; bemsurg solve, press, cut and session "
+                                    "write it to OUTDIR/solved_mesh.obj)"));
+  // The element named is a bottom element of the refined mesh, larger than the plate is thick.
+  const std::size_t at = w.find("(element ") + 9;
+  REQUIRE(at > 9);
+  const Index named = std::stoll(w.substr(at));
+  REQUIRE(named < E);
+  CHECK(half.problem.mesh.normal(named).z() == Approx(-1.0).epsilon(1e-12));
+  CHECK(std::sqrt(2.0 * half.problem.mesh.area(named)) > 0.1);
 }

@@ -171,16 +171,18 @@ void display_panel(App& app) {
 
 // E, nu, gravity (E rescales without recomputing where it can), the force to the device.
 void parameters_panel(App& app, const WorkerStatus& st) {
-  ImGui::SliderFloat("E (kPa)", &app.young_kpa, 0.3f, 100.0f, "%.2f", ImGuiSliderFlags_Logarithmic);
-  if (ImGui::IsItemDeactivatedAfterEdit()) app.worker.set_young_modulus(1000.0 * app.young_kpa);
+  ParameterControls& c = app.params;  // the loaded scene's values, then the user's (gui() follows loads)
+  ImGui::SliderFloat("E (kPa)", &c.young_kpa, c.young_min(), c.young_max(), "%.2f", ImGuiSliderFlags_Logarithmic);
+  if (ImGui::IsItemDeactivatedAfterEdit()) app.worker.set_young_modulus(1000.0 * c.young_kpa);
   ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
   ImGui::TextWrapped(st.rescale_exact ? "E rescales forces and the sag at once, without recomputing (linear elasticity)"
                                       : "E recomputes: this scene prescribes nonzero displacements");
   ImGui::PopStyleColor();
-  ImGui::SliderFloat("nu", &app.poisson, 0.0f, 0.49f, "%.3f");
-  if (ImGui::IsItemDeactivatedAfterEdit()) app.worker.set_poisson_ratio(app.poisson);
+  ImGui::SliderFloat("nu", &c.poisson, c.poisson_min(), c.poisson_max(), "%.3f");
+  if (ImGui::IsItemDeactivatedAfterEdit()) app.worker.set_poisson_ratio(c.poisson);
   ImGui::TextDisabled("nu recomputes the table in the background");
-  if (ImGui::Checkbox("gravity", &app.gravity)) app.worker.set_gravity(app.gravity);
+  if (ImGui::Checkbox("gravity", &c.gravity)) app.worker.set_gravity(c.gravity);
+  if (!c.scene_gravity) ImGui::TextDisabled("the scene has no gravity: the switch changes nothing");
   ImGui::Checkbox("haptic force to device", &app.settings.haptic_force);
   float limit = float(app.settings.force_limit);
   ImGui::SliderFloat("force limit (N)", &limit, 0.1f, 10.0f, "%.2f");
@@ -208,6 +210,7 @@ void record_panel(App& app) {
 }  // namespace
 
 void gui(App& app, int width, int height) {
+  app.params.follow(app.worker);  // a scene loaded since the last frame: the controls start from it
   const WorkerStatus st = app.worker.status();
   const auto ph = app.field.physics;
   ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);

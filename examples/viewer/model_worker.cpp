@@ -233,6 +233,10 @@ bool ModelWorker::gravity_on() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return gravity_on_;
 }
+ModelParameters ModelWorker::parameters() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return ModelParameters{young_, poisson_, gravity_on_, scene_gravity_, loads_};
+}
 
 std::shared_ptr<const PhysicsState> ModelWorker::state() const { return std::atomic_load(&state_); }
 
@@ -359,9 +363,13 @@ void ModelWorker::do_load(const std::string& path) {
   l->homogeneous = p.boundary_conditions.values().cwiseAbs().maxCoeff() == 0.0;
   {
     std::lock_guard<std::mutex> lock(mutex_);
+    // The panel's controls start from these (ParameterControls::follow): the scene's material,
+    // and gravity on exactly when the scene has some (off or on, a zero gravity computes the same).
     young_ = p.material.young_modulus;
     poisson_ = p.material.poisson_ratio;
-    gravity_on_ = true;
+    scene_gravity_ = !p.gravity.isZero(0.0);
+    gravity_on_ = scene_gravity_;
+    ++loads_;
     status_.rescale_exact = l->homogeneous;
   }
   loaded_ = l;

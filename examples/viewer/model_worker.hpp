@@ -12,6 +12,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
@@ -43,6 +44,15 @@ struct PhysicsState {
   Eigen::VectorXd provisional_displacement;
   int cuts = 0;                 // accepted cut steps in this model
   Index original_elements = 0;  // elements of the model as loaded; later ids are cut walls
+};
+
+/// The model's parameters as the worker holds them, read together (ModelWorker::parameters).
+struct ModelParameters {
+  double young_modulus = 0.0;  // Pa, as last asked (the scene's at load)
+  double poisson_ratio = 0.0;  // as last asked (the scene's at load)
+  bool gravity_on = true;      // as last asked (at load: whether the scene has gravity)
+  bool scene_gravity = false;  // the loaded scene's gravity is nonzero (else the switch does nothing)
+  std::uint64_t loads = 0;     // scenes loaded so far: a new count is a new model
 };
 
 enum class WorkerPhase { Idle, Loading, Precomputing, Rescaling, Ready, Failed };
@@ -96,6 +106,8 @@ class ModelWorker {
   double young_modulus() const;
   double poisson_ratio() const;
   bool gravity_on() const;
+  /// The three above, the scene's gravity and the count of completed loads, under one lock.
+  ModelParameters parameters() const;
 
   /// The default model when no scene is given: a brain-like scene when examples/scenes/brain.json
   /// exists beside the sources, otherwise a soft cuboid held on its bottom face (the paper's simple
@@ -142,7 +154,8 @@ class ModelWorker {
   std::shared_ptr<const GreensTable> reference_;
   double reference_young_ = 0.0;
   double young_ = 0.0, poisson_ = 0.0;
-  bool gravity_on_ = true;
+  bool gravity_on_ = true, scene_gravity_ = false;
+  std::uint64_t loads_ = 0;
   int cuts_ = 0;
   // Cost model (seconds per E^2, per n^3, per n^2 m), refined by every precomputation done here.
   double c_assembly_ = 2.0e-7, c_factor_ = 1.0e-10, c_table_ = 1.0e-10;
@@ -152,5 +165,32 @@ class ModelWorker {
 };
 
 const char* phase_name(WorkerPhase p);
+
+/// The parameters panel's controls (docs/viewer.md): E in kPa, nu and gravity on/off. They start
+/// from the loaded scene's material and gravity, again after every load; between loads they hold
+/// what the user set (and sent to the worker).
+struct ParameterControls {
+  float young_kpa = 0.0f, poisson = 0.0f;
+  bool gravity = true;
+  bool scene_gravity = false;
+  std::uint64_t loads_seen = 0;
+
+  /// Takes the worker's parameters when a scene was loaded since the last call: true then.
+  bool follow(const ModelWorker& worker) {
+    const ModelParameters p = worker.parameters();
+    if (p.loads == loads_seen) return false;
+    loads_seen = p.loads;
+    young_kpa = static_cast<float>(1e-3 * p.young_modulus);
+    poisson = static_cast<float>(p.poisson_ratio);
+    gravity = p.gravity_on;
+    scene_gravity = p.scene_gravity;
+    return true;
+  }
+  /// Slider ranges that hold the scene's value: 0.3 to 100 kPa, 0 to 0.49, widened to include it.
+  float young_min() const { return std::min(0.3f, young_kpa); }
+  float young_max() const { return std::max(100.0f, young_kpa); }
+  float poisson_min() const { return std::min(0.0f, poisson); }
+  float poisson_max() const { return std::max(0.49f, poisson); }
+};
 
 }  // namespace bemsurg::viewer

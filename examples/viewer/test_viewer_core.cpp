@@ -1,5 +1,6 @@
 // Tests of the viewer's parts that need no display: the action-script reader and player, the
-// background worker's exact rescaling for Young's modulus and gravity (docs/viewer.md), and the
+// background worker's exact rescaling for Young's modulus and gravity (docs/viewer.md), the
+// parameters panel's start from the loaded scene, and the
 // haptic tick driving the contact solver through a device.
 #include <catch2/catch.hpp>
 
@@ -111,6 +112,56 @@ TEST_CASE("the viewer's table holds the scene's operating region only, as press 
   REQUIRE(scene.operating_elements.size() == 32u);  // the 4 x 4 top, two triangles per quad
   CHECK(worker.state()->table->region() == scene.operating_elements);
   std::remove(path.c_str());
+}
+
+TEST_CASE("the parameters panel starts from the loaded scene's material and gravity, then follows the user", "[viewer]") {
+  // A 2 x 2 x 1 block (32 elements): three precomputations in milliseconds.
+  const auto scene_text = [](const char* material, const char* gravity) {
+    return std::string(R"({"mesh": {"generator": "box", "min": [0, 0, 0], "max": [0.04, 0.04, 0.02], "divisions": [2, 2, 1]},
+      "material": )") +
+           material + R"(, "gravity": )" + gravity + R"(,
+      "boundary_conditions": {"rules": [{"select": {"plane": {"point": [0, 0, 0], "normal": [0, 0, 1]}}, "displacement": [0, 0, 0]}]}})";
+  };
+  const std::string soft =
+      write_temp("soft.json", scene_text(R"({"young_modulus": 5000.0, "poisson_ratio": 0.40, "density": 1000.0})", "[0, 0, -9.81]"));
+  const std::string stiff =
+      write_temp("stiff.json", scene_text(R"({"young_modulus": 250000.0, "poisson_ratio": 0.495, "density": 1000.0})", "[0, 0, 0]"));
+  ModelWorker worker;
+  ParameterControls controls;  // what the App holds; gui() calls follow every frame
+  worker.load(soft);
+  worker.wait_idle();
+  REQUIRE(worker.status().error.empty());
+  CHECK(controls.follow(worker));
+  CHECK(controls.young_kpa == 5.0f);  // not the old defaults 3.00 and 0.45
+  CHECK(controls.poisson == 0.40f);
+  CHECK(controls.gravity);
+  CHECK_FALSE(controls.follow(worker));  // nothing new loaded: the controls are left alone
+
+  // The user moves the sliders: the values hold (no load since) and reach the model.
+  controls.young_kpa = 8.0f;
+  worker.set_young_modulus(1000.0 * controls.young_kpa);
+  controls.poisson = 0.30f;
+  worker.set_poisson_ratio(controls.poisson);
+  worker.wait_idle();
+  CHECK_FALSE(controls.follow(worker));
+  CHECK(controls.young_kpa == 8.0f);
+  REQUIRE(worker.state()->table);
+  CHECK(worker.state()->material.young_modulus == 8000.0);
+  CHECK(worker.state()->material.poisson_ratio == double(0.30f));
+
+  // Re-loading starts again from the new scene, whose values lie outside the sliders' default ranges.
+  worker.load(stiff);
+  worker.wait_idle();
+  REQUIRE(worker.status().error.empty());
+  CHECK(controls.follow(worker));
+  CHECK(controls.young_kpa == 250.0f);
+  CHECK(controls.poisson == 0.495f);
+  CHECK_FALSE(controls.gravity);
+  CHECK_FALSE(controls.scene_gravity);
+  CHECK(controls.young_max() == 250.0f);
+  CHECK(controls.poisson_max() == 0.495f);
+  std::remove(soft.c_str());
+  std::remove(stiff.c_str());
 }
 
 TEST_CASE("rescaling the table for E and gravity equals a recomputation with those values", "[viewer]") {

@@ -88,9 +88,8 @@ struct App {
   int colour_by = 1;  // 0 none, 1 |u|, 2 |t|
   ToolKind tool = ToolKind::Sphere;
   float tool_radius_mm = 0.0f;  // 0 = default
-  float young_kpa = 3.0f, poisson = 0.45f;
-  bool gravity = true;
-  float gap_mm = -1.0f;  // cut gap width; negative: 0.2 x the mean element size of the model
+  ParameterControls params;     // E, nu, gravity: from the loaded scene (model_worker.hpp)
+  float gap_mm = -1.0f;         // cut gap width; negative: 0.2 x the mean element size of the model
   StepperOptions settings;
   std::string scene_input;
   std::string record_path = "session.json";

@@ -44,7 +44,8 @@ constexpr const char* kCutUsage =
     "traction are never cut.\n"
     "\n"
     "writes OUTDIR/mesh.obj (the cut surface), OUTDIR/elements.csv (as bemsurg solve, one row per\n"
-    "face of mesh.obj) and OUTDIR/report.json (\"elements\", \"equations\", \"steps\"). A refused step\n"
+    "face of mesh.obj), OUTDIR/report.json (\"elements\", \"equations\", \"steps\") and\n"
+    "OUTDIR/solved_mesh.obj (the scene's mesh before the cut: the elements warnings name). A refused step\n"
     "is reported with its reason; the command then exits 1 after writing what the completed steps\n"
     "produced.\n";
 
@@ -176,6 +177,7 @@ int run_cut(int argc, char** argv) {
     throw IoError("cannot create the output directory '" + o.output +
                   "': " + (ec ? ec.message() : std::string("a file of that name exists")));
   const fs::path out(o.output);
+  write_obj((out / "solved_mesh.obj").string(), scene.problem.mesh);  // before any cut: what the warnings name
 
   const ElastostaticProblem& p = scene.problem;
   auto mesh = std::make_shared<const TriangleMesh>(p.mesh);

@@ -2,7 +2,7 @@
 // --depth D [--frictionless] -o OUTDIR`: one tool pressed into a scene through the pre-solution
 // table and exact capacitance contact (docs/design.md §6; Wang et al. 2007 §5.1-5.2). The tool comes
 // down along the direction onto the self-weight surface near X,Y,Z and pushes D beyond first
-// contact. Writes OUTDIR/elements.csv (as `bemsurg solve`) and OUTDIR/force.json.
+// contact. Writes OUTDIR/elements.csv (as `bemsurg solve`), OUTDIR/solved_mesh.obj and OUTDIR/force.json.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -19,6 +19,7 @@
 
 #include "bemsurg/io/results_io.hpp"
 #include "bemsurg/io/scene.hpp"
+#include "bemsurg/mesh/mesh_io.hpp"
 #include "bemsurg/presolution/contact_tools.hpp"
 #include "bemsurg/presolution/contact_validity.hpp"
 #include "bemsurg/presolution/greens_table.hpp"
@@ -45,7 +46,8 @@ constexpr const char* kPressUsage =
     "DEPTH must stay in the small-strain range (docs/design.md §6): refused beyond 20 % of the body's\n"
     "extent along DIRECTION or 0.5 x RADIUS (flat, sphere); a warning above 5 % or 0.1 x RADIUS.\n"
     "\n"
-    "writes OUTDIR/elements.csv (as bemsurg solve) and OUTDIR/force.json:\n"
+    "writes OUTDIR/elements.csv (as bemsurg solve), OUTDIR/solved_mesh.obj (the mesh pressed: the\n"
+    "elements warnings name) and OUTDIR/force.json:\n"
     "  {\"force\": [fx, fy, fz], \"contact_elements\": k, \"force_update_us\": time of one force evaluation, ...}\n";
 
 struct PressOptions {
@@ -130,6 +132,9 @@ int run_press(int argc, char** argv) {
   if (!o.quiet)
     for (const auto& w : scene.warnings) std::cerr << "bemsurg: warning: " << w << "\n";
   const bemsurg::ElastostaticProblem& p = scene.problem;
+  // The mesh pressed, before the table: the element numbers of every warning refer to it.
+  std::filesystem::create_directories(o.output);
+  bemsurg::write_obj((std::filesystem::path(o.output) / "solved_mesh.obj").string(), p.mesh);
   // The depth must lie in the model's small-strain range (docs/design.md §6): refused before the
   // table is computed, with a warning between the warning and the refusal thresholds.
   const bemsurg::ContactDepthCheck range = bemsurg::check_contact_depth(p.mesh, o.direction, o.depth, o.tool_radius);

@@ -2,7 +2,7 @@
 // (docs/actions.md, docs/haptics.md): the script drives scripted haptic devices, the haptic loop
 // renders the tools' forces from the pre-solution table at the script's rate, and the command
 // writes OUTDIR/force_trace.csv (one row per tool per tick), OUTDIR/report.json (the loop's
-// statistics) and OUTDIR/mesh_after_cut_N.obj after each cut.
+// statistics), OUTDIR/solved_mesh.obj (the scene's mesh) and OUTDIR/mesh_after_cut_N.obj after each cut.
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -36,7 +36,8 @@ constexpr const char* kSessionUsage =
     "       OUTDIR/report.json       rate_hz, overruns, jitter_us {p50,p99,p999}, force_us {p50,p99,p999},\n"
     "                                 max_force_jump_fraction, min_delivered_force_ratio,\n"
     "                                 max_tick_change_fraction, ... (docs/haptics.md)\n"
-    "       OUTDIR/mesh_after_cut_N.obj   the surface after each cut\n";
+    "       OUTDIR/mesh_after_cut_N.obj   the surface after each cut\n"
+    "       OUTDIR/solved_mesh.obj   the scene's mesh before any cut (the elements warnings name)\n";
 
 class TraceWriter : public bemsurg::haptics::SessionObserver {
  public:
@@ -165,6 +166,9 @@ int run_session(int argc, char** argv) {
   options.cut_hook = bemsurg::haptics::surface_cut_hook();
 
   const bemsurg::ElastostaticProblem& p = scene.problem;
+  // The mesh of the session before any cut: the element numbers of every warning refer to it.
+  std::filesystem::create_directories(output);
+  bemsurg::write_obj((std::filesystem::path(output) / "solved_mesh.obj").string(), p.mesh);
   // The table: loaded when a matching file is given, else computed on the operating region
   // (and saved when asked): src/cli/scene_table.hpp.
   bemsurg::cli::SceneTable cached = bemsurg::cli::scene_table(scene, table_file, quiet, script.has_cuts());

@@ -1,6 +1,6 @@
 // `bemsurg solve SCENE.json -o OUTDIR`: load a scene, solve the elastostatic boundary value
 // problem (Wang et al. 2007 eq. 6; docs/design.md §5), evaluate interior points (eqs. 7-9) and write
-// elements.csv, interior.csv, surface.vtk and report.json (docs/cli.md, docs/scene-format.md).
+// elements.csv, interior.csv, surface.vtk, solved_mesh.obj and report.json (docs/cli.md, docs/scene-format.md).
 #include <chrono>
 #include <filesystem>
 #include <iomanip>
@@ -10,6 +10,7 @@
 #include "bemsurg/elastostatic_solver.hpp"
 #include "bemsurg/io/results_io.hpp"
 #include "bemsurg/io/scene.hpp"
+#include "bemsurg/mesh/mesh_io.hpp"
 #include "bemsurg/post/interior_evaluator.hpp"
 #include "bemsurg/timing.hpp"
 #include "commands.hpp"
@@ -24,6 +25,7 @@ constexpr const char* kSolveUsage =
     "  interior.csv   x,y,z,ux,uy,uz,sxx,syy,szz,sxy,syz,sxz (when the scene has interior_points)\n"
     "  corners.csv    element,corner,x,y,z,ux,uy,uz,tx,ty,tz (linear elements: the field at each corner)\n"
     "  surface.vtk    the surface with displacement and traction fields\n"
+    "  solved_mesh.obj  the mesh solved (after refine and remesh): the elements warnings name\n"
     "  report.json    sizes, time per phase, peak memory, solver method, iterations and residual\n"
     "\n"
     "The scene format is described in docs/scene-format.md.\n";
@@ -60,6 +62,8 @@ int run_solve(int argc, char** argv) {
   if (ec || !fs::is_directory(options.output))
     throw IoError("cannot create the output directory '" + options.output +
                   "': " + (ec ? ec.message() : std::string("a file of that name exists")));
+  // The mesh solved, before the solve: the element numbers of every warning refer to it.
+  write_obj((fs::path(options.output) / "solved_mesh.obj").string(), scene.problem.mesh);
 
   if (!options.quiet)
     std::cout << "bemsurg solve: " << scene.problem.mesh.num_elements() << " " << to_string(scene.problem.elements) << " elements, "

@@ -16,6 +16,7 @@
 
 #include "bemsurg/error.hpp"
 #include "bemsurg/memory_budget.hpp"
+#include "bemsurg/mesh/mesh_thickness.hpp"
 #include "json_reader.hpp"
 #include "scene_sections.hpp"
 
@@ -70,16 +71,57 @@ void warn_unsafe_grading(Scene& scene) {
   if (!w.empty()) scene.warnings.push_back("mesh: " + w);
 }
 
-/// Linear elements have 9 unknowns per element, not 3: the mesh (as generated, read or remeshed; the
-/// generators' own refusal counts 3) is refused here when the dense solve would not fit (docs/design.md §10).
-void require_linear_size(const Scene& scene) {
-  if (scene.problem.elements != ElementType::Linear) return;
+/// Whether the mesh solved is not the one read or generated (a graded remesh, a red-green
+/// refinement): its element numbers are then its own, and messages must say so.
+bool mesh_rebuilt(const Scene& scene) { return scene.graded || scene.mesh_source.find("red-green") != std::string::npos; }
+
+/// The command that makes a mesh file too large for the dense solve solvable (docs/organs.md):
+/// `bemsurg prepare` remeshes it to a few thousand elements, in metres.
+std::string prepare_hint(const io::JsonReader& mesh, const std::string& path) {
+  const std::optional<io::JsonReader> scale = mesh.optional("scale");
+  const double s = scale ? scale->positive() : 1.0;
+  return "; to make it solvable, remesh it: bemsurg prepare '" + path + "' -o prepared.obj" +
+         (s != 1.0 ? " --scale " + io::json_number_text(s) : std::string()) +
+         " --target-elements 3000, then set mesh.file to prepared.obj" +
+         (s != 1.0 ? " and remove mesh.scale (prepared.obj is in metres)" : std::string()) +
+         " (docs/organs.md), or add \"prepare\": {} to the scene's mesh section";
+}
+
+/// The dense solve of the final mesh (as read, generated, refined or remeshed) must fit in memory
+/// (docs/design.md §10): refused here, before any command allocates a matrix. A mesh file as read
+/// is told the command that remeshes it; a generated or graded one with constant elements is left
+/// to the generators' own checks and solve_elastostatic's, and linear elements (9 unknowns per
+/// element, not 3) are refused whatever the mesh's origin.
+void require_solvable_size(const Scene& scene, const io::JsonReader& mesh, const std::string& directory) {
   const Index E = scene.problem.mesh.num_elements();
-  const double need = estimate_elastostatic_bytes(E, ElementType::Linear), limit = default_memory_limit_bytes();
+  const bool linear = scene.problem.elements == ElementType::Linear;
+  const double need = estimate_elastostatic_bytes(E, scene.problem.elements), limit = default_memory_limit_bytes();
   if (need <= limit) return;
-  throw ResourceError("elements: the mesh has " + std::to_string(E) + " linear elements (" + std::to_string(9 * E) +
-                      " unknowns); the dense solve needs about " + format_gib(need) + ", more than the limit of " + format_gib(limit) +
-                      " (80 % of physical memory); coarsen the mesh or use constant elements");
+  const std::string fits =
+      "the dense solve needs about " + format_gib(need) + ", more than the limit of " + format_gib(limit) + " (80 % of physical memory)";
+  if (mesh.has("file") && !scene.graded) {
+    const std::string path = io::resolve_existing(directory, mesh.required("file"));
+    throw ResourceError("mesh.file: the mesh '" + path + "' has " + std::to_string(E) + (linear ? " linear" : "") + " elements (" +
+                        std::to_string(3 * nodes_per_element(scene.problem.elements) * E) + " unknowns); " + fits +
+                        prepare_hint(mesh, path));
+  }
+  if (!linear) return;
+  throw ResourceError("elements: the mesh has " + std::to_string(E) + " linear elements (" + std::to_string(9 * E) + " unknowns); " + fits +
+                      "; coarsen the mesh or use constant elements");
+}
+
+/// Legal but unreliable: a body thinner than its elements (docs/design.md §2, docs/stability.md
+/// study (g)), judged on the mesh solved. When that is not the mesh read or generated, the
+/// warning says which mesh its element numbers refer to and where the commands write it.
+void warn_thin_elements(Scene& scene) {
+  const ThinElements thin = find_thin_elements(scene.problem.mesh);
+  if (thin.count == 0) return;
+  std::string w = "mesh: " + thin_elements_warning(thin);
+  if (mesh_rebuilt(scene))
+    w += " (element numbers refer to the solved mesh, " + std::to_string(scene.problem.mesh.num_elements()) + " elements after the " +
+         (scene.graded ? "graded remesh" : "red-green refinement") +
+         ", not to the input; bemsurg solve, press, cut and session write it to OUTDIR/solved_mesh.obj)";
+  scene.warnings.push_back(std::move(w));
 }
 
 Scene build_scene(const io::JsonDocument& document, const std::string& directory, const std::string& name) {
@@ -111,7 +153,8 @@ Scene build_scene(const io::JsonDocument& document, const std::string& directory
     io::remesh_for_operating_region(request, scene);
   }
   scene.mesh_quality = measure_mesh_quality(problem.mesh);
-  require_linear_size(scene);
+  require_solvable_size(scene, root.required("mesh"), directory);
+  warn_thin_elements(scene);
   RowMatrixX3d corners;
   problem.boundary_conditions = io::load_boundary_conditions(root.required("boundary_conditions"), directory, problem.mesh, &corners);
   if (problem.elements == ElementType::Linear) {  // values at the nodes: linear interpolation of the corners' (docs/elements.md)

@@ -1,6 +1,7 @@
 // The "mesh" section of a scene (docs/scene-format.md#mesh): a mesh file or one of the generators,
 // refused before generating when the dense solve could not hold it, then validated (closed,
-// manifold, oriented, non-degenerate) and checked for parts thinner than their elements.
+// manifold, oriented, non-degenerate). The checks of the solved mesh (size, thin parts) run in
+// scene.cpp, after the operating region's remesh.
 #include <cmath>
 #include <optional>
 #include <sstream>
@@ -13,7 +14,6 @@
 #include "bemsurg/mesh/liver_model.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/mesh/mesh_io.hpp"
-#include "bemsurg/mesh/mesh_thickness.hpp"
 #include "bemsurg/mesh/mesh_validation.hpp"
 #include "bemsurg/mesh/red_green_refinement.hpp"
 #include "bemsurg/number_text.hpp"
@@ -230,9 +230,7 @@ TriangleMesh load_mesh(const JsonReader& m, const std::string& directory, std::s
     at.fail("invalid mesh (" + source + "): " + what);
   }
   if (m.has("refine")) refine_in_region(m, mesh, source);
-  // Legal but unreliable: a body thinner than its elements (docs/design.md §2).
-  const ThinElements thin = find_thin_elements(mesh);
-  if (thin.count > 0) at.warn(thin_elements_warning(thin));  // docs/stability.md, study (g)
+  // The thin-part warning runs on the mesh actually solved, after any graded remesh (scene.cpp).
   return mesh;
 }
 

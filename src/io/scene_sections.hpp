@@ -17,9 +17,9 @@ namespace bemsurg::io {
 /// name, a missing file and a directory (scene.cpp).
 std::string resolve_existing(const std::string& directory, const JsonReader& file);
 
-/// "mesh": a file (with an optional scale and translation) or a generator; validated, and a body
-/// thinner than its elements is warned about. `source` says where the mesh came from, for reports
-/// (scene_mesh.cpp).
+/// "mesh": a file (with an optional scale and translation) or a generator, validated and refined
+/// where "refine" asks. `source` says where the mesh came from, for reports (scene_mesh.cpp). The
+/// size and thin-part checks of the mesh solved come later (scene.cpp), after any graded remesh.
 TriangleMesh load_mesh(const JsonReader& mesh, const std::string& directory, std::string& source);
 
 /// "material", "solver", "quadrature" (scene_settings.cpp).
