@@ -45,3 +45,6 @@ int run_press(int argc, char** argv);
 int run_session(int argc, char** argv);
 /// bemsurg cut SCENE.json --from X,Y,Z --direction DX,DY,DZ --steps K ... (src/cli/cut_command.cpp)
 int run_cut(int argc, char** argv);
+
+/// bemsurg sample-segmentation liver|kidney -o OUT.stl ...  (src/cli/sample_segmentation_command.cpp)
+int run_sample_segmentation(int argc, char** argv);
