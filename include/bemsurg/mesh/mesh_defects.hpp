@@ -84,14 +84,17 @@ TriangleMesh scale_mesh(const TriangleMesh& mesh, double factor);
 struct SegmentationDefects {
   /// Coordinates times this (1000: metres in, millimetres out).
   double scale = 1000.0;
-  /// Zero-area faces (add_degenerate_faces), a flipped patch of this many faces (flip_face_patch),
-  /// a hole whose rim has this many edges (punch_hole); 0 leaves a kind out.
+  /// Zero-area faces (add_degenerate_faces); 0 leaves them out.
   int degenerate_faces = 4;
+  /// Faces of the flipped patch (flip_face_patch); 0 leaves it out.
   Index flipped_faces = 12;
+  /// Edges of the hole's rim (punch_hole); 0 leaves it out.
   Index hole_boundary_edges = 12;
-  /// One self-intersection (poke_through), one fin (add_fin), one speck of 1/1000 of the volume (add_speck).
+  /// Whether one vertex is pushed through the body (poke_through).
   bool self_intersection = true;
+  /// Whether a fin stands on one edge (add_fin).
   bool non_manifold_edge = true;
+  /// Volume of the disjoint speck as a fraction of the body's (add_speck); 0 leaves it out.
   double speck_volume_fraction = 1e-3;
 };
 

@@ -28,15 +28,18 @@ namespace bemsurg {
 struct OrganShape {
   /// Negative inside the organ, positive outside (not a distance, but Lipschitz and smooth).
   ImplicitFunction signed_function;
-  /// A box containing the organ with a margin of about a tenth of its size on every side: the
-  /// box to sample it in (sample_implicit_surface).
-  Vec3 box_lo, box_hi;
-  /// A point on the surface where the organ is held (its ligaments, vessels or fascia), and the
-  /// radius of the support region around it.
+  /// Lower corner of a box containing the organ with a margin on every side: the box to sample it
+  /// in (sample_implicit_surface).
+  Vec3 box_lo;
+  /// Upper corner of that box.
+  Vec3 box_hi;
+  /// A point on the surface where the organ is held (its ligaments, vessels or fascia).
   Vec3 support_center;
+  /// Radius of the support region around support_center.
   double support_radius = 0.0;
-  /// A point on the anterior surface where tools work, and the radius of the operating region.
+  /// A point on the anterior surface where tools work.
   Vec3 operating_center;
+  /// Radius of the operating region around operating_center.
   double operating_radius = 0.0;
 };
 
@@ -68,9 +71,9 @@ struct KidneyShapeOptions {
 
 /// The kidney-like organ: an ellipsoid minus (a smooth maximum with blend radius `blend`) a sphere
 /// at its medial side. Supported at the hilum and the posterior surface behind it (the surface
-/// point in direction (-1, 1, 0), radius 0.35 size.z); operated on at the anterior surface (the
-/// surface point in direction (0.3, -1, 0.2), radius 0.15 size.z). Throws InvalidMeshError for
-/// non-positive sizes or fractions outside (0, 1).
+/// point in direction (-1, 1, 0) from the inside point (0.2 size.x, 0, 0), radius 0.35 size.z);
+/// operated on at the anterior surface (direction (0, -1, 0.2) from the same point, radius
+/// 0.15 size.z). Throws InvalidMeshError for non-positive sizes or fractions outside (0, 1).
 OrganShape kidney_shape(const KidneyShapeOptions& options = {});
 
 /// The shape by name ("liver" or "kidney", default options); throws InvalidArgumentError naming
