@@ -89,7 +89,7 @@ void write_stl_binary(const std::string& path, const TriangleMesh& mesh, const s
   write_text(path, out);
 }
 
-void write_off(const std::string& path, const TriangleMesh& mesh) {
+void write_off_with_comment(const std::string& path, const TriangleMesh& mesh) {
   std::ostringstream s;
   s.precision(17);
   s << "OFF\n# a comment\n" << mesh.num_vertices() << " " << mesh.num_elements() << " 0\n";
@@ -301,7 +301,7 @@ TEST_CASE("STL errors: non-triangles, garbage, truncation", "[mesh][io]") {
 TEST_CASE("OFF round trip and variants", "[mesh][io]") {
   TempDir dir;
   const TriangleMesh sphere = icosphere_mesh(Vec3::Zero(), 1.0, 2);
-  write_off(dir.file("s.off"), sphere);
+  write_off_with_comment(dir.file("s.off"), sphere);
   check_same(sphere, read_off(dir.file("s.off")), 1e-15);
 
   // COFF: per-vertex colours to skip; quads with a trailing face colour; counts after comments.

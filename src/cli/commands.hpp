@@ -48,3 +48,5 @@ int run_cut(int argc, char** argv);
 
 /// bemsurg prepare IN -o OUT.obj ... (src/cli/prepare_command.cpp)
 int run_prepare(int argc, char** argv);
+/// bemsurg sample-segmentation liver|kidney -o OUT.stl ...  (src/cli/sample_segmentation_command.cpp)
+int run_sample_segmentation(int argc, char** argv);

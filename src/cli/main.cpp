@@ -26,6 +26,8 @@ constexpr const char* kUsage =
     "  cut ...                      cut a scene step by step, updating system and tables (bemsurg cut --help)\n"
     "  prepare IN -o OUT.obj        repair and remesh a segmentation's surface for the other commands\n"
     "                               (bemsurg prepare --help; docs/organs.md)\n"
+    "  sample-segmentation liver|kidney -o OUT.stl\n"
+    "                               write an organ-like, deliberately defective segmentation surface (mm)\n"
     "\n"
     "Run 'bemsurg <command> --help' for a command's options. Scene format: docs/scene-format.md.\n";
 
@@ -61,6 +63,7 @@ int main(int argc, char** argv) {
     if (command == "session") return run_session(argc - 1, argv + 1);
     if (command == "cut") return run_cut(argc - 1, argv + 1);
     if (command == "prepare") return run_prepare(argc - 1, argv + 1);
+    if (command == "sample-segmentation") return run_sample_segmentation(argc - 1, argv + 1);
     return usage_error("unknown command '" + command + "'");
   } catch (const bemsurg::cli::UsageError& e) { return usage_error(e.what()); } catch (const std::bad_alloc&) {
     std::cerr << "bemsurg: error: out of memory (the dense BEM system grows as the square of the number of elements: use a coarser mesh)\n";

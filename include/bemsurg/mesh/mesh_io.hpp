@@ -3,7 +3,7 @@
 // Readers return the mesh as stored (polygons fan-triangulated, STL welded) without judging it:
 // run validate_mesh / require_valid_mesh on the result. Every reader error names the file and,
 // for text formats, the line, because "index out of range" alone is useless in a 50 MB file.
-// Writers produce OBJ (geometry) and legacy VTK POLYDATA with named per-element and per-vertex
+// Writers produce OBJ, STL (binary or ASCII), OFF and ASCII PLY (geometry) and legacy VTK POLYDATA with named per-element and per-vertex
 // fields (displacement, traction, ...) that ParaView opens directly.
 //
 // Errors: a file that cannot be opened, read or written throws bemsurg::Error; a file whose
@@ -60,6 +60,22 @@ struct MeshField {
 
 /// OBJ with 'v' and 'f' lines; coordinates written in the shortest form that reads back exactly.
 void write_obj(const std::string& path, const TriangleMesh& mesh);
+
+/// STL: binary (80-byte header, little-endian 32-bit floats: about 7 significant digits) or ASCII
+/// (shortest exact decimal text), one facet per face with its unit normal (zero for a degenerate
+/// face). STL cannot share vertices: read_stl welds them back.
+void write_stl(const std::string& path, const TriangleMesh& mesh, bool binary = true);
+
+/// OFF: header, vertex and face counts, 'x y z' lines, '3 a b c' lines (0-based), exact decimals.
+void write_off(const std::string& path, const TriangleMesh& mesh);
+
+/// PLY, ASCII: 'vertex' elements with double x, y, z and 'face' elements with a list
+/// 'vertex_indices' (uchar count, int indices), exact decimals.
+void write_ply(const std::string& path, const TriangleMesh& mesh);
+
+/// Writes by extension, case-insensitively: .obj, .stl (binary), .off, .ply (ASCII), .vtk (no
+/// fields). Throws InvalidArgumentError for any other extension, naming the known ones.
+void write_mesh(const std::string& path, const TriangleMesh& mesh);
 
 /// Legacy VTK (ASCII, POLYDATA, version 3.0): the mesh as POLYGONS, then CELL_DATA with one
 /// entry per element and POINT_DATA with one per vertex (VECTORS for n x 3, SCALARS for n x 1).

@@ -1,4 +1,4 @@
-// OFF (and its COFF, NOFF, ... variants): read_off (bemsurg/mesh/mesh_io.hpp).
+// OFF (and its COFF, NOFF, ... variants): read_off and write_off (bemsurg/mesh/mesh_io.hpp).
 #include <limits>
 #include <string>
 #include <string_view>
@@ -69,5 +69,11 @@ TriangleMesh parse_off(const std::string& text, const std::string& path) {
 }  // namespace
 
 TriangleMesh read_off(const std::string& path) { return parse_off(read_file(path), path); }
+
+void write_off(const std::string& path, const TriangleMesh& mesh) {
+  std::string out = "OFF\n" + std::to_string(mesh.num_vertices()) + " " + std::to_string(mesh.num_elements()) + " 0\n";
+  append_vertex_and_face_lines(out, mesh);
+  write_file(path, out);
+}
 
 }  // namespace bemsurg

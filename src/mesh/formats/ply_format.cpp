@@ -1,4 +1,4 @@
-// PLY, ASCII or binary in either byte order: read_ply (bemsurg/mesh/mesh_io.hpp).
+// PLY, ASCII or binary in either byte order: read_ply; write_ply writes ASCII (bemsurg/mesh/mesh_io.hpp).
 //
 // The steps: the text header (elements and their properties), a check that the declared counts
 // can fit the data, the layout (which properties are x, y, z and the face's index list), then
@@ -366,5 +366,13 @@ TriangleMesh parse_ply(const std::string& data, const std::string& path) {
 }  // namespace
 
 TriangleMesh read_ply(const std::string& path) { return parse_ply(read_file(path), path); }
+
+void write_ply(const std::string& path, const TriangleMesh& mesh) {
+  std::string out = "ply\nformat ascii 1.0\ncomment bemsurg triangle mesh\nelement vertex " + std::to_string(mesh.num_vertices()) +
+                    "\nproperty double x\nproperty double y\nproperty double z\nelement face " + std::to_string(mesh.num_elements()) +
+                    "\nproperty list uchar int vertex_indices\nend_header\n";
+  mesh_formats::append_vertex_and_face_lines(out, mesh);
+  mesh_formats::write_file(path, out);
+}
 
 }  // namespace bemsurg

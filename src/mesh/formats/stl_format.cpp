@@ -1,5 +1,5 @@
-// STL, ASCII and binary: read_stl (bemsurg/mesh/mesh_io.hpp). STL stores a triangle soup, three
-// corners per facet; the corners are welded into an indexed mesh at the end.
+// STL, ASCII and binary: read_stl and write_stl (bemsurg/mesh/mesh_io.hpp). STL stores a triangle
+// soup, three corners per facet; the reader welds the corners into an indexed mesh at the end.
 #include <cstdint>
 #include <cstring>
 #include <string>
@@ -8,6 +8,7 @@
 
 #include "bemsurg/mesh/mesh_io.hpp"
 #include "bemsurg/mesh/vertex_welding.hpp"
+#include "bemsurg/number_text.hpp"
 #include "text_tokens.hpp"
 
 namespace bemsurg {
@@ -99,7 +100,60 @@ void parse_stl_ascii(const std::string& text, const std::string& path, RowMatrix
     for (int k = 0; k < 3; ++k) F(t, k) = static_cast<int>(3 * t + k);
 }
 
+void put_le_u32(std::string& out, std::uint32_t x) {
+  for (int b = 0; b < 4; ++b) out += static_cast<char>((x >> (8 * b)) & 0xFFu);
+}
+
+void put_le_f32(std::string& out, double x) {
+  const auto f = static_cast<float>(x);
+  std::uint32_t bits;
+  std::memcpy(&bits, &f, sizeof bits);
+  put_le_u32(out, bits);
+}
+
+std::string stl_binary(const TriangleMesh& mesh) {
+  std::string out = "binary STL written by bemsurg";
+  out.resize(80, ' ');
+  put_le_u32(out, static_cast<std::uint32_t>(mesh.num_elements()));
+  out.reserve(84 + 50 * static_cast<std::size_t>(mesh.num_elements()));
+  for (Index f = 0; f < mesh.num_elements(); ++f) {
+    for (int c = 0; c < 3; ++c) put_le_f32(out, mesh.normals()(f, c));
+    for (int k = 0; k < 3; ++k)
+      for (int c = 0; c < 3; ++c) put_le_f32(out, mesh.vertices()(mesh.faces()(f, k), c));
+    out += std::string(2, '\0');  // attribute byte count
+  }
+  return out;
+}
+
+std::string stl_ascii(const TriangleMesh& mesh) {
+  std::string out = "solid bemsurg\n";
+  const auto xyz = [&out](const auto& row) {
+    for (int c = 0; c < 3; ++c) {
+      out += ' ';
+      append_number(out, row(c));
+    }
+    out += '\n';
+  };
+  for (Index f = 0; f < mesh.num_elements(); ++f) {
+    out += "facet normal";
+    xyz(mesh.normals().row(f));
+    out += "  outer loop\n";
+    for (int k = 0; k < 3; ++k) {
+      out += "    vertex";
+      xyz(mesh.vertices().row(mesh.faces()(f, k)));
+    }
+    out += "  endloop\nendfacet\n";
+  }
+  return out + "endsolid bemsurg\n";
+}
+
 }  // namespace
+
+void write_stl(const std::string& path, const TriangleMesh& mesh, bool binary) {
+  if (binary && mesh.num_elements() > static_cast<Index>(0xFFFFFFFFu))
+    throw InvalidArgumentError("write_stl '" + path + "': binary STL holds at most 2^32 - 1 triangles");
+  write_file(path, binary ? stl_binary(mesh) : stl_ascii(mesh));
+}
 
 TriangleMesh read_stl(const std::string& path, double relative_weld_tolerance) {
   const std::string data = read_file(path);

@@ -30,6 +30,24 @@ void write_file(const std::string& path, const std::string& content) {
   if (!out) throw IoError("error while writing '" + path + "'");
 }
 
+void append_vertex_and_face_lines(std::string& out, const TriangleMesh& mesh) {
+  for (Index v = 0; v < mesh.num_vertices(); ++v) {
+    for (int c = 0; c < 3; ++c) {
+      if (c > 0) out += ' ';
+      append_number(out, mesh.vertices()(v, c));
+    }
+    out += '\n';
+  }
+  for (Index f = 0; f < mesh.num_elements(); ++f) {
+    out += '3';
+    for (int k = 0; k < 3; ++k) {
+      out += ' ';
+      append_integer(out, static_cast<long long>(mesh.faces()(f, k)));
+    }
+    out += '\n';
+  }
+}
+
 void fail(const std::string& path, std::size_t line, const std::string& what) {
   throw InvalidMeshError(path + (line > 0 ? ":" + std::to_string(line) : std::string()) + ": " + what);
 }

@@ -11,6 +11,8 @@
 #include <string_view>
 #include <vector>
 
+#include "bemsurg/mesh/triangle_mesh.hpp"
+
 namespace bemsurg::mesh_formats {
 
 /// The whole file; throws IoError (naming the file and the system's reason) if it cannot be read.
@@ -18,6 +20,10 @@ std::string read_file(const std::string& path);
 
 /// Replaces the file with `content`; throws IoError if it cannot be opened or written.
 void write_file(const std::string& path, const std::string& content);
+
+/// The body OFF and ASCII PLY share: one "x y z" line per vertex (shortest exact text), then one
+/// "3 a b c" line per face (0-based indices).
+void append_vertex_and_face_lines(std::string& out, const TriangleMesh& mesh);
 
 /// Parse errors: throws InvalidMeshError "path:line: what" (line 0 = no line, for binary data).
 [[noreturn]] void fail(const std::string& path, std::size_t line, const std::string& what);

@@ -4,6 +4,8 @@
 #include "bemsurg/config.hpp"
 #include "bemsurg/number_text.hpp"
 
+#include "bemsurg/mesh/mesh_generators.hpp"
+
 #include <array>
 #include <cmath>
 #include <cstdint>
