@@ -84,5 +84,14 @@ int run_sample_segmentation(int argc, char** argv) {
               << " vertices, grid cell " << general_text(cell * scale, 3) << " " << o.units << ", "
               << (o.clean ? "clean" : "with defects (seed " + std::to_string(o.seed) + ")") << "; wrote " << o.output << " in "
               << fixed_text(seconds_between(start, SteadyClock::now()), 2) << " s\n";
+  // Where such an organ is held and operated on, in metres (a prepared mesh's unit), for scenes.
+  if (!o.quiet) {
+    const auto where = [](const Vec3& c, double r) {
+      return "sphere centre [" + general_text(c(0), 4) + ", " + general_text(c(1), 4) + ", " + general_text(c(2), 4) + "] m, radius " +
+             general_text(r, 3) + " m";
+    };
+    std::cout << "  support (ligaments): " << where(organ.support_center, organ.support_radius) << "\n"
+              << "  operating region:    " << where(organ.operating_center, organ.operating_radius) << "\n";
+  }
   return 0;
 }

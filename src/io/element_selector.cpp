@@ -56,6 +56,15 @@ std::vector<Index> select_elements(const TriangleMesh& mesh, const ElementSelect
       break;
     }
 
+    case ElementSelector::Kind::Sphere: {
+      if (!all_finite(s.point) || !std::isfinite(s.tolerance) || !(s.tolerance > 0.0))
+        throw SceneError("sphere: the centre must be finite and the radius positive, got centre " + vec_to_string(s.point) + ", radius " +
+                         number_text(s.tolerance));
+      for (Index e = 0; e < n; ++e)
+        if ((mesh.centroid(e) - s.point).norm() <= s.tolerance + slack) picked.push_back(e);
+      break;
+    }
+
     case ElementSelector::Kind::Normal: {
       if (!all_finite(s.direction) || s.direction.norm() == 0.0)
         throw SceneError("normal: direction must be a finite non-zero vector, got " + vec_to_string(s.direction));

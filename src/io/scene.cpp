@@ -73,7 +73,10 @@ void warn_unsafe_grading(Scene& scene) {
 
 /// Whether the mesh solved is not the one read or generated (a graded remesh, a red-green
 /// refinement): its element numbers are then its own, and messages must say so.
-bool mesh_rebuilt(const Scene& scene) { return scene.graded || scene.mesh_source.find("red-green") != std::string::npos; }
+bool mesh_rebuilt(const Scene& scene) {
+  return scene.graded || scene.mesh_source.find("red-green") != std::string::npos ||
+         scene.mesh_source.find("prepared") != std::string::npos;
+}
 
 /// The command that makes a mesh file too large for the dense solve solvable (docs/organs.md):
 /// `bemsurg prepare` remeshes it to a few thousand elements, in metres.
@@ -83,8 +86,9 @@ std::string prepare_hint(const io::JsonReader& mesh, const std::string& path) {
   return "; to make it solvable, remesh it: bemsurg prepare '" + path + "' -o prepared.obj" +
          (s != 1.0 ? " --scale " + io::json_number_text(s) : std::string()) +
          " --target-elements 3000, then set mesh.file to prepared.obj" +
-         (s != 1.0 ? " and remove mesh.scale (prepared.obj is in metres)" : std::string()) +
-         " (docs/organs.md), or add \"prepare\": {} to the scene's mesh section";
+         (s != 1.0 ? " and remove mesh.scale (prepared.obj is in metres)" : std::string()) + " (docs/organs.md), or add \"prepare\": {" +
+         (s != 1.0 ? "\"scale\": " + io::json_number_text(s) : std::string()) + "} to the scene's mesh section" +
+         (s != 1.0 ? " and remove mesh.scale" : std::string());
 }
 
 /// The dense solve of the final mesh (as read, generated, refined or remeshed) must fit in memory
@@ -119,7 +123,9 @@ void warn_thin_elements(Scene& scene) {
   std::string w = "mesh: " + thin_elements_warning(thin);
   if (mesh_rebuilt(scene))
     w += " (element numbers refer to the solved mesh, " + std::to_string(scene.problem.mesh.num_elements()) + " elements after the " +
-         (scene.graded ? "graded remesh" : "red-green refinement") +
+         (scene.graded                                              ? "graded remesh"
+          : scene.mesh_source.find("prepared") != std::string::npos ? "preparation"
+                                                                    : "red-green refinement") +
          ", not to the input; bemsurg solve, press, cut and session write it to OUTDIR/solved_mesh.obj)";
   scene.warnings.push_back(std::move(w));
 }
@@ -142,7 +148,11 @@ Scene build_scene(const io::JsonDocument& document, const std::string& directory
   }
   if (const std::optional<io::JsonReader> g = root.optional("gravity")) problem.gravity = g->vec3();
   problem.material = io::load_material(root.required("material"), !problem.gravity.isZero(0.0));
-  problem.mesh = io::load_mesh(root.required("mesh"), directory, scene.mesh_source);
+  // A graded operating region remeshes the mesh itself: a "prepare" section then only repairs.
+  double graded_inside_edge = 0.0;
+  if (const std::optional<io::JsonReader> r = root.optional("operating_region"); r && r->is_object())
+    if (const std::optional<io::JsonReader> h = r->optional("inside_edge_length")) graded_inside_edge = h->positive();
+  problem.mesh = io::load_mesh(root.required("mesh"), directory, scene.mesh_source, graded_inside_edge);
   scene.input_elements = problem.mesh.num_elements();
   // The operating region comes before the boundary conditions: it may remesh, and the rules then
   // select on the mesh that is solved.

@@ -48,6 +48,11 @@ std::optional<ElementSelector> read_selector(const JsonReader& v, const std::str
     if ((lo.array() > hi.array()).any()) max.fail("must not be below min in any component");
     return ElementSelector::box(lo, hi);
   }
+  if (name == "sphere") {
+    v.object().warn_unknown_keys({"center", "radius"});
+    const Vec3 center = v.required("center").vec3();
+    return ElementSelector::sphere(center, v.required("radius").positive());
+  }
   if (name == "normal") {
     v.object().warn_unknown_keys({"direction", "min_cos"});
     const JsonReader direction = v.required("direction");
@@ -80,8 +85,8 @@ std::optional<ElementSelector> read_selector(const JsonReader& v, const std::str
 
 std::vector<Index> evaluate_select(const JsonReader& sel, const TriangleMesh& mesh) {
   sel.object();
-  if (sel.empty()) sel.fail("expected at least one of plane, box, normal, shell, elements, all");
-  sel.warn_unknown_keys({"plane", "box", "normal", "shell", "elements", "all"});
+  if (sel.empty()) sel.fail("expected at least one of plane, box, sphere, normal, shell, elements, all");
+  sel.warn_unknown_keys({"plane", "box", "sphere", "normal", "shell", "elements", "all"});
   std::vector<Index> result;
   bool first = true;
   // Several selectors in one "select" must all hold (intersection), e.g. plane and normal.
@@ -103,7 +108,7 @@ std::vector<Index> evaluate_select(const JsonReader& sel, const TriangleMesh& me
       result = std::move(both);
     }
   }
-  if (first) sel.fail("expected at least one of plane, box, normal, shell, elements, all");
+  if (first) sel.fail("expected at least one of plane, box, sphere, normal, shell, elements, all");
   return result;
 }
 

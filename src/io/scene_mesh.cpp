@@ -191,7 +191,7 @@ void refine_in_region(const JsonReader& m, TriangleMesh& mesh, std::string& sour
 
 }  // namespace
 
-TriangleMesh load_mesh(const JsonReader& m, const std::string& directory, std::string& source) {
+TriangleMesh load_mesh(const JsonReader& m, const std::string& directory, std::string& source, double graded_inside_edge) {
   m.object();
   const bool has_file = m.has("file");
   const bool has_generator = m.has("generator");
@@ -200,7 +200,7 @@ TriangleMesh load_mesh(const JsonReader& m, const std::string& directory, std::s
 
   TriangleMesh mesh;
   if (has_file) {
-    m.warn_unknown_keys({"file", "scale", "translate", "refine"});
+    m.warn_unknown_keys({"file", "scale", "translate", "refine", "prepare"});
     const JsonReader file = m.required("file");
     const std::string path = resolve_existing(directory, file);
     try {
@@ -210,6 +210,9 @@ TriangleMesh load_mesh(const JsonReader& m, const std::string& directory, std::s
     // Optional affine map, for meshes drawn in millimetres or away from the origin: x' = s x + t.
     const std::optional<JsonReader> scale_key = m.optional("scale"), translate_key = m.optional("translate");
     const double scale = scale_key ? scale_key->positive() : 1.0;
+    // A raw segmentation surface: repaired and remeshed first, in metres, then mapped as above
+    // (scene_prepare.cpp); the operating region's lengths are in the mapped coordinates.
+    if (const std::optional<JsonReader> p = m.optional("prepare")) mesh = prepare_in_scene(*p, mesh, graded_inside_edge / scale, source);
     const Vec3 shift = translate_key ? translate_key->vec3() : Vec3(Vec3::Zero());
     if (scale != 1.0 || !shift.isZero(0.0)) {
       RowMatrixX3d v = mesh.vertices() * scale;
@@ -217,6 +220,7 @@ TriangleMesh load_mesh(const JsonReader& m, const std::string& directory, std::s
       mesh = TriangleMesh(v, mesh.faces());
     }
   } else {
+    if (m.has("prepare")) m.required("prepare").fail("\"prepare\" repairs a mesh file; a generator's mesh needs no repair");
     mesh = generate_mesh(m, source);
   }
 

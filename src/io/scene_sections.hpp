@@ -20,7 +20,13 @@ std::string resolve_existing(const std::string& directory, const JsonReader& fil
 /// "mesh": a file (with an optional scale and translation) or a generator, validated and refined
 /// where "refine" asks. `source` says where the mesh came from, for reports (scene_mesh.cpp). The
 /// size and thin-part checks of the mesh solved come later (scene.cpp), after any graded remesh.
-TriangleMesh load_mesh(const JsonReader& mesh, const std::string& directory, std::string& source);
+/// `graded_inside_edge` > 0 when the scene's operating region will grade the mesh (its inside edge
+/// length): a "prepare" section then repairs without remeshing.
+TriangleMesh load_mesh(const JsonReader& mesh, const std::string& directory, std::string& source, double graded_inside_edge = 0.0);
+
+/// "mesh.prepare": the raw mesh file repaired and remeshed by prepare_mesh (scene_prepare.cpp);
+/// its warnings become the scene's, at the key's path.
+TriangleMesh prepare_in_scene(const JsonReader& prepare, const TriangleMesh& raw, double graded_inside_edge, std::string& source);
 
 /// "material", "solver", "quadrature" (scene_settings.cpp).
 Material load_material(const JsonReader& material, bool gravity_on);

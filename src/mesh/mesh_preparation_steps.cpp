@@ -158,15 +158,17 @@ TriangleMesh select_bodies(const TriangleMesh& mesh, bool keep_all, MeshPreparat
   return TriangleMesh(mesh.vertices(), kept.topRows(nk));
 }
 
-RowMatrixX3d surface_samples(const TriangleMesh& mesh) {
+RowMatrixX3d surface_samples(const TriangleMesh& mesh, bool edge_midpoints) {
   const RowMatrixX3d& v = mesh.vertices();
   const RowMatrixX3i& f = mesh.faces();
-  RowMatrixX3d out(v.rows() + 4 * f.rows(), 3);
+  const Index per_face = edge_midpoints ? 4 : 1;
+  RowMatrixX3d out(v.rows() + per_face * f.rows(), 3);
   out.topRows(v.rows()) = v;
   for (Index e = 0; e < f.rows(); ++e) {
-    const Index base = v.rows() + 4 * e;
+    const Index base = v.rows() + per_face * e;
     out.row(base) = (v.row(f(e, 0)) + v.row(f(e, 1)) + v.row(f(e, 2))) / 3.0;
-    for (int k = 0; k < 3; ++k) out.row(base + 1 + k) = 0.5 * (v.row(f(e, k)) + v.row(f(e, (k + 1) % 3)));
+    if (edge_midpoints)
+      for (int k = 0; k < 3; ++k) out.row(base + 1 + k) = 0.5 * (v.row(f(e, k)) + v.row(f(e, (k + 1) % 3)));
   }
   return out;
 }

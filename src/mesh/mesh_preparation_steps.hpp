@@ -24,7 +24,8 @@ void count_non_manifold(const TriangleMesh& mesh, MeshDefectCounts& defects);
 /// with what nests in it. `dropped` receives the faces of what was dropped (for distances).
 TriangleMesh select_bodies(const TriangleMesh& mesh, bool keep_all, MeshPreparationReport& report, TriangleMesh& dropped);
 
-/// Points on a surface for distance measurements: vertices, face centroids and edge midpoints.
-RowMatrixX3d surface_samples(const TriangleMesh& mesh);
+/// Points on a surface for distance measurements: vertices, face centroids and (when
+/// `edge_midpoints`) edge midpoints.
+RowMatrixX3d surface_samples(const TriangleMesh& mesh, bool edge_midpoints = true);
 
 }  // namespace bemsurg::detail

@@ -14,12 +14,13 @@
 
 namespace bemsurg {
 
-/// Picks boundary elements by geometry (plane, box, normal direction, shell) or by list, tested on each element's
+/// Picks boundary elements by geometry (plane, box, sphere, normal direction, shell) or by list, tested on each element's
 /// centroid and normal, so a scene need not list face numbers (docs/scene-format.md, selectors; see select_elements).
 struct ElementSelector {
   enum class Kind {
     Plane,     // centroid within `tolerance` of the plane through `point` with normal `direction`
     Box,       // centroid inside the axis-aligned box [box_min, box_max] (bounds included)
+    Sphere,    // centroid within `tolerance` (the radius) of `point` (where an organ's ligaments attach)
     Normal,    // unit normal n with n . direction / |direction| >= min_cos
     Shell,     // every element of connected shell `shell` (MeshTopology numbering)
     Elements,  // an explicit list of element indices
@@ -29,7 +30,7 @@ struct ElementSelector {
   Kind kind = Kind::All;
   Eigen::Vector3d point = Eigen::Vector3d::Zero();
   Eigen::Vector3d direction = Eigen::Vector3d::UnitZ();  // plane normal or preferred normal direction
-  double tolerance = 0.0;                                // plane: absolute distance
+  double tolerance = 0.0;                                // plane: absolute distance; sphere: radius
   double min_cos = 0.9;                                  // normal: cosine threshold
   Eigen::Vector3d box_min = Eigen::Vector3d::Zero();
   Eigen::Vector3d box_max = Eigen::Vector3d::Zero();
@@ -49,6 +50,13 @@ struct ElementSelector {
     s.kind = Kind::Box;
     s.box_min = lo;
     s.box_max = hi;
+    return s;
+  }
+  static ElementSelector sphere(const Eigen::Vector3d& center, double radius) {
+    ElementSelector s;
+    s.kind = Kind::Sphere;
+    s.point = center;
+    s.tolerance = radius;
     return s;
   }
   static ElementSelector normal_direction(const Eigen::Vector3d& direction, double min_cos) {
@@ -74,7 +82,7 @@ struct ElementSelector {
 };
 
 /// The elements the selector picks, in increasing order without repeats. Throws SceneError for a
-/// selector that cannot be evaluated (zero plane normal or direction, negative tolerance, box with
+/// selector that cannot be evaluated (zero plane normal or direction, negative tolerance or radius, box with
 /// min > max, min_cos outside [-1, 1], shell or element index out of range), naming the problem.
 /// An empty result is not an error here; the scene loader decides what an empty selection means.
 std::vector<Index> select_elements(const TriangleMesh& mesh, const ElementSelector& selector);

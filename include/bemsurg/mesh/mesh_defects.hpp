@@ -44,7 +44,7 @@ TriangleMesh flip_face_patch(const TriangleMesh& mesh, Index faces, std::uint64_
 TriangleMesh punch_hole(const TriangleMesh& mesh, Index boundary_edges, std::uint64_t seed);
 
 /// Makes the surface cut through itself within its one shell: a random vertex is pushed inward
-/// along its normal, through the body and out of the far side by two local edge lengths, so its
+/// along its normal, through the body and out of the far side by 0.3 local edge lengths, so its
 /// fan of faces (a thin spike) crosses the faces around the exit point, which share no vertex with
 /// it. find_self_intersections: a few pairs, each with one face of the moved vertex;
 /// validate_mesh: SelfIntersection only.

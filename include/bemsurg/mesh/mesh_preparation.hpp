@@ -82,7 +82,8 @@ struct MeshPreparationOptions {
   /// A graded remesh to this operating region with graded_options (mesh/graded_remesher.hpp).
   std::optional<OperatingRegion> region;
   GradedRemeshOptions graded_options;
-  /// Skip step 6: return the repaired surface as it is (a scene that grades it later).
+  /// Skip step 6: return the repaired surface (a scene that grades it later). With
+  /// graded_options.inside_edge_length > 0 a very fine surface is still coarsened for that remesh.
   bool no_remesh = false;
 };
 

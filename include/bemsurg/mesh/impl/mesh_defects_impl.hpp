@@ -233,7 +233,7 @@ BEMSURG_INLINE TriangleMesh poke_through(const TriangleMesh& mesh, std::uint64_t
     // Through a body several edges thick, so the spike's faces meet only faces far from its base.
     if (!std::isfinite(exit) || exit < 6.0 * size) continue;
     RowMatrixX3d V = mesh.vertices();
-    V.row(v) = (origin + (exit + 2.0 * size) * d).transpose();
+    V.row(v) = (origin + (exit + 0.3 * size) * d).transpose();
     TriangleMesh poked(std::move(V), mesh.faces());
     if (find_self_intersections(poked, topo.vertex_faces(v)).empty()) continue;
     return poked;
