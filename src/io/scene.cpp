@@ -229,6 +229,10 @@ Scene load_scene_with_mesh(const std::string& path, const std::string& mesh_file
   nlohmann::json root = original.root();
   if (!root.is_object()) throw SceneError(path + ": expected a JSON object at the top level");
   root["mesh"] = {{"file", std::filesystem::absolute(mesh_file).string()}};
+  // The file is the mesh to solve (a cut's mesh.obj is the graded mesh, cut): not graded again.
+  if (root.contains("operating_region") && root["operating_region"].is_object())
+    for (const char* key : {"inside_edge_length", "outside_edge_length", "growth", "feature_angle", "supported"})
+      root["operating_region"].erase(key);
   return build_scene(io::JsonDocument(root.dump(), path), scene_directory(path), path);
 }
 

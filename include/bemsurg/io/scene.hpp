@@ -79,8 +79,8 @@ const Scene& require_constant_elements(const Scene& scene, const std::string& co
 Scene require_constant_elements(Scene&& scene, const std::string& command);
 
 /// The scene at `path` with its "mesh" replaced by the mesh file `mesh_file` (any format
-/// mesh_io.hpp reads): what the scene's rules prescribe on another surface, such as the mesh a
-/// cut produced (`bemsurg cut` checks its conditions against it).
+/// mesh_io.hpp reads), solved as it is (an operating region's remesh keys are dropped, its shape
+/// kept): what the scene's rules prescribe on another surface, such as the mesh a
 Scene load_scene_with_mesh(const std::string& path, const std::string& mesh_file);
 
 }  // namespace bemsurg
