@@ -44,6 +44,9 @@ namespace {
 constexpr double kLimitSeconds = 60.0;              // the requirement at 500,000 triangles
 constexpr double kLimitBytes = 4.0 * (1ull << 30);  // 4 GiB
 constexpr int kRequirementTriangles = 500000;
+// "A few thousand elements": the default target (3,000) lands within 10 %; 5,000 is the largest
+// count whose dense solve fits 4 GiB (~3.6 GiB, mesh_preparation.hpp).
+constexpr Index kFewThousand = 5000;
 // The defects' places. Seed 1 makes, at 10,000 triangles, a zero-area face whose dropping leaves a
 // hole CGAL cannot fill, which prepare_mesh then refuses (tests/test_mesh_preparation.cpp, "collinear").
 constexpr std::uint64_t kSeed = 2;
@@ -253,7 +256,7 @@ int main(int argc, char** argv) {
     if (s["triangles"] == kRequirementTriangles) {
       const double seconds = s["cli_seconds"].get<double>();
       const double bytes = std::max(s["peak_bytes"].get<double>(), s["calibration_peak_bytes"].get<double>());
-      const bool pass = seconds <= kLimitSeconds && bytes <= kLimitBytes && s["elements"].get<Index>() <= kDefaultPreparedElements;
+      const bool pass = seconds <= kLimitSeconds && bytes <= kLimitBytes && s["elements"].get<Index>() <= kFewThousand;
       out["requirement"] = {{"triangles", kRequirementTriangles}, {"seconds", seconds},         {"peak_bytes", bytes},
                             {"limit_seconds", kLimitSeconds},     {"limit_bytes", kLimitBytes}, {"pass", pass}};
       std::printf(
