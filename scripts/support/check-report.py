@@ -25,6 +25,7 @@ REQUIRED = {
     "Cut-step latency against n": "cut latency against n",
     "Precompute against n": "precompute against n",
     "Haptic force time and jitter": "the haptic distributions",
+    "Preparing a segmentation: time and memory against input size": "prepare time and memory (issue 28)",
     # The stability studies of issue 25 (docs/stability.md): one section each, named as in the issue.
     "(a) Poisson's ratio towards 0.5": "stability study (a)",
     "(b) Interior points approaching the surface": "stability study (b)",

@@ -43,7 +43,7 @@ struct PrepareCommandOptions {
   bool rebuild = false, keep_all = false, quiet = false;
 };
 
-std::optional<PrepareCommandOptions> parse(int argc, char** argv) {
+std::optional<PrepareCommandOptions> parse_prepare_options(int argc, char** argv) {
   PrepareCommandOptions o;
   bemsurg::cli::OptionParser p("prepare", kPrepareUsage);
   p.positional("IN", o.input, "one input mesh per run").required();
@@ -154,7 +154,7 @@ nlohmann::json report_json(const bemsurg::MeshPreparationReport& r, const Prepar
 }  // namespace
 
 int run_prepare(int argc, char** argv) {
-  const std::optional<PrepareCommandOptions> c = parse(argc, argv);
+  const std::optional<PrepareCommandOptions> c = parse_prepare_options(argc, argv);
   if (!c) return 0;
   const bemsurg::MeshPreparationOptions options = preparation_options(*c);
   bemsurg::TriangleMesh input;
