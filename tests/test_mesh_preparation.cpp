@@ -7,8 +7,7 @@
 // determinism, and a graded remesh. Every case skips (exit 77) in a build without CGAL and Gmsh.
 //
 // The defects are SECTIONs of few TEST_CASEs: ctest runs each case in a process of its own, and
-// each process that prepares a mesh pays once for the calibration of the solve-time estimate
-// (estimate_dense_solve_seconds: a dense assembly and LU of 1,280 elements, ~1.5 s on 2 cores).
+// each process pays Gmsh's and CGAL's start-up once.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -160,8 +159,7 @@ TEST_CASE("prepare_mesh repairs each kind of defect on an ellipsoid into a valid
     CHECK(estimate >= 0.8 * r.hausdorff);
     const double v0 = ellipsoid().enclosed_volume();
     CHECK(r.volume_change == Approx((p.mesh.enclosed_volume() - v0) / v0).margin(1e-12));
-    CHECK(r.estimated_bytes > 0.0);
-    CHECK(r.estimated_seconds > 0.0);
+    CHECK(r.estimated_bytes == 0.0);  // filled by `bemsurg prepare`, not by the mesh module
   }
   SECTION("a flipped patch: turned back, its faces counted") {
     const PreparedMesh p = prepare_checked(flip_face_patch(ellipsoid(), 10, 5), options());

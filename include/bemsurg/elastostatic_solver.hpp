@@ -59,6 +59,12 @@ struct ElastostaticSolution {
 /// for constant elements, 9E for linear; 2 n^2 doubles) plus a few vectors.
 double estimate_elastostatic_bytes(Index num_elements, ElementType type = ElementType::Constant);
 
+/// Estimated seconds of the dense solve (assembly and LU) of `num_elements` constant elements on
+/// this machine: E^2 element pairs and (2/3)(3E)^3 flops at the rates of a small assembly (320
+/// elements) and LU (960 equations) timed once per process (~0.05 s). An order of magnitude for
+/// messages and reports (`bemsurg prepare`, docs/organs.md), not a benchmark.
+double estimate_elastostatic_seconds(Index num_elements);
+
 /// The closed connected surface components (by shared vertices; every edge shared by two of their
 /// elements) on which no element has a traction component prescribed, each as {first element,
 /// number of elements}. At a Poisson's ratio near 0.5 their tractions are fixed only up to a pressure

@@ -10,6 +10,7 @@
 #include <optional>
 #include <string>
 
+#include "bemsurg/elastostatic_solver.hpp"
 #include "bemsurg/error.hpp"
 #include "bemsurg/mesh/mesh_io.hpp"
 #include "bemsurg/mesh/mesh_preparation.hpp"
@@ -168,6 +169,8 @@ int run_prepare(int argc, char** argv) {
     prepared = bemsurg::prepare_mesh(input, options);
   } catch (const bemsurg::InvalidMeshError& e) { throw bemsurg::Error("prepare: " + c->input + ": " + e.what()); }
   prepared.report.timings.insert(prepared.report.timings.begin(), {"read", read_seconds});
+  prepared.report.estimated_bytes = bemsurg::estimate_elastostatic_bytes(prepared.report.elements);
+  prepared.report.estimated_seconds = bemsurg::estimate_elastostatic_seconds(prepared.report.elements);
   bemsurg::write_obj(c->output, prepared.mesh);
   if (!c->report.empty()) {
     std::ofstream out(c->report);

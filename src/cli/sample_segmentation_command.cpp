@@ -5,6 +5,7 @@
 // are (mesh/mesh_defects.hpp: segmentation_like) unless --clean, in millimetres unless --units m.
 // The inputs of the mesh repair's tests, benchmark and CI are generated with it, not committed.
 #include <algorithm>
+#include <cmath>
 #include <cctype>
 #include <cstdint>
 #include <filesystem>
@@ -76,6 +77,10 @@ int run_sample_segmentation(int argc, char** argv) {
   } else {
     SegmentationDefects defects;
     defects.scale = scale;
+    // A hole of about the same size (a rim of ~30 mm) at every triangle count: 12 edges at 100,000
+    // triangles, fewer on coarser samples, whose edges are longer (benchmarks/bench_prepare.cpp).
+    defects.hole_boundary_edges =
+        std::max<Index>(4, static_cast<Index>(std::lround(12.0 * std::sqrt(static_cast<double>(o.triangles) / 100000.0))));
     mesh = segmentation_like(mesh, static_cast<std::uint64_t>(o.seed), defects);
   }
   write_mesh(o.output, mesh);

@@ -77,9 +77,11 @@ void fill_short_holes(SurfaceMesh& sm, double max_length, OrientedClosedSoup& ou
     std::vector<SurfaceMesh::Vertex_index> added;
     if (length <= max_length)
       CGAL::Polygon_mesh_processing::triangulate_and_refine_hole(sm, h, std::back_inserter(patch), std::back_inserter(added));
-    if (patch.empty()) {
+    if (length > max_length) {
       ++out.unfilled;
       out.longest_unfilled = std::max(out.longest_unfilled, length);
+    } else if (patch.empty()) {
+      ++out.failed;  // short, but no triangulation fits its rim (e.g. a rim folded flat)
     } else {
       ++out.filled;
     }

@@ -4,20 +4,15 @@
 // mesh_preparation_steps.cpp.
 #include "bemsurg/mesh/mesh_preparation.hpp"
 
-#include <Eigen/LU>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
-#include <mutex>
 #include <sstream>
 
-#include "bemsurg/assembly/influence_assembler.hpp"
-#include "bemsurg/elastostatic_solver.hpp"
 #include "bemsurg/error.hpp"
 #include "bemsurg/memory_budget.hpp"
 #include "bemsurg/mesh/geometry.hpp"
-#include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/mesh/mesh_topology.hpp"
 #include "bemsurg/mesh/mesh_validation.hpp"
 #include "bemsurg/mesh/self_intersection.hpp"
@@ -131,6 +126,9 @@ TriangleMesh repair(const RowMatrixX3d& vertices, const RowMatrixX3i& faces, dou
   if (r.defects.self_intersections > 0)
     reason = std::to_string(r.defects.self_intersections) + " pairs of faces that cross or touch" +
              (closed.duplicated_vertices > 0 ? " (also at non-manifold places)" : "");
+  if (closed.failed > 0)
+    reason += std::string(reason.empty() ? "" : ", ") + std::to_string(closed.failed) + " short hole" + (closed.failed > 1 ? "s" : "") +
+              " that no triangulation closes";
   if (o.force_wrap && reason.empty()) reason = "asked for";
   if (reason.empty()) return closed_mesh;
   r.rebuilt = true;
@@ -149,7 +147,7 @@ TriangleMesh repair(const RowMatrixX3d& vertices, const RowMatrixX3i& faces, dou
 /// Gmsh cannot parametrise. Then the same remesh is tried with fewer creases: 90 degrees, none.
 TriangleMesh remesh_with_fewer_creases(const TriangleMesh& surface, const OperatingRegion& region, GradedRemeshOptions g,
                                        MeshPreparationReport& r) {
-  for (const double angle : {g.feature_angle_degrees, 90.0, 180.0}) {
+  for (const double angle : {g.feature_angle_degrees, 90.0, 179.0}) {  // graded_remesh takes angles below 180
     if (angle < g.feature_angle_degrees) continue;
     g.feature_angle_degrees = angle;
     try {
@@ -157,7 +155,7 @@ TriangleMesh remesh_with_fewer_creases(const TriangleMesh& surface, const Operat
     } catch (const InvalidArgumentError&) { throw; } catch (const InvalidMeshError&) {
       throw;
     } catch (const Error& e) {
-      if (angle >= 180.0) throw;
+      if (angle >= 179.0) throw;
       r.steps.push_back("remesh with creases above " + general_text(angle, 3) + " degrees failed (" + e.what() + "); trying fewer");
     }
   }
@@ -279,26 +277,6 @@ double length_unit_to_metres(const std::string& unit) {
 
 bool mesh_preparation_available() { return detail::cgal_repair_available() && graded_remesher_available(); }
 
-double estimate_dense_solve_seconds(Index elements) {
-  // Calibrated once per process: an assembly (seconds per element pair) and an LU (seconds per
-  // flop) of small problems; the dense solve of E elements is E^2 pairs and (2/3)(3E)^3 flops.
-  static std::once_flag once;
-  static double pair_seconds = 0.0, flop_seconds = 0.0;
-  std::call_once(once, [] {
-    const TriangleMesh sphere = icosphere_mesh(Vec3::Zero(), 1.0, 2);  // 320 elements, ~0.1 s
-    const InfluenceAssembler assembler(sphere, Material{});
-    auto t0 = Clock::now();
-    const InfluenceMatrices hg = assembler.assemble();
-    pair_seconds = std::chrono::duration<double>(Clock::now() - t0).count() / double(sphere.num_elements() * sphere.num_elements());
-    t0 = Clock::now();
-    const Eigen::PartialPivLU<Eigen::MatrixXd> lu(hg.H);
-    const double n = double(hg.H.rows());
-    flop_seconds = std::chrono::duration<double>(Clock::now() - t0).count() / (2.0 / 3.0 * n * n * n);
-  });
-  const double E = double(elements), n = 3.0 * E;
-  return pair_seconds * E * E + flop_seconds * 2.0 / 3.0 * n * n * n;
-}
-
 PreparedMesh prepare_mesh(const TriangleMesh& input, const MeshPreparationOptions& o) {
   check_options(o);
   if (!mesh_preparation_available())
@@ -347,8 +325,6 @@ PreparedMesh prepare_mesh(const TriangleMesh& input, const MeshPreparationOption
   r.volume_change = r.input_volume > 0.0 ? (r.volume - r.input_volume) / r.input_volume : 0.0;
   r.hausdorff = hausdorff_distance(TriangleMesh(soup.vertices, soup.faces), out.mesh, dropped, diagonal, r.hausdorff_excluded_samples);
   r.hausdorff_relative = r.hausdorff / diagonal;
-  r.estimated_bytes = estimate_elastostatic_bytes(r.elements);
-  r.estimated_seconds = estimate_dense_solve_seconds(r.elements);
   timer.mark("measure");
   r.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return out;
@@ -369,8 +345,9 @@ std::string describe_preparation(const MeshPreparationReport& r) {
   s << "change: Hausdorff distance " << general_text(r.hausdorff, 3) << " m (" << general_text(100.0 * r.hausdorff_relative, 3)
     << " % of the diagonal" << (r.hausdorff_excluded_samples > 0 ? ", not counting removed parts" : "") << "), volume "
     << general_text(100.0 * r.volume_change, 3) << " %\n";
-  s << "dense solve of this mesh: about " << format_gib(r.estimated_bytes) << " and " << general_text(r.estimated_seconds, 3)
-    << " s on this machine\n";
+  if (r.estimated_bytes > 0.0)
+    s << "dense solve of this mesh: about " << format_gib(r.estimated_bytes) << " and " << general_text(r.estimated_seconds, 3)
+      << " s on this machine\n";
   for (const std::string& w : r.warnings) s << "warning: " << w << "\n";
   return s.str();
 }

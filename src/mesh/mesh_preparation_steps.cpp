@@ -26,6 +26,17 @@ double triangle_area(const RowMatrixX3d& v, Index a, Index b, Index c) {
   return 0.5 * (v.row(b) - v.row(a)).cross(v.row(c) - v.row(a)).norm();
 }
 
+/// The corners of a collinear triangle ordered (end, end, middle): the middle one lies between.
+std::array<Index, 3> middle_last(const RowMatrixX3d& v, const std::array<Index, 3>& t) {
+  int middle = 0;
+  double longest = -1.0;
+  for (int k = 0; k < 3; ++k) {  // the middle vertex is the one opposite the longest edge
+    const double length = (v.row(t[std::size_t((k + 1) % 3)]) - v.row(t[std::size_t((k + 2) % 3)])).squaredNorm();
+    if (length > longest) longest = length, middle = k;
+  }
+  return {t[std::size_t((middle + 1) % 3)], t[std::size_t((middle + 2) % 3)], t[std::size_t(middle)]};
+}
+
 }  // namespace
 
 CleanSoup clean_soup(const RowMatrixX3d& vertices, const RowMatrixX3i& faces, double diagonal, MeshDefectCounts& d) {
@@ -42,13 +53,15 @@ CleanSoup clean_soup(const RowMatrixX3d& vertices, const RowMatrixX3i& faces, do
   mean_area /= std::max<Index>(F, 1);
   std::unordered_set<std::array<Index, 3>, TripleHash> seen;
   seen.reserve(static_cast<std::size_t>(F));
-  std::vector<std::array<Index, 3>> kept;
+  std::vector<std::array<Index, 3>> kept, t_junctions;  // t_junctions: (end, middle, end)
   kept.reserve(static_cast<std::size_t>(F));
   for (Index e = 0; e < F; ++e) {
     const std::array<Index, 3> t{rep[std::size_t(faces(e, 0))], rep[std::size_t(faces(e, 1))], rep[std::size_t(faces(e, 2))]};
     // Zero area: a repeated corner, or three collinear corners (below validate_mesh's tolerance).
-    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2] || triangle_area(vertices, t[0], t[1], t[2]) <= 1e-10 * mean_area) {
+    const bool repeated = t[0] == t[1] || t[1] == t[2] || t[0] == t[2];
+    if (repeated || triangle_area(vertices, t[0], t[1], t[2]) <= 1e-10 * mean_area) {
       ++d.degenerate_faces;
+      if (!repeated) t_junctions.push_back(middle_last(vertices, t));
       continue;
     }
     std::array<Index, 3> key = t;
@@ -59,6 +72,18 @@ CleanSoup clean_soup(const RowMatrixX3d& vertices, const RowMatrixX3i& faces, do
     }
     kept.push_back(t);
   }
+  // A flat face (a, m, b) with m between a and b closes a T-junction: the faces on its other sides
+  // use a-m and m-b, while a face across it uses a-b. Dropped, it would leave a hole of zero area
+  // that no triangulation closes; instead each kept face on the edge a-b is split at m.
+  for (const auto& [a, b, m] : t_junctions)
+    for (std::size_t f = 0, n = kept.size(); f < n; ++f)
+      for (int k = 0; k < 3; ++k) {
+        const Index u = kept[f][std::size_t(k)], w = kept[f][std::size_t((k + 1) % 3)], x = kept[f][std::size_t((k + 2) % 3)];
+        if (!((u == a && w == b) || (u == b && w == a))) continue;
+        kept[f] = {u, m, x};
+        kept.push_back({m, w, x});
+        break;
+      }
   // Vertices renumbered in order of first use, so the result does not depend on unused ones.
   std::vector<Index> index(static_cast<std::size_t>(V), -1);
   CleanSoup out;

@@ -19,7 +19,7 @@
 //   6. remesh with Gmsh (mesh/graded_remesher.hpp): graded to an operating region, or uniform to
 //      a target element count or edge length, and by default to kDefaultPreparedElements;
 //   7. check: require_valid_mesh on the result, the two-sided Hausdorff distance and the volume
-//      change against the (scaled) input, and the estimated cost of the dense solve.
+//      change against the (scaled) input.
 // Same input and options give the same mesh, vertex for vertex: every step is deterministic and
 // single-threaded, so table caches keyed on the mesh stay valid.
 //
@@ -43,7 +43,8 @@ namespace bemsurg {
 /// elements (9,000 equations, ~1.3 GiB) takes about a minute on a 2-core machine with its Green's
 /// table (docs/organs.md, "How big"). Never more than the repaired surface itself has.
 inline constexpr Index kDefaultPreparedElements = 3000;
-/// Upper bound of target_elements (a dense solve of 5,000 elements needs ~3.6 GiB and minutes).
+/// Upper bound of target_elements: the graded remesher's own limit (a dense system of 1.8e5
+/// equations, 2 x 240 GiB: for machines far larger than the 2-core default's).
 inline constexpr Index kMaxPreparedElements = 60000;
 /// Default hole limit: holes whose boundary loop is shorter than this fraction of the bounding-box
 /// diagonal are filled; a longer one means an open sheet, not a body, and is refused.
@@ -155,10 +156,6 @@ bool mesh_preparation_available();
 /// no closed region after repair) with the figures and the option to change, and bemsurg::Error
 /// when this build has no preparation.
 PreparedMesh prepare_mesh(const TriangleMesh& input, const MeshPreparationOptions& options);
-
-/// Estimated seconds of the dense solve (assembly and LU) of `elements` constant elements on this
-/// machine, from two small calibration runs (timed once per process, ~0.2 s).
-double estimate_dense_solve_seconds(Index elements);
 
 /// A multi-line, human-readable summary of the report (what `bemsurg prepare` prints).
 std::string describe_preparation(const MeshPreparationReport& report);
