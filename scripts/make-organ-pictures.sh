@@ -9,7 +9,7 @@
 # The raw segmentations are generated (`bemsurg sample-segmentation`, not committed). Screenshots are
 # shrunk to 960 x 600 and every picture is reduced to a palette (dithered), as make-viewer-screenshot.sh
 # does, so each committed file stays under ~120 kB. Runs under xvfb-run when there is no DISPLAY.
-# About 3 minutes on 2 cores (the viewer precomputes each scene's table).
+# About a minute on the 2-core VM (60 s measured; the viewer precomputes each scene's table).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BUILD_DIR=${BUILD_DIR:-build}
