@@ -1,5 +1,5 @@
 // `bemsurg sample-segmentation liver|kidney -o OUT.stl`: writes an organ-like surface as a
-// segmentation tool would export it (docs/cli.md, docs/organ-samples.md): an implicit organ
+// segmentation tool would export it (docs/cli.md, docs/organs.md): an implicit organ
 // (mesh/organ_shapes.hpp) sampled by marching tetrahedra (mesh/implicit_surface.hpp) at the cell
 // that gives about the requested number of triangles, then made defective the way real exports
 // are (mesh/mesh_defects.hpp: segmentation_like) unless --clean, in millimetres unless --units m.
@@ -30,7 +30,7 @@ constexpr const char* kSampleUsage =
     "N triangles, with a realistic mix of defects (a self-intersection, a non-manifold fin, a small\n"
     "hole, a flipped patch, zero-area faces, a disjoint speck) unless --clean, in millimetres unless\n"
     "--units m. The format follows the extension: .stl (binary), .obj, .off, .ply (ASCII), .vtk.\n"
-    "The same arguments write the same file byte for byte. See docs/organ-samples.md.\n";
+    "The same arguments write the same file byte for byte. See docs/organs.md.\n";
 
 struct SampleOptions {
   std::string organ;

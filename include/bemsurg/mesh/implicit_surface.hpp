@@ -1,6 +1,6 @@
 // bemsurg/mesh/implicit_surface.hpp: the zero level set of a signed function as a triangle mesh,
 // the way a segmentation tool's marching cubes turns a labelled volume into a surface
-// (docs/organ-samples.md).
+// (docs/organs.md).
 //
 // The function f is negative inside the body and positive outside. It is sampled at the nodes of
 // a regular grid of cubic cells; each cell is split into six tetrahedra along its main diagonal

@@ -1,5 +1,5 @@
 // bemsurg/mesh/mesh_defects.hpp: turning a clean surface into the broken ones that segmentation
-// tools export (docs/organ-samples.md), one kind of defect per function, to test a mesh repair.
+// tools export (docs/organs.md), one kind of defect per function, to test a mesh repair.
 //
 // Surfaces from 3D Slicer, ITK-SNAP or a marching-cubes script arrive as triangle soups in
 // millimetres, with zero-area faces, patches facing the wrong way, small holes, faces crossing
@@ -80,7 +80,7 @@ TriangleMesh add_cavity(const TriangleMesh& mesh, const Vec3& center, double rad
 /// Every coordinate times `factor` (1000: metres to millimetres, as segmentation tools write).
 TriangleMesh scale_mesh(const TriangleMesh& mesh, double factor);
 
-/// What segmentation_like adds (the defaults: the "deliberately defective" input of docs/organ-samples.md).
+/// What segmentation_like adds (the defaults: the "deliberately defective" input of docs/organs.md).
 struct SegmentationDefects {
   /// Coordinates times this (1000: metres in, millimetres out).
   double scale = 1000.0;

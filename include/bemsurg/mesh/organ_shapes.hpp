@@ -1,5 +1,5 @@
 // bemsurg/mesh/organ_shapes.hpp: organ-like bodies as signed functions, in metres, to be sampled
-// by mesh/implicit_surface.hpp into what a segmentation tool would export (docs/organ-samples.md).
+// by mesh/implicit_surface.hpp into what a segmentation tool would export (docs/organs.md).
 //
 // Coordinates follow the liver model (mesh/liver_model.hpp, examples/scenes/liver.json): x to
 // the patient's left-right (+x: the liver's right lobe), y from front (-y, anterior) to back (+y,
