@@ -5,8 +5,8 @@
 // are (mesh/mesh_defects.hpp: segmentation_like) unless --clean, in millimetres unless --units m.
 // The inputs of the mesh repair's tests, benchmark and CI are generated with it, not committed.
 #include <algorithm>
-#include <cmath>
 #include <cctype>
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <iostream>

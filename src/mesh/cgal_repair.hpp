@@ -21,9 +21,9 @@ struct OrientedClosedSoup {
   std::vector<char> reversed;     // per input face: its corner order was reversed
   Index duplicated_vertices = 0;  // copies made where separate fans met (non-manifold places)
   Index holes = 0, filled = 0;    // boundary loops found after orienting, and those filled
-  Index unfilled = 0;              // holes longer than max_hole_length, left open
-  double longest_unfilled = 0.0;   // boundary length of the longest of those (0: none)
-  Index failed = 0;                // short holes that no triangulation could close, left open
+  Index unfilled = 0;             // holes longer than max_hole_length, left open
+  double longest_unfilled = 0.0;  // boundary length of the longest of those (0: none)
+  Index failed = 0;               // short holes that no triangulation could close, left open
 };
 OrientedClosedSoup cgal_orient_and_close(const RowMatrixX3d& vertices, const RowMatrixX3i& faces, double max_hole_length);
 
