@@ -323,7 +323,8 @@ TEST_CASE("a mesh file too large for the dense solve is refused at load with the
                           Catch::Contains("to make it solvable, remesh it: bemsurg prepare '" + path +
                                           "' -o prepared.obj --scale 0.001 --target-elements 3000, then set mesh.file to prepared.obj "
                                           "and remove mesh.scale") &&
-                          Catch::Contains("docs/organs.md") && Catch::Contains(R"(or add "prepare": {} to the scene's mesh section)"));
+                          Catch::Contains("docs/organs.md") &&
+                          Catch::Contains(R"(or add "prepare": {"scale": 0.001} to the scene's mesh section and remove mesh.scale)"));
   };
   const auto t0 = std::chrono::steady_clock::now();
   refused(run_cli("solve '" + scene + "' -o '" + dir.file("solve") + "'", dir));
