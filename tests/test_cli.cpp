@@ -21,6 +21,7 @@
 #include "bemsurg/memory_budget.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/mesh/mesh_io.hpp"
+#include "support/cli_run.hpp"
 #include "support/temp_dir.hpp"
 
 using namespace bemsurg;
@@ -33,29 +34,11 @@ struct TempDir : bemsurg_test::TempDir {
   TempDir() : bemsurg_test::TempDir("bemsurg_test_cli_") {}
 };
 
-std::string read_text(const std::string& path) {
-  std::ifstream in(path);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-struct Run {
-  int exit_code = -1;
-  std::string out, err;
-};
+using bemsurg_test::read_text;
+using Run = bemsurg_test::CliRun;
 
 /// Runs the built program with `args` (already quoted), capturing stdout and stderr.
-Run run_cli(const std::string& args, const TempDir& dir) {
-  const std::string out = dir.file("stdout.txt"), err = dir.file("stderr.txt");
-  const std::string command = "'" + std::string(BEMSURG_CLI_PATH) + "' " + args + " >'" + out + "' 2>'" + err + "'";
-  const int status = std::system(command.c_str());
-  Run r;
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.out = read_text(out);
-  r.err = read_text(err);
-  return r;
-}
+Run run_cli(const std::string& args, const TempDir& dir) { return bemsurg_test::run_cli(args, dir); }
 
 /// A CSV as its header line and rows of numbers.
 struct Table {

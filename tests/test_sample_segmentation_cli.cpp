@@ -13,30 +13,17 @@
 
 #include "bemsurg/mesh/mesh_io.hpp"
 #include "bemsurg/mesh/mesh_validation.hpp"
+#include "support/cli_run.hpp"
 #include "support/temp_dir.hpp"
 
 using namespace bemsurg;
 
 namespace {
 
-struct Run {
-  int exit_code = -1;
-  std::string err;
-};
+using bemsurg_test::read_text;
+using Run = bemsurg_test::CliRun;
 
-std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-Run run(const std::string& args, const bemsurg_test::TempDir& dir) {
-  const std::string err = dir.file("stderr.txt");
-  const std::string cmd = "'" + std::string(BEMSURG_CLI_PATH) + "' " + args + " > /dev/null 2>'" + err + "'";
-  const int status = std::system(cmd.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_text(err)};
-}
+Run run(const std::string& args, const bemsurg_test::TempDir& dir) { return bemsurg_test::run_cli(args, dir); }
 
 }  // namespace
 

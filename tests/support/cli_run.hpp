@@ -1,0 +1,42 @@
+// tests/support/cli_run.hpp: running the built `bemsurg` program from a test (BEMSURG_CLI_PATH,
+// tests/CMakeLists.txt) with its standard output and error captured in the test's directory.
+#pragma once
+
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "temp_dir.hpp"
+
+namespace bemsurg_test {
+
+/// A file's whole content ("" when it cannot be read).
+inline std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+/// What a run of the program gave: its exit status (-1 when it did not exit normally) and output.
+struct CliRun {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+/// Runs the built program with `args` (already quoted), capturing stdout and stderr in `dir`.
+inline CliRun run_cli(const std::string& args, const TempDir& dir) {
+  const std::string out = dir.file("stdout.txt"), err = dir.file("stderr.txt");
+  const std::string command = "'" + std::string(BEMSURG_CLI_PATH) + "' " + args + " >'" + out + "' 2>'" + err + "'";
+  const int status = std::system(command.c_str());
+  CliRun r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = read_text(out);
+  r.err = read_text(err);
+  return r;
+}
+
+}  // namespace bemsurg_test
