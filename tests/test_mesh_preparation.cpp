@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "bemsurg/error.hpp"
+#include "bemsurg/mesh/geometry.hpp"
 #include "bemsurg/mesh/implicit_surface.hpp"
 #include "bemsurg/mesh/mesh_defects.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
@@ -60,40 +61,19 @@ MeshPreparationOptions options(double alpha_fraction = 1.0 / 60.0) {
   return o;
 }
 
-/// The closest point to p on the triangle (a, b, c): the regions of the triangle's Voronoi diagram
-/// tested in turn (vertices, edges, face), written from the barycentric conditions.
-Vec3 closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) return a;
-  const Vec3 bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return b;
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + d1 / (d1 - d3) * ab;
-  const Vec3 cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return c;
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + d2 / (d2 - d6) * ac;
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0) return b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b);
-  const double denom = 1.0 / (va + vb + vc);
-  return a + ab * (vb * denom) + ac * (vc * denom);
-}
-
-/// The largest distance from the points to the mesh, by brute force over every face.
+/// The largest distance from the points to the mesh, by brute force over every face (not CGAL's
+/// AABB tree, which the report uses).
 double max_distance(const std::vector<Vec3>& points, const TriangleMesh& mesh) {
   double worst = 0.0;
   for (const Vec3& p : points) {
     double best = std::numeric_limits<double>::infinity();
     for (Index f = 0; f < mesh.num_elements(); ++f) {
       const auto c = mesh.corners(f);
-      best = std::min(best, (p - closest_on_triangle(p, c[0], c[1], c[2])).squaredNorm());
+      best = std::min(best, point_triangle_distance(p, c[0], c[1], c[2]));  // mesh/geometry.hpp
     }
     worst = std::max(worst, best);
   }
-  return std::sqrt(worst);
+  return worst;
 }
 
 /// Every vertex, and for `with_centroids` every face's centroid too.
