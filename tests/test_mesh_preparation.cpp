@@ -212,10 +212,13 @@ TEST_CASE("prepare_mesh repairs each kind of defect on an ellipsoid into a valid
     CHECK(MeshTopology(p.mesh).num_shells() == 1);
     CHECK(p.mesh.enclosed_volume() == Approx(ellipsoid_volume()).epsilon(0.02));
     CHECK(p.report.hausdorff_relative < 0.01);  // the speck's samples are left out, not counted as lost
-    // keep_all: a speck larger than the elements (radius ~12 mm; a 1e-3 speck, 4.5 mm, is smaller
-    // than the 9 mm elements and Gmsh cannot remesh it: see the report of this test's author).
+    // keep_all: a 1e-3 speck (radius 4.5 mm) is less than two of the 9 mm elements across: refused,
+    // naming the shell, its size and the way out; a speck larger than the elements (~12 mm) is kept.
     MeshPreparationOptions all = options();
     all.keep_all = true;
+    CHECK_THROWS_AS(prepare_mesh(add_speck(ellipsoid(), 1e-3), all), InvalidMeshError);
+    CHECK_THROWS_WITH(prepare_mesh(add_speck(ellipsoid(), 1e-3), all),
+                      Catch::Matchers::Contains("less than two elements of") && Catch::Matchers::Contains("--keep-all"));
     const TriangleMesh big = add_speck(ellipsoid(), 0.05);
     const PreparedMesh q = prepare_checked(big, all);
     CHECK(q.report.bodies == 2);
