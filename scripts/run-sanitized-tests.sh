@@ -5,8 +5,9 @@
 # is left out (BEMSURG_VIEWER_GUI=OFF): these trees run the viewer's core tests, never the window.
 #
 #   scripts/run-sanitized-tests.sh [address]   AddressSanitizer + UndefinedBehaviorSanitizer over
-#       the whole suite, with assertions on (no NDEBUG: bemsurg's and Eigen's own checks, as a
-#       user's Debug build has them).
+#       the suite, with assertions on (no NDEBUG: bemsurg's and Eigen's own checks, as a user's
+#       Debug build has them), less two things the Release run covers: mesh preparation's CGAL file
+#       (built without CGAL, the prepare cases skip) and 8 convergence studies (listed below).
 #   scripts/run-sanitized-tests.sh thread      ThreadSanitizer over the tests that start threads:
 #       the haptic loop, the UDP bridge and the force limiter (all of test_haptics), the background
 #       refactorisation swapped in under a cut (test_cutting), the session command with its

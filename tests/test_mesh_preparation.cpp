@@ -392,3 +392,26 @@ TEST_CASE("prepare_mesh repairs a segmentation-like liver in millimetres, the sa
   CHECK((again.mesh.vertices().array() == p.mesh.vertices().array()).all());  // exact, not approximate
   CHECK(again.report.hausdorff == r.hausdorff);
 }
+
+TEST_CASE("prepare_mesh keeps a surface of fewer faces than the default target and remeshes a tetrahedron to a target", "[prepare]") {
+  testing::skip_unless(mesh_preparation_available(), "this build has no mesh preparation (BEMSURG_WITH_PREPARE: CGAL and Gmsh)");
+  RowMatrixX3d V(4, 3);
+  V << 0, 0, 0, 0.1, 0, 0, 0, 0.1, 0, 0, 0, 0.1;
+  RowMatrixX3i F(4, 3);
+  F << 0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3;
+  const TriangleMesh tet(V, F);
+  MeshPreparationOptions o;
+  o.scale_given = true;
+  const PreparedMesh kept = prepare_mesh(tet, o);  // the default never adds elements
+  CHECK(kept.report.remesh == "none");
+  CHECK(kept.mesh.num_elements() == 4);
+  CHECK(kept.mesh.enclosed_volume() == Approx(0.1 * 0.1 * 0.1 / 6.0).epsilon(1e-12));
+  // Four faces alone kept Gmsh's reparametrisation from finishing; they are split first.
+  o.target_elements = 200;
+  const PreparedMesh remeshed = prepare_mesh(tet, o);
+  CHECK(remeshed.report.remesh == "uniform");
+  CHECK(remeshed.report.target_elements == 200);
+  CHECK(remeshed.mesh.num_elements() == Approx(200).epsilon(0.2));
+  CHECK(remeshed.mesh.enclosed_volume() == Approx(0.1 * 0.1 * 0.1 / 6.0).epsilon(0.02));
+  CHECK(remeshed.report.hausdorff_relative < 1e-6);  // the flat faces are remeshed on themselves
+}

@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -14,6 +15,8 @@
 #include "bemsurg/io/scene.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/mesh/mesh_io.hpp"
+#include "bemsurg/mesh/mesh_preparation.hpp"
+#include "support/skip.hpp"
 #include "support/temp_dir.hpp"
 
 using namespace bemsurg;
@@ -484,4 +487,47 @@ TEST_CASE("the thin-part warning judges the refined mesh solved and names its el
   REQUIRE(named < E);
   CHECK(half.problem.mesh.normal(named).z() == Approx(-1.0).epsilon(1e-12));
   CHECK(std::sqrt(2.0 * half.problem.mesh.area(named)) > 0.1);
+}
+
+TEST_CASE("mesh.prepare repairs a raw file at load: units, the mesh.scale on top, the sphere selector, bad keys named",
+          "[scene][prepare]") {
+  testing::skip_unless(mesh_preparation_available(), "this build has no mesh preparation (BEMSURG_WITH_PREPARE: CGAL and Gmsh)");
+  ::setenv("BEMSURG_CACHE_DIR", "off", 1);  // every load prepares; nothing written outside the test
+  TempDir dir;
+  // An icosphere of radius 50 mm in millimetres with its first 30 faces turned inside out.
+  TriangleMesh sphere = icosphere_mesh(Vec3::Zero(), 50.0, 3);
+  RowMatrixX3i f = sphere.faces();
+  for (Index e = 0; e < 30; ++e) std::swap(f(e, 1), f(e, 2));
+  write_obj(dir.file("raw.obj"), TriangleMesh(sphere.vertices(), f));
+  const std::string fix_cap = R"("boundary_conditions": {"rules": [{"select": {"sphere": {"center": [0, 0, -0.05], "radius": 0.02}},
+                                                                   "displacement": [0, 0, 0]}]})";
+  const Scene s = load_scene_from_string(scene(R"("mesh": {"file": "raw.obj", "prepare": {"units": "mm"}})", kMaterial, fix_cap),
+                                         dir.path.string(), "test.json");
+  CHECK(s.warnings.empty());
+  CHECK_THAT(s.mesh_source, Catch::Contains(", prepared (30 defects"));
+  CHECK(s.problem.mesh.num_elements() == 1280);  // no more faces than the default target: kept as repaired
+  CHECK(s.problem.mesh.enclosed_volume() == Approx(sphere.enclosed_volume() * 1e-9).epsilon(1e-12));
+  // The sphere selector holds exactly the elements whose centroid lies within 20 mm of the pole.
+  Index near_pole = 0;
+  for (Index e = 0; e < s.problem.mesh.num_elements(); ++e) {
+    const bool inside = (s.problem.mesh.centroid(e) - Vec3(0, 0, -0.05)).norm() <= 0.02;
+    near_pole += inside;
+    CHECK(s.problem.boundary_conditions.is_free(e) == !inside);
+  }
+  CHECK(near_pole > 10);
+  // mesh.scale after preparing: the file's unit is said there, so no millimetre warning.
+  const Scene t = load_scene_from_string(scene(R"("mesh": {"file": "raw.obj", "scale": 0.001, "prepare": {}})", kMaterial, fix_cap),
+                                         dir.path.string(), "test.json");
+  CHECK(t.warnings.empty());
+  CHECK(t.problem.mesh.vertices().isApprox(s.problem.mesh.vertices(), 1e-12));
+  // Without either, the input (100 m across) is warned about, naming the key to add.
+  const Scene u = load_scene_from_string(scene(R"("mesh": {"file": "raw.obj", "prepare": {}})", kMaterial, R"("boundary_conditions": {})"),
+                                         dir.path.string(), "test.json");
+  REQUIRE(u.warnings.size() == 1);
+  CHECK_THAT(u.warnings[0], Catch::Contains("mesh.prepare") && Catch::Contains(R"("units": "mm")"));
+  CHECK_THAT(scene_error(scene(R"("mesh": {"file": "raw.obj", "prepare": {"units": "inch"}})", kMaterial, kFixBottom), dir.path.string()),
+             Catch::Contains("mesh.prepare.units: expected \"mm\", \"cm\" or \"m\", got \"inch\""));
+  CHECK_THAT(scene_error(scene(R"("mesh": {"generator": "icosphere", "radius": 1, "prepare": {}})", kMaterial, kFixBottom)),
+             Catch::Contains("mesh.prepare: \"prepare\" repairs a mesh file"));
+  ::unsetenv("BEMSURG_CACHE_DIR");
 }

@@ -31,7 +31,7 @@ constexpr const char* kPrepareUsage =
     "(duplicate vertices, degenerate faces, orientation, holes; a surface that crosses itself, is\n"
     "not manifold or has overlapping shells is rebuilt by alpha wrapping), keeps the largest body\n"
     "(with its cavities) and remeshes it: graded to an operating region, uniform to N elements or\n"
-    "edge length L (metres), or by default to min(3000, what the repair left) elements. Writes\n"
+    "edge length L (metres), or by default to 3000 elements (fewer: kept as repaired). Writes\n"
     "OUT.obj in metres; the same input and options give the same file. docs/organs.md.\n";
 
 struct PrepareCommandOptions {
@@ -136,7 +136,7 @@ nlohmann::json report_json(const bemsurg::MeshPreparationReport& r, const Prepar
                   {"dropped_volume", r.dropped_volume},
                   {"cavities", r.cavities},
                   {"repaired_elements", r.repaired_elements}};
-  j["remesh"] = {{"kind", r.remesh}, {"target_elements", c.target_elements}, {"edge_length", r.target_edge_length}};
+  j["remesh"] = {{"kind", r.remesh}, {"target_elements", r.target_elements}, {"edge_length", r.target_edge_length}};
   j["output"] = {{"file", c.output}, {"elements", r.elements}, {"vertices", r.vertices}, {"units", "m"}};
   j["hausdorff_distance"] = r.hausdorff;
   j["hausdorff_relative"] = r.hausdorff_relative;

@@ -16,6 +16,7 @@
 
 #include "bemsurg/error.hpp"
 #include "bemsurg/memory_budget.hpp"
+#include "bemsurg/mesh/mesh_preparation.hpp"
 #include "bemsurg/mesh/mesh_thickness.hpp"
 #include "json_reader.hpp"
 #include "scene_sections.hpp"
@@ -103,6 +104,13 @@ void require_solvable_size(const Scene& scene, const io::JsonReader& mesh, const
   if (need <= limit) return;
   const std::string fits =
       "the dense solve needs about " + format_gib(need) + ", more than the limit of " + format_gib(limit) + " (80 % of physical memory)";
+  if (mesh.has("prepare") && !scene.graded) {  // the prepared mesh is too large: its target is at fault
+    const io::JsonReader p = mesh.required("prepare");
+    throw ResourceError(p.path() + ": the prepared mesh has " + std::to_string(E) + " elements (" +
+                        std::to_string(3 * nodes_per_element(scene.problem.elements) * E) + " unknowns); " + fits +
+                        "; ask for fewer (prepare.target_elements, a longer prepare.edge_length; the default is " +
+                        std::to_string(kDefaultPreparedElements) + ")");
+  }
   if (mesh.has("file") && !scene.graded) {
     const std::string path = io::resolve_existing(directory, mesh.required("file"));
     throw ResourceError("mesh.file: the mesh '" + path + "' has " + std::to_string(E) + (linear ? " linear" : "") + " elements (" +

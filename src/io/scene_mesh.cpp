@@ -212,7 +212,8 @@ TriangleMesh load_mesh(const JsonReader& m, const std::string& directory, std::s
     const double scale = scale_key ? scale_key->positive() : 1.0;
     // A raw segmentation surface: repaired and remeshed first, in metres, then mapped as above
     // (scene_prepare.cpp); the operating region's lengths are in the mapped coordinates.
-    if (const std::optional<JsonReader> p = m.optional("prepare")) mesh = prepare_in_scene(*p, mesh, graded_inside_edge / scale, source);
+    if (const std::optional<JsonReader> p = m.optional("prepare"))
+      mesh = prepare_in_scene(*p, mesh, graded_inside_edge / scale, scale_key.has_value(), source);
     const Vec3 shift = translate_key ? translate_key->vec3() : Vec3(Vec3::Zero());
     if (scale != 1.0 || !shift.isZero(0.0)) {
       RowMatrixX3d v = mesh.vertices() * scale;

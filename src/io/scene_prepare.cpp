@@ -9,6 +9,8 @@
 #include <string>
 #include <system_error>
 
+#include <unistd.h>
+
 #include "bemsurg/error.hpp"
 #include "bemsurg/mesh/mesh_io.hpp"
 #include "bemsurg/mesh/mesh_preparation.hpp"
@@ -19,7 +21,7 @@
 namespace bemsurg::io {
 namespace {
 
-MeshPreparationOptions read_preparation_options(const JsonReader& p, double graded_inside_edge) {
+MeshPreparationOptions read_preparation_options(const JsonReader& p, double graded_inside_edge, bool outer_scale) {
   p.object().warn_unknown_keys(
       {"units", "scale", "target_elements", "edge_length", "max_hole", "wrap_alpha", "wrap_offset", "rebuild", "keep_all"});
   MeshPreparationOptions o;
@@ -42,6 +44,8 @@ MeshPreparationOptions read_preparation_options(const JsonReader& p, double grad
   if (const std::optional<JsonReader> r = p.optional("rebuild")) o.force_wrap = r->boolean();
   if (const std::optional<JsonReader> k = p.optional("keep_all")) o.keep_all = k->boolean();
   if (o.target_elements > 0 && o.edge_length > 0.0) p.fail("give \"target_elements\" or \"edge_length\", not both");
+  // A mesh.scale says the file's unit too (applied after preparing): no millimetre warning then.
+  o.scale_given = o.scale_given || outer_scale;
   if (graded_inside_edge > 0.0) {
     // The scene's operating region grades the repaired surface itself (scene.cpp): prepare only
     // repairs, and coarsens a very fine input for that remesh.
@@ -52,6 +56,10 @@ MeshPreparationOptions read_preparation_options(const JsonReader& p, double grad
   }
   return o;
 }
+
+// What prepare_mesh does, as a number: raised with any change to its result, so that a cache
+// written by an earlier build of the same version is not served.
+constexpr int kPreparationRevision = 2;
 
 // The prepared mesh is cached (docs/organs.md, "Cache"): prepare_mesh is deterministic, so the
 // same file bytes, options and bemsurg version give the same mesh, and every command after the
@@ -76,10 +84,10 @@ std::string cache_key(const std::string& path, const MeshPreparationOptions& o) 
     for (const unsigned char c : bytes) h = (h ^ c) * 1099511628211ull;
   };
   mix(std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()));
-  mix(std::string(version_string()) + "|" + number_text(o.scale) + "|" + number_text(o.wrap_alpha_fraction) + "|" +
-      number_text(o.wrap_offset_fraction) + "|" + number_text(o.max_hole_fraction) + "|" + std::to_string(o.force_wrap) +
-      std::to_string(o.keep_all) + std::to_string(o.no_remesh) + "|" + std::to_string(o.target_elements) + "|" +
-      number_text(o.edge_length) + "|" + number_text(o.graded_options.inside_edge_length));
+  mix(std::string(version_string()) + "|" + std::to_string(kPreparationRevision) + "|" + number_text(o.scale) + "|" +
+      number_text(o.wrap_alpha_fraction) + "|" + number_text(o.wrap_offset_fraction) + "|" + number_text(o.max_hole_fraction) + "|" +
+      std::to_string(o.force_wrap) + std::to_string(o.keep_all) + std::to_string(o.no_remesh) + "|" + std::to_string(o.target_elements) +
+      "|" + number_text(o.edge_length) + "|" + number_text(o.graded_options.inside_edge_length));
   std::ostringstream key;
   key << std::hex << h;
   return key.str();
@@ -87,8 +95,9 @@ std::string cache_key(const std::string& path, const MeshPreparationOptions& o) 
 
 }  // namespace
 
-TriangleMesh prepare_in_scene(const JsonReader& p, const TriangleMesh& raw, double graded_inside_edge, std::string& source) {
-  const MeshPreparationOptions options = read_preparation_options(p, graded_inside_edge);
+TriangleMesh prepare_in_scene(const JsonReader& p, const TriangleMesh& raw, double graded_inside_edge, bool outer_scale,
+                              std::string& source) {
+  const MeshPreparationOptions options = read_preparation_options(p, graded_inside_edge, outer_scale);
   const std::filesystem::path dir = cache_directory();
   const std::string key = dir.empty() ? std::string() : cache_key(source, options);
   std::error_code ec;
@@ -119,7 +128,7 @@ TriangleMesh prepare_in_scene(const JsonReader& p, const TriangleMesh& raw, doub
   if (!dir.empty() && r.warnings.empty()) {  // a warned-about result is prepared (and warned) again each time
     try {
       std::filesystem::create_directories(dir, ec);
-      const std::filesystem::path tmp = dir / (key + ".obj.tmp");
+      const std::filesystem::path tmp = dir / (key + ".obj." + std::to_string(::getpid()) + ".tmp");  // one per process
       write_obj(tmp.string(), prepared.mesh);
       std::ofstream(dir / (key + ".txt")) << summary << "\n";
       std::filesystem::rename(tmp, dir / (key + ".obj"), ec);

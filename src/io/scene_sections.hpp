@@ -26,7 +26,9 @@ TriangleMesh load_mesh(const JsonReader& mesh, const std::string& directory, std
 
 /// "mesh.prepare": the raw mesh file repaired and remeshed by prepare_mesh (scene_prepare.cpp);
 /// its warnings become the scene's, at the key's path.
-TriangleMesh prepare_in_scene(const JsonReader& prepare, const TriangleMesh& raw, double graded_inside_edge, std::string& source);
+/// `outer_scale`: the mesh section has its own "scale" (then no millimetre warning).
+TriangleMesh prepare_in_scene(const JsonReader& prepare, const TriangleMesh& raw, double graded_inside_edge, bool outer_scale,
+                              std::string& source);
 
 /// "material", "solver", "quadrature" (scene_settings.cpp).
 Material load_material(const JsonReader& material, bool gravity_on);

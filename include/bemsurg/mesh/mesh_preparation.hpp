@@ -17,7 +17,8 @@
 //   5. bodies: nested shells are oriented as a body with cavities (outer outward, inner inward);
 //      of several disjoint bodies the largest by volume is kept unless keep_all;
 //   6. remesh with Gmsh (mesh/graded_remesher.hpp): graded to an operating region, or uniform to
-//      a target element count or edge length, and by default to kDefaultPreparedElements;
+//      a target element count or edge length, and by default to kDefaultPreparedElements (a
+//      repaired surface with fewer faces is kept as it is);
 //   7. check: require_valid_mesh on the result, the two-sided Hausdorff distance and the volume
 //      change against the (scaled) input.
 // Same input and options give the same mesh, vertex for vertex: every step is deterministic and
@@ -77,7 +78,8 @@ struct MeshPreparationOptions {
   /// Keep every disjoint body instead of the largest by volume.
   bool keep_all = false;
   /// Remesh target: at most one of target_elements (> 0), edge_length (> 0, metres) and region.
-  /// With none, the uniform target min(kDefaultPreparedElements, elements of the repaired surface).
+  /// With none, a uniform remesh to kDefaultPreparedElements, or none at all when the repaired
+  /// surface has no more faces than that.
   Index target_elements = 0;
   double edge_length = 0.0;
   /// A graded remesh to this operating region with graded_options (mesh/graded_remesher.hpp).
@@ -122,6 +124,7 @@ struct MeshPreparationReport {
   double dropped_volume = 0.0;       // m^3
   Index repaired_elements = 0;       // after repair, before remeshing
   std::string remesh;                // "graded", "uniform" or "none"
+  Index target_elements = 0;         // uniform remesh to a count: the count aimed at (0 otherwise)
   double target_edge_length = 0.0;   // uniform remesh: the edge length used (m)
   Index elements = 0, vertices = 0;  // final
   double hausdorff = 0.0;            // two-sided, input vs final (m)
