@@ -7,7 +7,7 @@
 #   scripts/run-sanitized-tests.sh [address]   AddressSanitizer + UndefinedBehaviorSanitizer over
 #       the suite, with assertions on (no NDEBUG: bemsurg's and Eigen's own checks, as a user's
 #       Debug build has them), less two things the Release run covers: mesh preparation's CGAL file
-#       (built without CGAL, the prepare cases skip) and 8 convergence studies (listed below).
+#       (built without CGAL, the prepare cases skip) and 10 slow studies (listed below).
 #   scripts/run-sanitized-tests.sh thread      ThreadSanitizer over the tests that start threads:
 #       the haptic loop, the UDP bridge and the force limiter (all of test_haptics), the background
 #       refactorisation swapped in under a cut (test_cutting), the session command with its
@@ -45,12 +45,14 @@ if [ "$mode" = address ]; then
   export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$root/tests/support/lsan-suppressions.txt}
   export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
   # Convergence studies that repeat, at more sizes, code paths the rest of the suite already runs
-  # under this sanitizer (contact, linear elements, the fast assembly, the graded remesh): 100 s
-  # of the pass's CPU for nothing it looks for (docs/development.md). The Release run has them all.
+  # under this sanitizer (contact, linear elements, the fast assembly, the graded remesh, the
+  # quadrature cost refusal): 125 s of the pass's CPU for nothing it looks for
+  # (docs/development.md). The Release run has them all.
   heavy='test_contact:sphere: Hertz force|test_contact:frictionless flat punch converges'
   heavy+='|test_bem:linear elements: refining either half|test_bem:linear elements, Kelvin box'
   heavy+='|test_bem:linear elements, hanging bar|test_kernels:fast assembly equals the reference on a hollow sphere'
   heavy+='|test_mesh:In the operating region a graded brain answers'
+  heavy+='|test_kernels:fast assembly equals the reference on a graded box|test_bem:ruinous quadrature options are refused'
   ctest --output-on-failure -j"${JOBS:-2}" --timeout 900 -E "$heavy"
 else
   cmake --build "$BUILD_DIR" -j"${JOBS:-2}" --target test_haptics test_cutting test_cli test_viewer_core bemsurg_cli
