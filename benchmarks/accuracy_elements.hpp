@@ -13,11 +13,11 @@
 #include <vector>
 
 #include "bemsurg/assembly/node_influence_assembler.hpp"
-#include "bemsurg/elastostatic_solver.hpp"
+#include "bemsurg/elastostatics/elastostatic_solver.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/mesh/red_green_refinement.hpp"
 #include "bemsurg/verification/reference_solutions.hpp"
-#include "stability/grading_setup.hpp"
+#include "support/studies/grading_setup.hpp"
 
 namespace bemsurg::bench::elements {
 

@@ -14,7 +14,7 @@
 
 #include "accuracy_elements.hpp"
 #include "bemsurg/assembly/influence_assembler.hpp"
-#include "bemsurg/elastostatic_solver.hpp"
+#include "bemsurg/elastostatics/elastostatic_solver.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/mesh/mesh_topology.hpp"
 #include "bemsurg/post/interior_evaluator.hpp"

@@ -2,7 +2,7 @@
 // §"Closed-form checks"): a rigid flat punch (Boussinesq) and a rigid sphere (Hertz), both
 // frictionless (ToolContactSolver, ToolSpec::flat / ToolSpec::sphere), pressed into the top face
 // of a block [-L, L]^2 x [-L, 0] with its bottom held, E = 1, nu = 0.3, contact radius a = 1.
-// Closed forms (half-space, E* = E / (1 - nu^2)): contact_accuracy_closed_forms.hpp.
+// Closed forms (half-space, E* = E / (1 - nu^2)): tests/support/studies/contact_accuracy_closed_forms.hpp.
 //
 // Errors (constant elements: one traction and one displacement per element, at its centroid):
 //   Z, the contact zone: the top elements that the closed-form contact disc r < a overlaps (a
@@ -52,7 +52,7 @@
 #include <vector>
 
 #include "bench_support.hpp"
-#include "contact_accuracy_setup.hpp"
+#include "support/studies/contact_accuracy_setup.hpp"
 
 using namespace bemsurg;
 namespace ca = bemsurg::bench::contact_accuracy;

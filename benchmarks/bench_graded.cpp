@@ -3,7 +3,7 @@
 // remesher (mesh/graded_remesher.hpp): graded (h_in in the operating region, growing by 1.25 per
 // element to h_out) and uniformly fine (h_in everywhere: the reference, measured in the same
 // process). Both get the same Green's table for the operating region and the same sphere tool
-// pressed into it (benchmarks/graded_comparison.hpp). Reported: elements, precompute time
+// pressed into it (tests/support/studies/graded_comparison.hpp). Reported: elements, precompute time
 // (assembly + LU + table; median of the repetitions), peak memory of the precomputation and the
 // table kept, the tool force and the displacement in the region, and the graded/fine ratios.
 //
@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "bench_support.hpp"
-#include "graded_comparison.hpp"
+#include "support/studies/graded_comparison.hpp"
 
 using namespace bemsurg;
 

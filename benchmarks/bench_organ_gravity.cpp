@@ -29,11 +29,11 @@
 #include <optional>
 #include <string>
 
-#include "bemsurg/elastostatic_solver.hpp"
+#include "bemsurg/elastostatics/elastostatic_solver.hpp"
 #include "bemsurg/io/results_io.hpp"
 #include "bemsurg/mesh/brain_model.hpp"
-#include "bemsurg/mesh/graded_remesher.hpp"
 #include "bemsurg/mesh/operating_region.hpp"
+#include "bemsurg/meshing/graded_remesher.hpp"
 #include "bench_support.hpp"
 
 using namespace bemsurg;

@@ -29,13 +29,13 @@
 #include <string>
 #include <vector>
 
-#include "bemsurg/elastostatic_solver.hpp"
-#include "bemsurg/mesh/implicit_surface.hpp"
-#include "bemsurg/mesh/mesh_defects.hpp"
-#include "bemsurg/mesh/mesh_io.hpp"
-#include "bemsurg/mesh/mesh_preparation.hpp"
-#include "bemsurg/mesh/organ_shapes.hpp"
+#include "bemsurg/elastostatics/elastostatic_solver.hpp"
 #include "bemsurg/mesh/self_intersection.hpp"
+#include "bemsurg/meshing/implicit_surface.hpp"
+#include "bemsurg/meshing/mesh_defects.hpp"
+#include "bemsurg/meshing/mesh_io.hpp"
+#include "bemsurg/meshing/mesh_preparation.hpp"
+#include "bemsurg/meshing/organ_shapes.hpp"
 #include "bench_support.hpp"
 
 using namespace bemsurg;

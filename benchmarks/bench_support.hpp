@@ -17,7 +17,7 @@
 
 #include "bemsurg/number_text.hpp"
 #include "bemsurg/timing.hpp"
-#include "cli/option_parser.hpp"
+#include "options/option_parser.hpp"
 
 namespace bemsurg::bench {
 
@@ -42,7 +42,7 @@ inline Percentiles percentiles(std::vector<double> v) {
   return {at(0.5), at(0.99), at(0.999), v.back()};
 }
 
-/// A benchmark's command line (src/cli/option_parser.hpp): every benchmark takes --quick (the
+/// A benchmark's command line (src/options/option_parser.hpp): every benchmark takes --quick (the
 /// seconds-long smoke run ctest runs) and --json PATH; the caller declares the rest and parses
 /// with cli::parse_command_line. Called first in main, it also makes std::cout and std::cerr,
 /// where the figures are printed, write numbers the same in every locale (number_text.hpp).

@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "bemsurg/elastostatic_solver.hpp"
+#include "bemsurg/elastostatics/elastostatic_solver.hpp"
 #include "bemsurg/io/results_io.hpp"
 #include "bemsurg/timing.hpp"
 #include "bench_support.hpp"

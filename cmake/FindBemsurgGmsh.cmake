@@ -1,5 +1,5 @@
 # FindBemsurgGmsh: Debian's libgmsh-dev (Gmsh 4.8) ships gmsh.h and libgmsh.so but no CMake config.
-# Defines BemsurgGmsh::Gmsh. Used only by the graded remesher (src/mesh/graded_remesher.cpp).
+# Defines BemsurgGmsh::Gmsh. Used only by the graded remesher (src/meshing/graded_remesher.cpp).
 include(FindPackageHandleStandardArgs)
 find_path(BemsurgGmsh_INCLUDE_DIR gmsh.h)
 find_library(BemsurgGmsh_LIBRARY NAMES gmsh)

@@ -1,8 +1,12 @@
 #!/usr/bin/env bash
 # The checks that keep the tree's shape (issue 23; docs/design.md, "Module order";
 # docs/development.md, "Structure checks"). Fast (seconds), no build needed; .ci/run runs it first.
-#   1. the module graph from the #include lines: no cycle, no edge against the module order, every
-#      public header reachable from its module header and the umbrella (scripts/module-graph.py);
+#   1. the module graph from the #include lines (scripts/module-graph.py): no cycle, no edge against
+#      the module order, the include rules of docs/design.md §1 (private src/ headers, deprecated
+#      paths, what tests, benchmarks and examples may include), the header-only modules' impl/
+#      headers compiled by their <module>_definitions.cpp and nothing of theirs defined elsewhere
+#      but the documented compiled parts, both header lists of every module header equal to its
+#      folder, and \ingroup <module> on every public class, struct and enum;
 #   2. no source file in include/, src/ or examples/ over 600 lines;
 #   3. no function over 100 lines without a `// long:` comment saying why
 #      (scripts/support/long-functions.py);

@@ -9,8 +9,8 @@ packages=(
   libeigen3-dev catch2 libsuitesparse-dev libopenblas-dev liblapacke-dev nlohmann-json3-dev
   libglfw3-dev libimgui-dev libstb-dev libgl-dev libegl-dev xvfb xauth
   gnuplot-nox python3-matplotlib python3-pil python3-numpy
-  libgmsh-dev   # the graded remesher (src/mesh/graded_remesher.cpp, optional: docs/graded.md)
-  libcgal-dev   # mesh repair for `bemsurg prepare` (src/mesh/cgal_repair.cpp, optional: docs/organs.md)
+  libgmsh-dev   # the graded remesher (src/meshing/graded_remesher.cpp, optional: docs/graded.md)
+  libcgal-dev   # mesh repair for `bemsurg prepare` (src/meshing/cgal_repair.cpp, optional: docs/organs.md)
   locales       # de_DE.UTF-8 for the comma-decimal locale test (tests/test_locale.cpp)
   doxygen       # the API reference (target bemsurg_api_docs, docs/api/)
   clang-format  # the format check (scripts/check-structure.sh, .clang-format)

@@ -5,7 +5,7 @@
 #include <limits>
 #include <vector>
 
-#include "bemsurg/elastostatic_solver.hpp"
+#include "bemsurg/elastostatics/elastostatic_solver.hpp"
 #include "bemsurg/memory_budget.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/mesh/mesh_topology.hpp"

@@ -6,13 +6,13 @@
 // (both element types, time and memory) is benchmarks/bench_accuracy.cpp.
 #include <catch2/catch.hpp>
 
-#include "../benchmarks/stability/grading_setup.hpp"
 #include "bemsurg/assembly/node_influence_assembler.hpp"
 #include "bemsurg/io/scene.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/mesh/red_green_refinement.hpp"
 #include "bemsurg/verification/reference_solutions.hpp"
 #include "support/convergence.hpp"
+#include "support/studies/grading_setup.hpp"
 #include "support/temp_dir.hpp"
 
 using namespace bemsurg;
@@ -197,7 +197,7 @@ TEST_CASE("linear elements: refining either half of the surface keeps the error 
     CHECK(half.traction <= 1.05 * parent.traction);
   }
   // The box clamped on its top face under a field mirror-symmetric across x = 0 (study (i)'s problem,
-  // benchmarks/stability/grading_setup.hpp), half x < 0 refined. Measured: u 1.22e-2 -> 6.3e-3,
+  // tests/support/studies/grading_setup.hpp), half x < 0 refined. Measured: u 1.22e-2 -> 6.3e-3,
   // t 8.6e-2 -> 7.3e-2; constant elements: u 5.5e-2 -> 0.155 (2.8 times).
   namespace grading = bemsurg::bench::grading;
   const TriangleMesh clamped = grading::base_box(2), refined = grading::refined_box(2, grading::Zone::HalfMinus, 1);

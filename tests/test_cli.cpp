@@ -17,10 +17,10 @@
 #include <string>
 #include <vector>
 
-#include "bemsurg/elastostatic_solver.hpp"
+#include "bemsurg/elastostatics/elastostatic_solver.hpp"
 #include "bemsurg/memory_budget.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
-#include "bemsurg/mesh/mesh_io.hpp"
+#include "bemsurg/meshing/mesh_io.hpp"
 #include "support/cli_run.hpp"
 #include "support/temp_dir.hpp"
 

@@ -2,7 +2,7 @@
 // says why): an application that embeds bemsurg's option parser, or a later `bemsurg` that calls
 // setlocale(LC_ALL, ""), must still read "--gap 0.25" as 0.25, refuse "0,25" naming the option,
 // and write its numbers with a point. The parser and parse_vector3 are header code of the programs
-// (src/cli/option_parser.hpp, src/cli/commands.hpp), so they are checked here in-process with
+// (src/options/option_parser.hpp, src/cli/commands.hpp), so they are checked here in-process with
 // de_DE.UTF-8 set as both the C and the C++ global locale. The `bemsurg` binary itself never calls
 // setlocale: running it under LC_ALL=de_DE.UTF-8 (the last case) guards what it writes against a
 // future change, it cannot fail today. Before the parser, parse_vector3 used std::stod, which under
@@ -24,7 +24,7 @@
 #include <vector>
 
 #include "cli/commands.hpp"
-#include "cli/option_parser.hpp"
+#include "options/option_parser.hpp"
 #include "support/skip.hpp"
 #include "support/temp_dir.hpp"
 

@@ -13,18 +13,18 @@
 #include <set>
 #include <string>
 
-#include "../benchmarks/graded_comparison.hpp"
 #include "bemsurg/io/scene.hpp"
 #include "bemsurg/mesh/brain_model.hpp"
-#include "bemsurg/mesh/graded_remesher.hpp"
 #include "bemsurg/mesh/liver_model.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
-#include "bemsurg/mesh/mesh_io.hpp"
 #include "bemsurg/mesh/mesh_thickness.hpp"
 #include "bemsurg/mesh/mesh_topology.hpp"
 #include "bemsurg/mesh/mesh_validation.hpp"
 #include "bemsurg/mesh/self_intersection.hpp"
+#include "bemsurg/meshing/graded_remesher.hpp"
+#include "bemsurg/meshing/mesh_io.hpp"
 #include "support/skip.hpp"
+#include "support/studies/graded_comparison.hpp"
 #include "support/temp_dir.hpp"
 
 using namespace bemsurg;

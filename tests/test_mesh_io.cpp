@@ -14,8 +14,8 @@
 #include <sstream>
 
 #include "bemsurg/mesh/mesh_generators.hpp"
-#include "bemsurg/mesh/mesh_io.hpp"
 #include "bemsurg/mesh/mesh_validation.hpp"
+#include "bemsurg/meshing/mesh_io.hpp"
 #include "support/temp_dir.hpp"
 
 using namespace bemsurg;

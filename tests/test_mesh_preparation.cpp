@@ -18,14 +18,14 @@
 
 #include "bemsurg/error.hpp"
 #include "bemsurg/mesh/geometry.hpp"
-#include "bemsurg/mesh/implicit_surface.hpp"
-#include "bemsurg/mesh/mesh_defects.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
-#include "bemsurg/mesh/mesh_preparation.hpp"
 #include "bemsurg/mesh/mesh_topology.hpp"
 #include "bemsurg/mesh/mesh_validation.hpp"
-#include "bemsurg/mesh/organ_shapes.hpp"
 #include "bemsurg/mesh/self_intersection.hpp"
+#include "bemsurg/meshing/implicit_surface.hpp"
+#include "bemsurg/meshing/mesh_defects.hpp"
+#include "bemsurg/meshing/mesh_preparation.hpp"
+#include "bemsurg/meshing/organ_shapes.hpp"
 #include "bemsurg/number_text.hpp"
 #include "support/skip.hpp"
 

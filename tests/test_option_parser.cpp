@@ -1,4 +1,4 @@
-// The one command-line parser of bemsurg's programs (src/cli/option_parser.hpp): the `bemsurg`
+// The one command-line parser of bemsurg's programs (src/options/option_parser.hpp): the `bemsurg`
 // commands, the benchmarks and the viewer declare their options with it, so what it accepts and
 // how it refuses is their contract (docs/cli.md: a command line that cannot be understood exits
 // with 2 and says why). Each refusal names the program, the option and the text.
@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "cli/option_parser.hpp"
+#include "options/option_parser.hpp"
 
 using bemsurg::cli::OptionParser;
 using bemsurg::cli::UsageError;

@@ -11,14 +11,14 @@
 #include <map>
 #include <set>
 
-#include "bemsurg/mesh/implicit_surface.hpp"
-#include "bemsurg/mesh/mesh_defects.hpp"
-#include "bemsurg/mesh/mesh_io.hpp"
 #include "bemsurg/mesh/mesh_topology.hpp"
 #include "bemsurg/mesh/mesh_validation.hpp"
-#include "bemsurg/mesh/organ_shapes.hpp"
 #include "bemsurg/mesh/self_intersection.hpp"
 #include "bemsurg/mesh/vertex_welding.hpp"
+#include "bemsurg/meshing/implicit_surface.hpp"
+#include "bemsurg/meshing/mesh_defects.hpp"
+#include "bemsurg/meshing/mesh_io.hpp"
+#include "bemsurg/meshing/organ_shapes.hpp"
 #include "support/temp_dir.hpp"
 
 using namespace bemsurg;

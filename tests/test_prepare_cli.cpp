@@ -14,12 +14,12 @@
 #include <sstream>
 #include <string>
 
-#include "bemsurg/elastostatic_solver.hpp"
-#include "bemsurg/mesh/mesh_defects.hpp"
+#include "bemsurg/elastostatics/elastostatic_solver.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
-#include "bemsurg/mesh/mesh_io.hpp"
-#include "bemsurg/mesh/mesh_preparation.hpp"
 #include "bemsurg/mesh/mesh_validation.hpp"
+#include "bemsurg/meshing/mesh_defects.hpp"
+#include "bemsurg/meshing/mesh_io.hpp"
+#include "bemsurg/meshing/mesh_preparation.hpp"
 #include "support/cli_run.hpp"
 #include "support/skip.hpp"
 #include "support/temp_dir.hpp"

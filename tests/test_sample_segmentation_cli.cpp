@@ -11,8 +11,8 @@
 #include <sstream>
 #include <string>
 
-#include "bemsurg/mesh/mesh_io.hpp"
 #include "bemsurg/mesh/mesh_validation.hpp"
+#include "bemsurg/meshing/mesh_io.hpp"
 #include "support/cli_run.hpp"
 #include "support/temp_dir.hpp"
 

@@ -14,8 +14,8 @@
 #include "bemsurg/io/element_selector.hpp"
 #include "bemsurg/io/scene.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
-#include "bemsurg/mesh/mesh_io.hpp"
-#include "bemsurg/mesh/mesh_preparation.hpp"
+#include "bemsurg/meshing/mesh_io.hpp"
+#include "bemsurg/meshing/mesh_preparation.hpp"
 #include "support/skip.hpp"
 #include "support/temp_dir.hpp"
 

@@ -5,12 +5,12 @@
 #include <cmath>
 #include <string>
 
-#include "../benchmarks/stability/contact_setup.hpp"
 #include "bemsurg/error.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/mesh/mesh_thickness.hpp"
 #include "bemsurg/presolution/contact_validity.hpp"
 #include "support/half_space_table.hpp"
+#include "support/studies/contact_setup.hpp"
 
 using namespace bemsurg;
 namespace st = bemsurg::bench::stability;

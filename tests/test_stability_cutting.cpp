@@ -4,10 +4,10 @@
 #include <catch2/catch.hpp>
 #include <random>
 
-#include "../benchmarks/stability/cutting_setup.hpp"
 #include "bemsurg/cutting/cut_system_update.hpp"
 #include "bemsurg/cutting/gap_limit.hpp"
 #include "bemsurg/presolution/greens_table.hpp"
+#include "support/studies/cutting_setup.hpp"
 #include "support/synthetic_cuts.hpp"
 
 using namespace bemsurg;

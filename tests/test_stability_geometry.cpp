@@ -6,13 +6,13 @@
 #include <memory>
 #include <string>
 
-#include "../benchmarks/stability/geometry_setup.hpp"
 #include "bemsurg/cutting/surface_cutter.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/mesh/mesh_quality.hpp"
 #include "bemsurg/mesh/mesh_validation.hpp"
 #include "bemsurg/post/interior_evaluator.hpp"
 #include "bemsurg/verification/reference_solutions.hpp"
+#include "support/studies/geometry_setup.hpp"
 
 using namespace bemsurg;
 using namespace bemsurg::verification;

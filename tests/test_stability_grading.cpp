@@ -1,14 +1,14 @@
 // Study (i), non-uniform meshes (docs/stability.md, docs/graded.md#safe-gradings): on the clamped
-// box under a Kelvin load (benchmarks/stability/grading_setup.hpp, exact solution known), refining
+// box under a Kelvin load (tests/support/studies/grading_setup.hpp, exact solution known), refining
 // one half red-green but not the clamped face makes constant elements worse than no refinement,
 // refining the clamped face with it does not; grading_rule_warning tells the two apart on both
 // sides of kMaxSupportSizeRatio, and the graded remesher meshes a supported region as finely as
 // the operating region.
 #include <catch2/catch.hpp>
 
-#include "../benchmarks/stability/grading_setup.hpp"
-#include "bemsurg/mesh/graded_remesher.hpp"
+#include "bemsurg/meshing/graded_remesher.hpp"
 #include "support/skip.hpp"
+#include "support/studies/grading_setup.hpp"
 
 using namespace bemsurg;
 using namespace bemsurg::bench::grading;

@@ -6,7 +6,7 @@
 // tolerance), from solve_linear_system and from solve_elastostatic.
 #include <catch2/catch.hpp>
 
-#include "bemsurg/elastostatic_solver.hpp"
+#include "bemsurg/elastostatics/elastostatic_solver.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/solvers/linear_solve.hpp"
 #include "bemsurg/verification/reference_solutions.hpp"

@@ -1,5 +1,5 @@
 // contact_studies.cpp: stability studies (g) thin parts and tool size against element size and (h)
-// press depth against tool radius (issue 25, docs/stability.md; the runs: contact_setup.hpp).
+// press depth against tool radius (issue 25, docs/stability.md; the runs: tests/support/studies/contact_setup.hpp).
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -8,8 +8,8 @@
 #include "bemsurg/mesh/mesh_thickness.hpp"
 #include "bemsurg/presolution/contact_validity.hpp"
 #include "bemsurg/timing.hpp"
-#include "contact_setup.hpp"
 #include "stability_study.hpp"
+#include "support/studies/contact_setup.hpp"
 
 namespace bemsurg::bench::stability {
 namespace {

@@ -15,8 +15,8 @@
 #include "bemsurg/presolution/greens_table.hpp"
 #include "bemsurg/solvers/linear_solve.hpp"
 #include "bemsurg/timing.hpp"
-#include "cutting_setup.hpp"
 #include "stability_study.hpp"
+#include "support/studies/cutting_setup.hpp"
 #include "support/synthetic_cuts.hpp"
 
 namespace bemsurg::bench::stability {

@@ -15,8 +15,8 @@
 #include "bemsurg/mesh/mesh_quality.hpp"
 #include "bemsurg/post/interior_evaluator.hpp"
 #include "bemsurg/verification/reference_solutions.hpp"
-#include "geometry_setup.hpp"
 #include "stability_study.hpp"
+#include "support/studies/geometry_setup.hpp"
 
 namespace bemsurg::bench::stability {
 

@@ -9,8 +9,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "stability/grading_setup.hpp"
 #include "stability_study.hpp"
+#include "support/studies/grading_setup.hpp"
 
 namespace bemsurg::bench::stability {
 namespace {

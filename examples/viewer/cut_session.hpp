@@ -1,36 +1,23 @@
 // examples/viewer/cut_session.hpp: the viewer's cut tool (Wang et al. 2007 §5.3, docs/design.md §7).
 // A left-drag with the cut tool opens a cut at the surface vertex nearest the press and extends it
 // by one edge each time the mouse has travelled about one edge length along the surface; a script's
-// "cut" action does the same with its steps. The topology is bemsurg::SurfaceCutter (the cutting
-// module); the new surface is handed to the ModelWorker, which shows it at once and brings the
-// tables up to date in the background. A refused step shows its reason in the window (and on
-// stderr in headless mode) and changes nothing.
-//
-// The cutting module is optional at compile time: without include/bemsurg/cutting/surface_cutter.hpp
-// the tool says so instead of cutting.
+// "cut" action does the same with its steps. Each step goes to the ModelWorker, which takes it
+// through the library's one cut entry point (bemsurg::CutSystemUpdate: the same rules as `bemsurg
+// cut` and sessions), shows the new surface at once and brings the tables up to date behind it. A
+// refused step shows its reason in the window (and on stderr in headless mode) and changes nothing.
 #pragma once
 
 #include <Eigen/Core>
-#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "model_worker.hpp"
 
-#if __has_include("bemsurg/cutting/surface_cutter.hpp")
-#define BEMSURG_VIEWER_HAS_CUTTER 1
-#include "bemsurg/cutting/surface_cutter.hpp"
-#else
-#define BEMSURG_VIEWER_HAS_CUTTER 0
-#endif
-
 namespace bemsurg::viewer {
 
 class CutSession {
  public:
-  static bool available() { return BEMSURG_VIEWER_HAS_CUTTER != 0; }
-
   /// Interactive: press at p (a surface point), drag along the surface, release.
   void begin_drag(const Eigen::Vector3d& p, ModelWorker& worker, double gap_width);
   void drag_to(const Eigen::Vector3d& p, ModelWorker& worker, double gap_width);
@@ -46,26 +33,23 @@ class CutSession {
   std::string status_line() const;
   /// For headless output: "cuts: A steps accepted, R refused (last reason: ...)".
   std::string summary() const;
-  int accepted() const { return accepted_; }
-  int refused() const { return refused_; }
-  const std::string& last_refusal() const { return last_reason_; }
+  int accepted() const { return counts().cut_steps_accepted; }
+  int refused() const { return counts().cut_steps_refused + refused_here_; }
+  std::string last_refusal() const;
 
  private:
-  bool start_cut(ModelWorker& worker, double gap_width, std::string& why);
-  bool step(const Eigen::Vector3d& from, const Eigen::Vector3d& direction, ModelWorker& worker);
+  WorkerStatus counts() const { return worker_ ? worker_->status() : WorkerStatus(); }
 
-  int accepted_ = 0, refused_ = 0;
-  std::string last_reason_;
-  double last_seconds_ = 0.0;
+  const ModelWorker* worker_ = nullptr;  // the worker the steps went to (it counts them)
+  int refused_here_ = 0;                 // refused before reaching the worker (no model yet)
+  std::string reason_here_;
   bool dragging_ = false;
+  bool new_cut_ = false;
   int action_ = -1;
+  double gap_width_ = 0.0;
   Eigen::Vector3d last_point_ = Eigen::Vector3d::Zero();
   double step_length_ = 0.0;
   std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> segments_;
-#if BEMSURG_VIEWER_HAS_CUTTER
-  std::unique_ptr<SurfaceCutter> cutter_;
-#endif
-  std::shared_ptr<const TriangleMesh> sent_mesh_;  // the last surface handed to the worker
 };
 
 }  // namespace bemsurg::viewer

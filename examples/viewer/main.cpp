@@ -10,7 +10,7 @@
 #include <string>
 #include <string_view>
 
-#include "cli/option_parser.hpp"
+#include "options/option_parser.hpp"
 #include "viewer_app.hpp"
 
 namespace {

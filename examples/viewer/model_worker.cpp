@@ -99,43 +99,57 @@ void ModelWorker::load(const std::string& path) {
   wake_.notify_all();
 }
 
-void ModelWorker::apply_cut(std::shared_ptr<const TriangleMesh> mesh, const MeshDelta& delta) {
+void ModelWorker::request_cut_step(bool new_cut, const Eigen::Vector3d& from, const Eigen::Vector3d& direction, double gap_width) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    cuts_pending_.push_back({std::move(mesh), delta});
+    cuts_pending_.push_back({new_cut, from, direction, gap_width});
     busy_ = true;
   }
   wake_.notify_all();
 }
 
+void ModelWorker::refuse_cut(const std::string& reason) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  ++status_.cut_steps_refused;
+  status_.last_cut_refusal = reason.empty() ? "refused (no reason given)" : reason;
+}
+
 void ModelWorker::do_cut(const CutRequest& cut) {
-  if (!loaded_) return;
-  const std::shared_ptr<const TriangleMesh>& mesh = cut.mesh;
+  if (!loaded_ || !reference_ || !reference_->has_factorization()) {
+    refuse_cut(loaded_ ? "the tables are not ready yet: try again in a moment" : "no model loaded");
+    return;
+  }
+  // The one cut entry point (docs/design.md §7): its rules lock held and loaded elements, carry the
+  // conditions over and grow the table's region; the viewer only shows what it returns.
+  if (!cut_system_ || cut_system_->table() != reference_) cut_system_ = std::make_unique<CutSystemUpdate>(reference_);
+  if (cut.new_cut) {
+    CutOptions options;
+    options.gap_width = cut.gap_width;  // 0: the cutter's default fraction of the local edge length
+    cut_system_->begin_cut(options);
+  }
+  double t0 = now_seconds();
+  const CutSurfaceStep surface = cut_system_->cut_surface(cut.from, cut.direction);
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    status_.last_cut_surface_seconds = now_seconds() - t0;
+  }
+  if (!surface.accepted) {
+    refuse_cut(surface.reason);
+    return;
+  }
+  const std::shared_ptr<const TriangleMesh>& mesh = surface.mesh;
   const Index before = loaded_->mesh->num_elements(), after = mesh->num_elements();
-  auto l = std::make_shared<Loaded>(*loaded_);
-  BoundaryConditions bc(after);
-  const BoundaryConditions& old = loaded_->scene.problem.boundary_conditions;
-  for (Index e = 0; e < std::min(before, after); ++e)
-    for (int k = 0; k < 3; ++k) bc.prescribe_component(e, k, old.kind(3 * e + k), old.value(3 * e + k));
-  l->scene.problem.mesh = *mesh;
-  l->scene.problem.boundary_conditions = bc;
-  // A cut made where tools act: its new surfaces join an operating region (ids are stable, so the
-  // region's old elements keep theirs). Empty means every free element already.
-  if (!l->scene.operating_elements.empty())
-    for (Index e : cut.delta.added)
-      if (bc.is_free(e)) l->scene.operating_elements.push_back(e);
-  l->mesh = mesh;
-  l->supported.resize(static_cast<std::size_t>(after), 0);
   // New surfaces at once: the previous sag on the old elements, zero on the new walls.
-  auto s = std::make_shared<PhysicsState>();
   const auto previous = state();
-  s->model_name = l->name;
+  auto s = std::make_shared<PhysicsState>();
+  s->model_name = loaded_->name;
   s->mesh = mesh;
-  s->supported = l->supported;
-  s->mean_edge = l->mean_edge;
-  s->original_elements = l->original_elements;
-  s->material = previous ? previous->material : l->scene.problem.material;
-  s->gravity = previous ? previous->gravity : l->scene.problem.gravity;
+  s->supported = loaded_->supported;
+  s->supported.resize(static_cast<std::size_t>(after), 0);
+  s->mean_edge = loaded_->mean_edge;
+  s->original_elements = loaded_->original_elements;
+  s->material = previous ? previous->material : loaded_->scene.problem.material;
+  s->gravity = previous ? previous->gravity : loaded_->scene.problem.gravity;
   s->cuts = (previous ? previous->cuts : 0) + 1;
   s->provisional_displacement = Eigen::VectorXd::Zero(3 * after);
   if (previous && previous->table) {
@@ -145,42 +159,45 @@ void ModelWorker::do_cut(const CutRequest& cut) {
     const Index n = std::min<Index>(previous->provisional_displacement.size(), 3 * after);
     s->provisional_displacement.head(n) = previous->provisional_displacement.head(n);
   }
-  loaded_ = l;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     status_.tables_exact = false;
   }
   publish(s);
-  cuts_ = s->cuts;
-  // Exact tables for the cut surface: the delta update of the kept factorisation (rows and
-  // columns of the changed elements only), or a recomputation when the reference cannot be
-  // updated (read from a file, or a different mesh).
-  const double t0 = now_seconds();
-  bool exact_update = false;
-  if (reference_ && reference_->has_factorization() && reference_->num_elements() == cut.delta.elements_before) {
-    set_status(WorkerPhase::Precomputing, "updating the tables for the cut (" + std::to_string(cut.delta.added.size()) + " new, " +
-                                              std::to_string(cut.delta.modified.size()) + " modified elements)");
-    try {
-      reference_ = reference_->updated(mesh, cut.delta);
-      exact_update = true;
-    } catch (const std::exception& e) {
-      std::lock_guard<std::mutex> lock(mutex_);
-      status_.error = std::string("the delta update after the cut failed (") + e.what() + "); recomputing";
-    }
-  }
-  if (exact_update) {
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      status_.last_cut_update_seconds = now_seconds() - t0;
-      status_.last_cut_exact_update = true;
-    }
-    do_rescale();
-  } else {
-    do_precompute();
+  // The exact tables for the cut surface: the delta update of the kept factorisation (rows and
+  // columns of the changed elements only).
+  set_status(WorkerPhase::Precomputing, "updating the tables for the cut (" + std::to_string(surface.delta.added.size()) + " new, " +
+                                            std::to_string(surface.delta.modified.size()) + " modified elements)");
+  t0 = now_seconds();
+  const CutStepResult r = cut_system_->apply(surface, CutUpdateMethod::Exact);
+  if (!r.accepted) {  // undone: the model before the step comes back
+    if (previous) publish(std::make_shared<PhysicsState>(*previous));
+    refuse_cut(r.reason);
     std::lock_guard<std::mutex> lock(mutex_);
-    status_.last_cut_update_seconds = now_seconds() - t0;
-    status_.last_cut_exact_update = false;
+    status_.tables_exact = true;
+    status_.phase = WorkerPhase::Ready;
+    status_.message = "ready";
+    return;
   }
+  cut_system_->wait_for_refactor();  // headless playback stays deterministic
+  reference_ = cut_system_->table();
+  // The scene follows the cut (a later recomputation, e.g. for a new Poisson's ratio, starts from it):
+  // the cut surface, the conditions the cut carried over and the table's region.
+  auto l = std::make_shared<Loaded>(*loaded_);
+  l->scene.problem.mesh = *mesh;
+  l->scene.problem.boundary_conditions = reference_->base_conditions();
+  if (!l->scene.operating_elements.empty()) l->scene.operating_elements = reference_->region();
+  l->mesh = mesh;
+  l->supported = s->supported;
+  loaded_ = l;
+  cuts_ = s->cuts;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++status_.cut_steps_accepted;
+    status_.last_cut_update_seconds = now_seconds() - t0;
+    status_.last_cut_exact_update = true;
+  }
+  do_rescale();
 }
 
 void ModelWorker::set_young_modulus(double e) {
@@ -331,6 +348,7 @@ void ModelWorker::do_load(const std::string& path) {
   }
   std::atomic_store(&state_, std::shared_ptr<const PhysicsState>());
   loaded_.reset();
+  cut_system_.reset();
   reference_.reset();
   cuts_ = 0;
   auto l = std::make_shared<Loaded>();
@@ -426,6 +444,7 @@ void ModelWorker::do_precompute() {
   if (t.assembly_seconds > 0.0) c_assembly_ = t.assembly_seconds / (e * e);
   if (t.factorization_seconds > 0.0) c_factor_ = t.factorization_seconds / (n * n * n);
   if (t.table_seconds > 0.0) c_table_ = t.table_seconds / (n * n * mm);
+  cut_system_.reset();  // a new reference: the next cut step starts from it
   reference_ = table;
   reference_young_ = m.young_modulus;
   {
@@ -461,21 +480,16 @@ void ModelWorker::do_rescale() {
   if (!loaded_->homogeneous) {
     // Computed exactly for these parameters (do_precompute); nothing to scale.
     s->material.young_modulus = reference_young_;
-    s->gravity = reference_->key().gravity;
+    s->gravity = reference_->gravity();
     s->table = reference_;
   } else {
     // Linear elasticity with zero prescribed values: displacement per unit traction and the sag
-    // under fixed gravity both scale as 1/E; the reaction tractions of the self-weight do not.
-    const double scale = reference_young_ / young;
+    // under fixed gravity both scale as 1/E; the reaction tractions of the self-weight do not
+    // (GreensTable::with_young_modulus).
     const double g = gravity_on ? 1.0 : 0.0;
-    GreensTableKey key = reference_->key();
-    key.material.young_modulus = young;
-    key.gravity = g * reference_->key().gravity;
-    auto table = std::make_shared<const GreensTable>(
-        key, reference_->region(), Eigen::VectorXd((scale * g) * reference_->base_displacement()),
-        Eigen::VectorXd(g * reference_->base_traction()), reference_->base_kinds(), Eigen::MatrixXd(scale * reference_->columns()));
+    std::shared_ptr<const GreensTable> table = reference_->with_young_modulus(young, g);
     s->material.young_modulus = young;
-    s->gravity = key.gravity;
+    s->gravity = table->gravity();
     s->table = table;
   }
   publish(s);

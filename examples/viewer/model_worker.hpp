@@ -22,6 +22,7 @@
 #include <thread>
 #include <vector>
 
+#include "bemsurg/cutting/cut_system_update.hpp"
 #include "bemsurg/material.hpp"
 #include "bemsurg/mesh/mesh_delta.hpp"
 #include "bemsurg/mesh/triangle_mesh.hpp"
@@ -67,10 +68,14 @@ struct WorkerStatus {
   bool rescale_exact = true;  // E and gravity rescale without recomputing (zero prescribed values)
   double last_precompute_seconds = 0.0;
   double last_rescale_seconds = 0.0;
-  double last_cut_update_seconds = 0.0;  // GreensTable::updated (or the recomputation) after the last cut
-  bool last_cut_exact_update = false;    // the last cut's tables came from the delta update
-  bool tables_exact = false;             // the table in use was computed for the current mesh
-  int cuts = 0;                          // accepted cut steps whose mesh is in use
+  double last_cut_update_seconds = 0.0;   // the system and table update of the last cut step (CutSystemUpdate)
+  double last_cut_surface_seconds = 0.0;  // the surface step of the last cut step (SurfaceCutter)
+  bool last_cut_exact_update = false;     // the last cut's tables came from the delta update
+  bool tables_exact = false;              // the table in use was computed for the current mesh
+  int cuts = 0;                           // accepted cut steps whose mesh is in use
+  int cut_steps_accepted = 0;             // every cut step so far (all models)
+  int cut_steps_refused = 0;
+  std::string last_cut_refusal;  // the last refused step's reason, "" if none
 };
 
 class ModelWorker {
@@ -91,12 +96,12 @@ class ModelWorker {
   WorkerStatus status() const;
   /// Blocks until every request so far is done (headless mode).
   void wait_idle();
-  /// A cut changed the surface: `mesh` is the new surface, elements [0, old count) keep their id
-  /// and boundary condition, the rest are new cut walls (traction-free). The new surface is
-  /// published at once (without a table), then the table is recomputed for it in the background.
-  /// The tables follow exactly through GreensTable::updated (the cutting module's delta update,
-  /// docs/design.md §7) when the reference table kept its factorisation, else by recomputation.
-  void apply_cut(std::shared_ptr<const TriangleMesh> mesh, const MeshDelta& delta);
+  /// One step of a cut (`new_cut`: the first step of a new groove, `gap_width` its width, 0: the
+  /// cutter's default), through the one cut entry point, CutSystemUpdate (docs/design.md §7): the same
+  /// locking, conditions and region rules as `bemsurg cut` and sessions. In the background: the new
+  /// surface is published at once (without a table), then the exact tables follow (the delta update of
+  /// the kept factorisation). A refused step changes nothing; status() counts it and gives its reason.
+  void request_cut_step(bool new_cut, const Eigen::Vector3d& from, const Eigen::Vector3d& direction, double gap_width);
 
   /// Threads the worker's OpenMP regions use from its next job on (0: the default). The
   /// interactive viewer sets cores - 1 while its haptic thread runs (haptics/background_threads.hpp),
@@ -122,8 +127,9 @@ class ModelWorker {
     bool rescale = false;
   };
   struct CutRequest {
-    std::shared_ptr<const TriangleMesh> mesh;
-    MeshDelta delta;
+    bool new_cut = false;
+    Eigen::Vector3d from = Eigen::Vector3d::Zero(), direction = Eigen::Vector3d::UnitX();
+    double gap_width = 0.0;
   };
   void run();
   void do_load(const std::string& path);
@@ -138,7 +144,7 @@ class ModelWorker {
   mutable std::mutex mutex_;
   std::condition_variable wake_, idle_;
   Request pending_;
-  std::vector<CutRequest> cuts_pending_;  // in order: each delta is relative to the one before
+  std::vector<CutRequest> cuts_pending_;  // in order
   bool busy_ = false;
   bool stop_ = false;
   WorkerStatus status_;
@@ -152,6 +158,8 @@ class ModelWorker {
   struct Loaded;
   std::shared_ptr<Loaded> loaded_;
   std::shared_ptr<const GreensTable> reference_;
+  std::unique_ptr<CutSystemUpdate> cut_system_;  // cuts of reference_ (made on the first cut step)
+  void refuse_cut(const std::string& reason);
   double reference_young_ = 0.0;
   double young_ = 0.0, poisson_ = 0.0;
   bool gravity_on_ = true, scene_gravity_ = false;

@@ -1,4 +1,5 @@
-// Tests of the viewer's parts that need no display: the action-script reader and player, the
+// Tests of the viewer's parts that need no display: the action-script reader and player, one cut
+// through the viewer's, the command line's and a session's door, the
 // background worker's exact rescaling for Young's modulus and gravity (docs/viewer.md), the
 // parameters panel's start from the loaded scene, and the
 // haptic tick driving the contact solver through a device.
@@ -10,11 +11,14 @@
 #include <limits>
 #include <string>
 
+#include "bemsurg/cutting/cut_system_update.hpp"
 #include "bemsurg/error.hpp"
 #include "bemsurg/haptics/haptic_device.hpp"
 #include "bemsurg/haptics/scripted_device.hpp"
+#include "bemsurg/haptics/surface_cut_hook.hpp"
 #include "bemsurg/io/action_script.hpp"
 #include "bemsurg/io/scene.hpp"
+#include "bemsurg/io/scene_table.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/presolution/contact_tools.hpp"
 #include "bemsurg/presolution/greens_table.hpp"
@@ -319,4 +323,61 @@ TEST_CASE("a cut keeps the held force on the uncut model until its tables are re
   rig.stepper.tick(cut, rig.devices, rig.settings, 0.080, 1e-3, rig.snap);
   CHECK(rig.snap.blend_weight == 1.0);
   CHECK((rig.device.last_force() - after).norm() <= 1e-12 * after.norm());
+}
+
+TEST_CASE("one cut script through the command line's, a session's and the viewer's door gives identical tables", "[viewer]") {
+  // The three doors to a cut (docs/design.md §7): `bemsurg cut` (src/cli/cut_command.cpp: the scene's
+  // table, CutSystemUpdate::cut), a session's hook (haptics/surface_cut_hook.hpp) and the viewer's worker
+  // (request_cut_step). One scene with an operating region, one two-step cut; every table bit for bit.
+  const std::string path = write_temp("doors.json", R"({
+    "mesh": {"generator": "box", "min": [-0.04, -0.04, 0.0], "max": [0.04, 0.04, 0.04], "divisions": [6, 6, 2]},
+    "material": {"young_modulus": 3000.0, "poisson_ratio": 0.45, "density": 1000.0},
+    "gravity": [0.0, 0.0, -9.81],
+    "boundary_conditions": {"rules": [
+      {"select": {"plane": {"point": [0, 0, 0], "normal": [0, 0, 1]}}, "displacement": [0, 0, 0]}]},
+    "operating_region": {"box": {"min": [-0.041, -0.041, 0.02], "max": [0.041, 0.041, 0.041]}}
+  })");
+  const Scene scene = load_scene(path);
+  const Eigen::Vector3d from(-0.015, 0.0, 0.04), direction = Eigen::Vector3d::UnitX();
+  const int steps = 2;
+
+  // The command line's door.
+  CutSystemUpdate cli(std::make_shared<const GreensTable>(compute_scene_table(scene)));
+  cli.begin_cut();
+  for (int i = 0; i < steps; ++i) REQUIRE(cli.cut(from, direction).accepted);
+  const std::shared_ptr<const GreensTable> by_cli = cli.table();
+
+  // A session's door: the hook, called as a session calls it for one cut action.
+  haptics::CutHook hook = haptics::surface_cut_hook();
+  std::shared_ptr<const GreensTable> by_session = std::make_shared<const GreensTable>(compute_scene_table(scene));
+  std::shared_ptr<const TriangleMesh> mesh = by_session->mesh();
+  for (int i = 0; i < steps; ++i) {
+    const haptics::CutResult r = hook(haptics::CutRequest{mesh, by_session, from, direction, i, 0});
+    mesh = r.mesh;
+    by_session = r.table;
+  }
+
+  // The viewer's door.
+  ModelWorker worker;
+  worker.load(path);
+  worker.wait_idle();
+  REQUIRE(worker.status().error.empty());
+  for (int i = 0; i < steps; ++i) worker.request_cut_step(i == 0, from, direction, 0.0);
+  worker.wait_idle();
+  REQUIRE(worker.status().cut_steps_accepted == steps);
+  const std::shared_ptr<const GreensTable> by_viewer = worker.state()->table;
+  REQUIRE(by_viewer);
+
+  REQUIRE(by_cli->num_elements() > scene.problem.mesh.num_elements());  // the cut added walls
+  for (const auto& other : {by_session, by_viewer}) {
+    CHECK(other->num_elements() == by_cli->num_elements());
+    CHECK(other->region() == by_cli->region());
+    CHECK(other->base_kinds() == by_cli->base_kinds());
+    CHECK(other->columns() == by_cli->columns());
+    CHECK(other->base_displacement() == by_cli->base_displacement());
+    CHECK(other->base_traction() == by_cli->base_traction());
+  }
+  CHECK(by_session->mesh()->faces() == by_cli->mesh()->faces());
+  CHECK(worker.state()->mesh->vertices() == by_cli->mesh()->vertices());
+  std::remove(path.c_str());
 }

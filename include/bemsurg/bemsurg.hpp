@@ -8,6 +8,7 @@
 #pragma once
 
 #include "bemsurg/config.hpp"
+#include "bemsurg/constants.hpp"
 #include "bemsurg/dense_storage.hpp"
 #include "bemsurg/error.hpp"
 #include "bemsurg/material.hpp"
@@ -19,10 +20,11 @@
 
 #include "bemsurg/assembly.hpp"
 #include "bemsurg/cutting.hpp"
-#include "bemsurg/elastostatic_solver.hpp"
+#include "bemsurg/elastostatics.hpp"
 #include "bemsurg/io.hpp"
 #include "bemsurg/kernels.hpp"
 #include "bemsurg/mesh.hpp"
+#include "bemsurg/meshing.hpp"
 #include "bemsurg/post.hpp"
 #include "bemsurg/presolution.hpp"
 #include "bemsurg/quadrature.hpp"

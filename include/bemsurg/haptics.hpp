@@ -2,9 +2,10 @@
 #pragma once
 
 /// \defgroup haptics Haptics
-/// \brief The haptic loop at 1 kHz, devices (scripted, recording, UDP), the force limiter and scripted sessions. Compiled as the library bemsurg::haptics and so not in bemsurg/bemsurg.hpp.
+/// \brief The action language of a session (its model; the JSON reader is in io), the haptic loop at 1 kHz, devices (scripted, recording, UDP), the force limiter and scripted sessions. Compiled as the library bemsurg::haptics and so not in bemsurg/bemsurg.hpp.
 ///
 /// Headers (each can be included on its own for faster builds):
+/// - action_script.hpp
 /// - background_task.hpp
 /// - background_threads.hpp
 /// - felt_force.hpp
@@ -21,6 +22,7 @@
 /// - triple_buffer.hpp
 /// - udp_device.hpp
 
+#include "bemsurg/haptics/action_script.hpp"
 #include "bemsurg/haptics/background_task.hpp"
 #include "bemsurg/haptics/background_threads.hpp"
 #include "bemsurg/haptics/felt_force.hpp"

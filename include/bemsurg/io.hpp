@@ -9,8 +9,10 @@
 /// - element_selector.hpp
 /// - results_io.hpp
 /// - scene.hpp
+/// - scene_table.hpp
 
 #include "bemsurg/io/action_script.hpp"
 #include "bemsurg/io/element_selector.hpp"
 #include "bemsurg/io/results_io.hpp"
 #include "bemsurg/io/scene.hpp"
+#include "bemsurg/io/scene_table.hpp"

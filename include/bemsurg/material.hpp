@@ -28,6 +28,7 @@ inline constexpr double kPoissonRatioLimit = 0.4999;
 
 /// Isotropic linear elastic material (small strain) in SI units: Young's modulus E in Pa, Poisson's ratio nu and
 /// density rho in kg/m^3, with the derived shear modulus and Lame constant and Hooke's law for stresses.
+/// \ingroup core
 struct Material {
   double young_modulus = 1.0;
   double poisson_ratio = 0.3;

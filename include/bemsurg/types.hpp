@@ -5,6 +5,13 @@
 
 #include <Eigen/Core>
 
+/// \defgroup core Core
+/// \brief The top-level headers every module shares: small types (types.hpp), errors (error.hpp), the
+/// material (material.hpp), mathematical constants (constants.hpp), numbers as text in every locale
+/// (number_text.hpp), clocks (timing.hpp), the memory budget (memory_budget.hpp), large dense storage
+/// (dense_storage.hpp) and how definitions are compiled (config.hpp). The other modules have a module
+/// header each (bemsurg/mesh.hpp, ...); the core's headers are included one by one or through bemsurg/bemsurg.hpp.
+
 namespace bemsurg {
 
 using Index = Eigen::Index;

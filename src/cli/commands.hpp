@@ -12,7 +12,7 @@
 #include <utility>
 #include <vector>
 
-#include "option_parser.hpp"
+#include "options/option_parser.hpp"
 
 namespace bemsurg::cli {
 

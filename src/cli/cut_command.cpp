@@ -17,11 +17,10 @@
 #include <vector>
 
 #include "bemsurg/cutting/cut_system_update.hpp"
-#include "bemsurg/cutting/gap_limit.hpp"
-#include "bemsurg/cutting/surface_cutter.hpp"
 #include "bemsurg/io/results_io.hpp"
 #include "bemsurg/io/scene.hpp"
-#include "bemsurg/mesh/mesh_io.hpp"
+#include "bemsurg/io/scene_table.hpp"
+#include "bemsurg/meshing/mesh_io.hpp"
 #include "bemsurg/presolution/greens_table.hpp"
 #include "bemsurg/timing.hpp"
 #include "commands.hpp"
@@ -36,12 +35,13 @@ constexpr const char* kCutUsage =
     "\n"
     "Opens a narrow cut at the surface vertex nearest X,Y,Z along the mesh edge best aligned with\n"
     "the direction, then extends it by one edge per step (K steps in all). After every step the BEM\n"
-    "system and the pre-solution table (region: the 1,000 free elements nearest X,Y,Z) are updated:\n"
+    "system and the pre-solution table (region: the scene's operating_region, else every free element)\n"
+    "are updated:\n"
     "  exact     bordering by partitioning + low-rank correction of the kept LU (default)\n"
     "  gmres, bicgstab, bicg   iterative re-solve warm-started from the previous solution\n"
     "  refactor  full re-assembly and a new factorisation (the reference)\n"
     "New cut walls are traction-free; elements with a prescribed displacement or a non-zero\n"
-    "traction are never cut.\n"
+    "traction are never cut (the same rules as bemsurg session and the viewer).\n"
     "\n"
     "writes OUTDIR/mesh.obj (the cut surface), OUTDIR/elements.csv (as bemsurg solve, one row per\n"
     "face of mesh.obj), OUTDIR/report.json (\"elements\", \"equations\", \"steps\") and\n"
@@ -103,33 +103,6 @@ bemsurg::Index first_condition_mismatch(const std::string& scene_path, const std
   return -1;
 }
 
-/// The elements a cut may not reshape: supported or loaded ones (a reshaped element keeps its
-/// condition, and a pressure would no longer be normal to it).
-std::vector<char> locked_elements(const bemsurg::TriangleMesh& mesh, const bemsurg::BoundaryConditions& bc) {
-  const bemsurg::Index E = mesh.num_elements();
-  std::vector<char> locked(static_cast<std::size_t>(E), 0);
-  for (bemsurg::Index e = 0; e < E; ++e) {
-    const bool loaded = bc.value(3 * e) != 0.0 || bc.value(3 * e + 1) != 0.0 || bc.value(3 * e + 2) != 0.0;
-    locked[static_cast<std::size_t>(e)] = (!bc.is_free(e) || loaded) ? 1 : 0;
-  }
-  return locked;
-}
-
-/// The pre-solution table's region: the 1,000 free elements nearest the start of the cut, sorted.
-std::vector<bemsurg::Index> table_region(const bemsurg::TriangleMesh& mesh, const bemsurg::BoundaryConditions& bc,
-                                         const Eigen::Vector3d& from) {
-  std::vector<bemsurg::Index> region;
-  for (bemsurg::Index e = 0; e < mesh.num_elements(); ++e)
-    if (bc.is_free(e)) region.push_back(e);
-  if (region.empty()) throw bemsurg::BoundaryConditionError("cut: the scene has no free element to cut");
-  std::sort(region.begin(), region.end(), [&](bemsurg::Index a, bemsurg::Index b) {
-    return (mesh.centroid(a) - from).squaredNorm() < (mesh.centroid(b) - from).squaredNorm();
-  });
-  if (region.size() > 1000) region.resize(1000);
-  std::sort(region.begin(), region.end());
-  return region;
-}
-
 /// report.json's entry for a step that was refused (docs/cli.md, `bemsurg cut`).
 nlohmann::json refused_step_json(const std::string& reason, bemsurg::Index equations, bemsurg::CutUpdateMethod update, double seconds) {
   return {{"accepted", false},
@@ -180,20 +153,15 @@ int run_cut(int argc, char** argv) {
   write_obj((out / "solved_mesh.obj").string(), scene.problem.mesh);  // before any cut: what the warnings name
 
   const ElastostaticProblem& p = scene.problem;
-  auto mesh = std::make_shared<const TriangleMesh>(p.mesh);
-  const BoundaryConditions& bc = p.boundary_conditions;
-  bc.require_supported(*mesh);
-  const Index E = mesh->num_elements();
-  const std::vector<char> locked = locked_elements(*mesh, bc);
-  const std::vector<Index> free_elements = table_region(*mesh, bc, o.from);
-  GreensTableOptions topt;
-  topt.region = free_elements;
-  topt.gravity = p.gravity;
-  topt.quadrature = p.quadrature;
+  const Index E = p.mesh.num_elements();
   if (!o.quiet)
     std::cout << "bemsurg cut: " << E << " elements, " << 3 * E << " equations; update " << to_string(o.update) << ", table region "
-              << free_elements.size() << " elements" << std::endl;
-  auto table = std::make_shared<const GreensTable>(GreensTable::compute(mesh, p.material, bc, topt));
+              << (scene.operating_elements.empty() ? std::string("every free element")
+                                                   : std::to_string(scene.operating_elements.size()) + " elements")
+              << std::endl;
+  // The table of the scene on its operating region, as press, session and the viewer compute it; computed
+  // (never read from a file) because a cut update needs its factorisation.
+  auto table = std::make_shared<const GreensTable>(compute_scene_table(scene));
   CutSystemOptions sopt;
   sopt.krylov = scene.solver;
   sopt.krylov.tolerance = std::min(scene.solver.tolerance, 1e-12);
@@ -202,33 +170,23 @@ int run_cut(int argc, char** argv) {
   CutSystemUpdate system(table, sopt);
   CutOptions copt;
   copt.gap_width = o.gap;
-  SurfaceCutter cutter(mesh, locked, copt);
+  system.begin_cut(copt);
 
   nlohmann::json steps = nlohmann::json::array();
   std::string refused;
   for (int i = 0; i < o.steps; ++i) {
     const auto t0 = SteadyClock::now();
-    const CutStep st = cutter.step(o.from, o.direction);
-    std::string reason = st.accepted ? std::string() : st.reason;
-    if (reason.empty())
-      for (const auto& s : cutter.sections())
-        if (s.split && reason.empty()) reason = narrow_gap_reason(s.width, s.edge_length);
-    CutStepResult r;
-    if (reason.empty()) {
-      try {
-        r = system.apply(cutter.mesh(), st.delta, o.update);
-      } catch (const Error& e) { reason = e.what(); }
-    }
-    if (!reason.empty()) {
-      refused = "step " + std::to_string(i + 1) + " refused: " + reason;
-      steps.push_back(refused_step_json(reason, system.table()->num_dofs(), o.update, seconds_since(t0)));
+    const CutStepResult r = system.cut(o.from, o.direction, o.update);
+    if (!r.accepted) {
+      refused = "step " + std::to_string(i + 1) + " refused: " + r.reason;
+      steps.push_back(refused_step_json(r.reason, system.table()->num_dofs(), o.update, seconds_since(t0)));
       break;
     }
     const double seconds = seconds_since(t0);
-    steps.push_back(accepted_step_json(st.delta, r, o.update, seconds));
+    steps.push_back(accepted_step_json(r.delta, r, o.update, seconds));
     if (!o.quiet)
-      std::cout << "  step " << i + 1 << ": +" << st.delta.added.size() << " elements, " << st.delta.modified.size() << " modified, "
-                << 3 * st.delta.elements_after << " equations, " << std::setprecision(3) << seconds << " s (integration "
+      std::cout << "  step " << i + 1 << ": +" << r.delta.added.size() << " elements, " << r.delta.modified.size() << " modified, "
+                << 3 * r.delta.elements_after << " equations, " << std::setprecision(3) << seconds << " s (integration "
                 << r.integration_seconds << " s" << (r.iterations > 0 ? ", " + std::to_string(r.iterations) + " iterations" : "") << ")"
                 << std::endl;
   }

@@ -10,10 +10,10 @@
 #include <optional>
 #include <string>
 
-#include "bemsurg/elastostatic_solver.hpp"
+#include "bemsurg/elastostatics/elastostatic_solver.hpp"
 #include "bemsurg/error.hpp"
-#include "bemsurg/mesh/mesh_io.hpp"
-#include "bemsurg/mesh/mesh_preparation.hpp"
+#include "bemsurg/meshing/mesh_io.hpp"
+#include "bemsurg/meshing/mesh_preparation.hpp"
 #include "bemsurg/version.hpp"
 #include "commands.hpp"
 

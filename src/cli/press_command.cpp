@@ -19,7 +19,7 @@
 
 #include "bemsurg/io/results_io.hpp"
 #include "bemsurg/io/scene.hpp"
-#include "bemsurg/mesh/mesh_io.hpp"
+#include "bemsurg/meshing/mesh_io.hpp"
 #include "bemsurg/presolution/contact_tools.hpp"
 #include "bemsurg/presolution/contact_validity.hpp"
 #include "bemsurg/presolution/greens_table.hpp"
@@ -142,7 +142,7 @@ int run_press(int argc, char** argv) {
 
   // The table: loaded when a matching file is given, else computed on the operating region
   // (and saved when asked): src/cli/scene_table.hpp.
-  bemsurg::cli::SceneTable cached = bemsurg::cli::scene_table(scene, o.table_file, o.quiet);
+  bemsurg::CachedGreensTable cached = bemsurg::cli::scene_table(scene, o.table_file, o.quiet);
   bemsurg::GreensTable& table = cached.table;
   const bool loaded = cached.loaded_from_file;
 

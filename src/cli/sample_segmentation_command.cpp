@@ -12,10 +12,10 @@
 #include <iostream>
 #include <string>
 
-#include "bemsurg/mesh/implicit_surface.hpp"
-#include "bemsurg/mesh/mesh_defects.hpp"
-#include "bemsurg/mesh/mesh_io.hpp"
-#include "bemsurg/mesh/organ_shapes.hpp"
+#include "bemsurg/meshing/implicit_surface.hpp"
+#include "bemsurg/meshing/mesh_defects.hpp"
+#include "bemsurg/meshing/mesh_io.hpp"
+#include "bemsurg/meshing/organ_shapes.hpp"
 #include "bemsurg/number_text.hpp"
 #include "bemsurg/timing.hpp"
 #include "commands.hpp"

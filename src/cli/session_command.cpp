@@ -16,7 +16,7 @@
 #include "bemsurg/haptics/surface_cut_hook.hpp"
 #include "bemsurg/io/action_script.hpp"
 #include "bemsurg/io/scene.hpp"
-#include "bemsurg/mesh/mesh_io.hpp"
+#include "bemsurg/meshing/mesh_io.hpp"
 #include "bemsurg/number_text.hpp"
 #include "bemsurg/presolution/greens_table.hpp"
 #include "commands.hpp"
@@ -171,7 +171,7 @@ int run_session(int argc, char** argv) {
   bemsurg::write_obj((std::filesystem::path(output) / "solved_mesh.obj").string(), p.mesh);
   // The table: loaded when a matching file is given, else computed on the operating region
   // (and saved when asked): src/cli/scene_table.hpp.
-  bemsurg::cli::SceneTable cached = bemsurg::cli::scene_table(scene, table_file, quiet, script.has_cuts());
+  bemsurg::CachedGreensTable cached = bemsurg::cli::scene_table(scene, table_file, quiet, script.has_cuts());
   bemsurg::GreensTable& table = cached.table;
   const bool loaded = cached.loaded_from_file;
   auto mesh_ptr = std::make_shared<const bemsurg::TriangleMesh>(p.mesh);

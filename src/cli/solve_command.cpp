@@ -7,10 +7,10 @@
 #include <iostream>
 #include <string>
 
-#include "bemsurg/elastostatic_solver.hpp"
+#include "bemsurg/elastostatics/elastostatic_solver.hpp"
 #include "bemsurg/io/results_io.hpp"
 #include "bemsurg/io/scene.hpp"
-#include "bemsurg/mesh/mesh_io.hpp"
+#include "bemsurg/meshing/mesh_io.hpp"
 #include "bemsurg/post/interior_evaluator.hpp"
 #include "bemsurg/timing.hpp"
 #include "commands.hpp"

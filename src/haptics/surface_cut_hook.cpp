@@ -1,35 +1,43 @@
-// Implementation of bemsurg/haptics/surface_cut_hook.hpp.
+// Implementation of bemsurg/haptics/surface_cut_hook.hpp: a session's cuts through the one cut entry
+// point, CutSystemUpdate (cutting/cut_system_update.hpp), so they meet the rules `bemsurg cut` and the
+// viewer meet.
 #include "bemsurg/haptics/surface_cut_hook.hpp"
 
 #include <memory>
 #include <string>
-#include <vector>
 
-#include "bemsurg/cutting/surface_cutter.hpp"
+#include "bemsurg/cutting/cut_system_update.hpp"
 #include "bemsurg/error.hpp"
-#include "bemsurg/presolution/greens_table.hpp"
 
 namespace bemsurg::haptics {
 
 CutHook surface_cut_hook() {
   struct State {
-    std::unique_ptr<SurfaceCutter> cutter;
+    std::unique_ptr<CutSystemUpdate> system;
+    std::shared_ptr<const GreensTable> returned;  // the table the last step handed to the session
     int action = -1;
   };
   auto state = std::make_shared<State>();
   return [state](const CutRequest& r) -> CutResult {
-    if (!state->cutter || state->action != r.action || state->cutter->mesh() != r.mesh) {
-      const Index E = r.mesh->num_elements();
-      std::vector<char> locked(static_cast<std::size_t>(E), 0);
-      for (Index e = 0; e < E; ++e) locked[static_cast<std::size_t>(e)] = r.table->is_free(e) ? 0 : 1;
-      state->cutter = std::make_unique<SurfaceCutter>(r.mesh, std::move(locked));
+    // A table the hook did not hand out (the session's first, or another session's): cut from it.
+    if (!state->system || r.table != state->returned) {
+      state->system.reset();  // joins a refactorisation still running for the old table
+      // Refactorisations run inside the step: the hook already runs on the session's simulation side,
+      // whose single thread leaves the haptic loop its core, and a session's trace stays deterministic.
+      CutSystemOptions options;
+      options.background_refactor = false;
+      state->system = std::make_unique<CutSystemUpdate>(r.table, options);
+      state->action = -1;
+    }
+    if (state->action != r.action) {  // a new cut action opens a new groove
+      state->system->begin_cut();
       state->action = r.action;
     }
-    const CutStep step = state->cutter->step(r.from, r.direction);
+    const CutStepResult step = state->system->cut(r.from, r.direction, CutUpdateMethod::Exact);
     if (!step.accepted)
       throw ContactError("cut action " + std::to_string(r.action) + ", step " + std::to_string(r.step + 1) + " refused: " + step.reason);
-    std::shared_ptr<const TriangleMesh> mesh = state->cutter->mesh();
-    return {mesh, r.table->updated(mesh, step.delta)};
+    state->returned = state->system->table();
+    return {state->returned->mesh(), state->returned};
   };
 }
 

@@ -1,5 +1,5 @@
 // The graded remesh a scene's operating region asks for (docs/graded.md): sized before Gmsh runs,
-// then performed through bemsurg/mesh/graded_remesher.hpp. Reading the request is
+// then performed through bemsurg/meshing/graded_remesher.hpp. Reading the request is
 // scene_operating_region.cpp's job.
 #include <algorithm>
 #include <cmath>

@@ -16,7 +16,7 @@
 
 #include "bemsurg/assembly/element_types.hpp"
 #include "bemsurg/error.hpp"
-#include "bemsurg/mesh/mesh_io.hpp"
+#include "bemsurg/meshing/mesh_io.hpp"
 #include "bemsurg/number_text.hpp"
 #include "bemsurg/version.hpp"
 

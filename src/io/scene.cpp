@@ -16,8 +16,8 @@
 
 #include "bemsurg/error.hpp"
 #include "bemsurg/memory_budget.hpp"
-#include "bemsurg/mesh/mesh_preparation.hpp"
 #include "bemsurg/mesh/mesh_thickness.hpp"
+#include "bemsurg/meshing/mesh_preparation.hpp"
 #include "json_reader.hpp"
 #include "scene_sections.hpp"
 

@@ -13,9 +13,9 @@
 #include "bemsurg/mesh/brain_model.hpp"
 #include "bemsurg/mesh/liver_model.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
-#include "bemsurg/mesh/mesh_io.hpp"
 #include "bemsurg/mesh/mesh_validation.hpp"
 #include "bemsurg/mesh/red_green_refinement.hpp"
+#include "bemsurg/meshing/mesh_io.hpp"
 #include "bemsurg/number_text.hpp"
 #include "scene_sections.hpp"
 

@@ -12,8 +12,8 @@
 #include <unistd.h>
 
 #include "bemsurg/error.hpp"
-#include "bemsurg/mesh/mesh_io.hpp"
-#include "bemsurg/mesh/mesh_preparation.hpp"
+#include "bemsurg/meshing/mesh_io.hpp"
+#include "bemsurg/meshing/mesh_preparation.hpp"
 #include "bemsurg/number_text.hpp"
 #include "bemsurg/version.hpp"
 #include "scene_sections.hpp"

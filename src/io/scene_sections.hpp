@@ -8,7 +8,7 @@
 #include <string>
 
 #include "bemsurg/io/scene.hpp"
-#include "bemsurg/mesh/graded_remesher.hpp"
+#include "bemsurg/meshing/graded_remesher.hpp"
 #include "json_reader.hpp"
 
 namespace bemsurg::io {

@@ -2,8 +2,8 @@
 // values with their ranges; the material is validated as the solver will use it (docs/design.md §2).
 #include <cmath>
 
+#include "bemsurg/constants.hpp"
 #include "bemsurg/error.hpp"
-#include "bemsurg/mesh/geometry.hpp"
 #include "scene_sections.hpp"
 
 namespace bemsurg::io {

@@ -1,8 +1,11 @@
 // Implementation of bemsurg/presolution/table_file.hpp: the keyed, checksummed table file.
 #include "bemsurg/presolution/table_file.hpp"
 
+#include <unistd.h>
+
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <vector>
@@ -172,6 +175,39 @@ GreensTable load_greens_table(const std::string& path, const GreensTableKey& exp
 
 GreensTable load_greens_table(const std::string& path, const GreensTableKey& expected, const std::vector<Index>& expected_region) {
   return load_checked(path, expected, &expected_region);
+}
+
+CachedGreensTable load_or_compute_greens_table(const ElastostaticProblem& problem, const std::vector<Index>& region,
+                                               const std::string& path, const TableCacheOptions& options) {
+  CachedGreensTable out;
+  std::error_code ec;
+  const bool exists = !path.empty() && std::filesystem::exists(path, ec);
+  if (exists && options.for_cuts)
+    out.notes.push_back("the table will be cut, so it is computed rather than read from " + path +
+                        " (a table read from a file keeps no factorisation for the exact updates after a cut)");
+  if (exists && !options.for_cuts) {
+    try {
+      const GreensTableKey key =
+          make_greens_table_key(problem.mesh, problem.material, problem.boundary_conditions, problem.gravity, problem.quadrature);
+      out.table = load_greens_table(path, key, region);
+      out.loaded_from_file = true;
+      return out;
+    } catch (const IoError& e) {  // stale or corrupt: recompute
+      out.warnings.push_back(std::string(e.what()) + "; recomputing");
+    }
+  }
+  out.table = GreensTable::compute(problem, region);
+  if (!path.empty() && options.save) {
+    // A private name per process, renamed into place: rename is atomic, so a reader never sees half a file.
+    const std::string temporary = path + ".tmp" + std::to_string(static_cast<long long>(::getpid()));
+    save_greens_table(temporary, out.table);
+    std::filesystem::rename(temporary, path, ec);
+    if (ec) {
+      std::filesystem::remove(temporary, ec);
+      throw IoError("cannot write the table file " + path + ": " + ec.message());
+    }
+  }
+  return out;
 }
 
 }  // namespace bemsurg

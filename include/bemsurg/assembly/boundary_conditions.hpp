@@ -16,10 +16,13 @@
 
 namespace bemsurg {
 
+/// Which quantity is prescribed for one degree of freedom: the displacement or the traction (docs/design.md §5).
+/// \ingroup assembly
 enum class BcKind : unsigned char { Displacement, Traction };
 
 /// What is prescribed on each element (docs/design.md §5): per element and global component x, y, z either the
 /// displacement or the traction, the other one being the unknown; degree of freedom k = 3 e + c.
+/// \ingroup assembly
 class BoundaryConditions {
  public:
   BoundaryConditions() = default;

@@ -25,6 +25,7 @@ namespace bemsurg {
 
 /// The boundary element type of a problem (docs/elements.md): constant (one collocation node per
 /// element, at the centroid) or linear discontinuous (three nodes inside each element).
+/// \ingroup assembly
 enum class ElementType { Constant, Linear };
 
 /// "constant" or "linear", as scene files and report.json write them.
@@ -45,6 +46,7 @@ inline int nodes_per_element(ElementType type) { return type == ElementType::Lin
 inline constexpr double kLinearNodeFraction = 0.5;
 
 /// Constant element trait: one node at the centroid, shape function 1.
+/// \ingroup assembly
 struct ConstantElement {
   static constexpr int kNodes = 1;
   static constexpr ElementType kType = ElementType::Constant;
@@ -55,6 +57,7 @@ struct ConstantElement {
 };
 
 /// Linear discontinuous element trait: three nodes at x_k = c + f (v_k - c), N_k(x_j) = delta_kj.
+/// \ingroup assembly
 struct LinearElement {
   static constexpr int kNodes = 3;
   static constexpr ElementType kType = ElementType::Linear;

@@ -42,6 +42,7 @@
 namespace bemsurg {
 
 /// The dense influence matrices of H u = G t + g (Wang et al. 2007 eq. 5), 3E x 3E each; H includes the free term 1/2 I.
+/// \ingroup assembly
 struct InfluenceMatrices {
   Eigen::MatrixXd H;  // 3E x 3E, includes the free term 1/2 I
   Eigen::MatrixXd G;  // 3E x 3E
@@ -49,6 +50,7 @@ struct InfluenceMatrices {
 
 /// Assembles the influence matrices H and G of constant-element collocation on one mesh, the gravity vector g, or
 /// only the rows and columns of listed elements (docs/assembly.md).
+/// \ingroup assembly
 class InfluenceAssembler {
  public:
   /// Validates the material and the quadrature options; precomputes the element geometry and the

@@ -13,12 +13,14 @@ namespace bemsurg {
 
 /// The system after the column swap that puts every unknown on the left (Wang et al. 2007 eq. 6): the matrix A* and
 /// the right-hand side R_bc + R_G.
+/// \ingroup assembly
 struct LinearSystem {
   Eigen::MatrixXd matrix;  // A*
   Eigen::VectorXd rhs;     // R_bc + R_G
 };
 
 /// Per-element boundary values after a solve: prescribed and solved values side by side.
+/// \ingroup assembly
 struct BoundarySolution {
   RowMatrixX3d displacement;  // E x 3
   RowMatrixX3d traction;      // E x 3

@@ -117,6 +117,7 @@ inline void node_kernel_terms(const KelvinConstants& k, int m, const double* __r
 /// Assembles H, G (3 kNodes E square) and the gravity vector of collocation BEM for the element
 /// trait Element (element_types.hpp): far pairs by the blocked 7-point path, near pairs by
 /// adaptive subdivision, self pairs by polar integration about the node (docs/elements.md).
+/// \ingroup assembly
 template <class Element>
 class NodeInfluenceAssembler {
  public:

@@ -1,6 +1,16 @@
-// bemsurg/cutting/cut_system_update.hpp: the BEM system and the Green's table of a body being cut,
-// updated step by step in one of three ways that must agree (docs/cutting.md; docs/design.md §7,
-// §9; Wang et al. 2007 §5.3 and Table 1):
+// bemsurg/cutting/cut_system_update.hpp: the one entry point for cutting a body whose Green's table
+// is in use (docs/cutting.md; docs/design.md §7, §9; Wang et al. 2007 §5.3 and Table 1). The command
+// line (`bemsurg cut`), sessions (haptics/surface_cut_hook.hpp) and the viewer all cut through it, so
+// they meet the same rules, stated here once:
+//   locking   a cut never reshapes an element that is held or loaded in the base state
+//             (cut_locked_elements): it keeps its condition, and a pressure would no longer be normal;
+//   surface   SurfaceCutter opens and extends the groove and refuses what it cannot do cleanly,
+//             narrow gaps included (cutting/gap_limit.hpp);
+//   conditions old elements keep theirs, new cut surface is traction-free (conditions_after_cut);
+//   region    the table's region keeps its elements and takes in the new walls near it
+//             (region_after_cut, cutting/table_update.hpp);
+//   refactor  past the refactor rank the table is factorised afresh (default_refactor_rank).
+// The system and the table are updated step by step in one of three ways that must agree:
 //   Exact     bordering by partitioning for the new rows and columns plus a low-rank (Woodbury)
 //             correction for the reshaped elements, on top of the LU kept from the precompute
 //             (GreensTable::updated, solvers/low_rank_updated_lu.hpp);
@@ -24,10 +34,13 @@
 #include <string>
 #include <thread>
 #include <utility>
+#include <vector>
 
-#include "bemsurg/assembly/cut_change.hpp"
 #include "bemsurg/assembly/influence_assembler.hpp"
 #include "bemsurg/assembly/linear_system.hpp"
+#include "bemsurg/cutting/cut_change.hpp"
+#include "bemsurg/cutting/surface_cutter.hpp"
+#include "bemsurg/cutting/table_update.hpp"
 #include "bemsurg/error.hpp"
 #include "bemsurg/mesh/mesh_delta.hpp"
 #include "bemsurg/presolution/greens_table.hpp"
@@ -36,6 +49,8 @@
 
 namespace bemsurg {
 
+/// How CutSystemUpdate brings the system and the table to a cut mesh (see the top of this header).
+/// \ingroup cutting
 enum class CutUpdateMethod { Exact, Gmres, BiCgStab, BiCg, Refactor };
 
 /// The default refactor rank, max(96, n / 10): past it the table is refactorised. Not an accuracy
@@ -63,8 +78,22 @@ inline CutUpdateMethod parse_cut_update_method(const std::string& name) {
   throw InvalidArgumentError("unknown update method '" + name + "' (expected exact, gmres, bicgstab, bicg or refactor)");
 }
 
+/// The locking rule of every cut (docs/design.md §7): one entry per element of the table's mesh, non-zero
+/// for an element that is not free (some displacement prescribed) or that carries a non-zero prescribed
+/// value (a load) in the table's base state. A cut never reshapes such an element.
+inline std::vector<char> cut_locked_elements(const GreensTable& table) {
+  const BoundaryConditions bc = table.base_conditions();
+  std::vector<char> locked(static_cast<std::size_t>(table.num_elements()), 0);
+  for (Index e = 0; e < table.num_elements(); ++e) {
+    const bool loaded = bc.value(3 * e) != 0.0 || bc.value(3 * e + 1) != 0.0 || bc.value(3 * e + 2) != 0.0;
+    locked[static_cast<std::size_t>(e)] = (!bc.is_free(e) || loaded) ? 1 : 0;
+  }
+  return locked;
+}
+
 /// Settings of CutSystemUpdate: the Krylov settings of the iterative modes, when and where the table is
 /// refactorised, whether the explicit A* is built at once, and the table's update options.
+/// \ingroup cutting
 struct CutSystemOptions {
   /// Krylov settings of the iterative modes (method set per step). Full GMRES, block-Jacobi.
   LinearSolverOptions krylov = [] {
@@ -82,9 +111,13 @@ struct CutSystemOptions {
   GreensTableUpdateOptions table;
 };
 
-/// What one CutSystemUpdate::apply step did: the method, Krylov iterations and residual, seconds per phase, the
-/// accumulated correction rank, and whether a refactorisation was started.
+/// What one CutSystemUpdate step did: whether it was accepted (else why not), the method, Krylov iterations and
+/// residual, seconds per phase, the accumulated correction rank, and whether a refactorisation was started.
+/// \ingroup cutting
 struct CutStepResult {
+  bool accepted = true;  // false: refused (by the cutter or a singular cut system), nothing changed
+  std::string reason;    // why a step was refused
+  MeshDelta delta;       // what the accepted step changed (CutSystemUpdate::cut and apply)
   CutUpdateMethod method = CutUpdateMethod::Exact;
   int iterations = 0;                // Krylov iterations (0 for exact and refactor)
   double relative_residual = 0.0;    // Krylov: ||b - A x|| / ||b||
@@ -98,8 +131,20 @@ struct CutStepResult {
 /// Deprecated name (before 0.2), kept one minor version: use CutStepResult.
 using CutStepReport [[deprecated("renamed to CutStepResult in bemsurg 0.2")]] = CutStepResult;
 
-/// The BEM system and the Green's table of a body being cut, updated step by step (exactly, iteratively or by
-/// refactorisation; docs/cutting.md); readers get an immutable table snapshot and never see a half-updated one.
+/// The surface of a cut step before the system follows it (CutSystemUpdate::cut_surface): the new mesh and its
+/// delta, or a refusal with its reason.
+/// \ingroup cutting
+struct CutSurfaceStep {
+  bool accepted = false;
+  std::string reason;
+  std::shared_ptr<const TriangleMesh> mesh;  // the cut surface (null when refused)
+  MeshDelta delta;
+};
+
+/// The one entry point for cutting a body in use: the surface step under the cut rules, then the BEM system and the
+/// Green's table updated (exactly, iteratively or by refactorisation; docs/cutting.md); readers get an immutable table
+/// snapshot and never see a half-updated one.
+/// \ingroup cutting
 class CutSystemUpdate {
  public:
   /// `table` must have been computed (has_factorization()): its base state is the system solved.
@@ -130,7 +175,79 @@ class CutSystemUpdate {
     if (worker_.joinable()) worker_.join();
   }
 
-  /// One cut step: `after` is the cut mesh, `delta` what changed from the current mesh.
+  /// Starts a new cut with `options` (gap width, the cutter's limits): the next step opens a new groove on
+  /// the current mesh.
+  void begin_cut(const CutOptions& options = {}) {
+    cutter_.reset();
+    pending_before_.reset();
+    cut_options_ = options;
+  }
+
+  /// One step of the current cut (a new one after begin_cut, or on the first call): the surface step, then the
+  /// system and the table. A step the cutter refuses, or whose system cannot be updated (an exception of the
+  /// update), is returned with accepted false and the reason, and changes nothing.
+  CutStepResult cut(const Eigen::Vector3d& from, const Eigen::Vector3d& direction, CutUpdateMethod method = CutUpdateMethod::Exact) {
+    const auto t0 = SteadyClock::now();
+    CutSurfaceStep surface = cut_surface(from, direction);
+    if (!surface.accepted) {
+      CutStepResult refused;
+      refused.method = method;
+      refused.accepted = false;
+      refused.reason = surface.reason;
+      refused.total_seconds = seconds_since(t0);
+      return refused;
+    }
+    CutStepResult r = apply(surface, method);
+    r.total_seconds = seconds_since(t0);
+    return r;
+  }
+
+  /// The surface half of cut(), for a caller that shows the new surface before the tables follow (the
+  /// viewer): the next increment of the current cut, with the elements of cut_locked_elements locked. Only
+  /// the surface advances; apply(step) brings the system and the table to it and must come next.
+  CutSurfaceStep cut_surface(const Eigen::Vector3d& from, const Eigen::Vector3d& direction) {
+    if (pending_before_) throw InvalidArgumentError("CutSystemUpdate::cut_surface: the previous surface step was not applied");
+    if (cutter_ && cutter_->mesh() != table()->mesh()) cutter_.reset();  // the system was stepped elsewhere
+    if (!cutter_) {
+      const std::shared_ptr<const GreensTable> t = table();
+      cutter_ = std::make_unique<SurfaceCutter>(t->mesh(), cut_locked_elements(*t), cut_options_);
+    }
+    SurfaceCutter before = *cutter_;
+    CutSurfaceStep s;
+    const CutStep step = cutter_->step(from, direction);
+    s.accepted = step.accepted;
+    s.reason = step.reason;
+    if (!step.accepted) return s;
+    s.mesh = cutter_->mesh();
+    s.delta = step.delta;
+    pending_before_ = std::make_unique<SurfaceCutter>(std::move(before));
+    return s;
+  }
+
+  /// The system half of cut() for the surface step cut_surface returned. On a failure the surface step is
+  /// undone too and the result says why (accepted false).
+  CutStepResult apply(const CutSurfaceStep& surface, CutUpdateMethod method = CutUpdateMethod::Exact) {
+    if (!surface.accepted || !pending_before_ || surface.mesh != cutter_->mesh())
+      throw InvalidArgumentError("CutSystemUpdate::apply: not the surface step just taken");
+    CutStepResult r;
+    try {
+      r = apply(surface.mesh, surface.delta, method);
+    } catch (const Error& e) {
+      *cutter_ = std::move(*pending_before_);
+      pending_before_.reset();
+      r = CutStepResult();
+      r.method = method;
+      r.accepted = false;
+      r.reason = e.what();
+      return r;
+    }
+    pending_before_.reset();
+    r.delta = surface.delta;
+    return r;
+  }
+
+  /// One system step for a surface cut elsewhere: `after` is the cut mesh, `delta` what changed from the
+  /// current mesh (the conditions and region rules apply; the locking rule is the caller's).
   /// On an exception nothing has changed (the current table and solution stay as they were).
   CutStepResult apply(std::shared_ptr<const TriangleMesh> after, const MeshDelta& delta, CutUpdateMethod method) {
     const auto t0 = SteadyClock::now();
@@ -142,17 +259,17 @@ class CutSystemUpdate {
     Eigen::MatrixXd A;
     if (method == CutUpdateMethod::Refactor) {
       const auto ta = SteadyClock::now();
-      next = current->recomputed_after(after, delta, options_.table);
+      next = recomputed_table_after(*current, after, delta, options_.table);
       r.integration_seconds = next->timings().assembly_seconds;
       r.table_seconds = seconds_since(ta) - r.integration_seconds;
       x = solution_of(*next);
       if (A_.size() > 0) A = updated_matrix(*current, *after, delta, nullptr, r);
     } else {
       const CutChange change =
-          integrate_cut_change(*current->mesh(), *after, delta, current->key().material, current->quadrature(), current->key().gravity);
+          integrate_cut_change(*current->mesh(), *after, delta, current->material(), current->quadrature(), current->gravity());
       r.integration_seconds = change.integration_seconds;
       GreensTableUpdateResult tr;
-      next = current->updated(after, delta, change, options_.table, &tr);
+      next = updated_table(*current, after, delta, change, options_.table, &tr);
       r.table_seconds = tr.table_seconds;
       r.system_seconds = tr.system_seconds;
       x = solution_of(*next);
@@ -203,7 +320,7 @@ class CutSystemUpdate {
 
   void build_matrix() {
     const std::shared_ptr<const GreensTable> t = table();
-    const InfluenceAssembler assembler(*t->mesh(), t->key().material, t->quadrature());
+    const InfluenceAssembler assembler(*t->mesh(), t->material(), t->quadrature());
     InfluenceMatrices hg = assembler.assemble();
     A_ = build_system_matrix_in_place(hg, t->base_conditions());
   }
@@ -213,7 +330,7 @@ class CutSystemUpdate {
                                  CutStepResult& r) const {
     CutChange local;
     if (!known) {
-      local = integrate_cut_change(*current.mesh(), after, delta, current.key().material, current.quadrature(), current.key().gravity);
+      local = integrate_cut_change(*current.mesh(), after, delta, current.material(), current.quadrature(), current.gravity());
       r.integration_seconds += local.integration_seconds;
       known = &local;
     }
@@ -257,7 +374,10 @@ class CutSystemUpdate {
   }
 
   CutSystemOptions options_;
-  std::shared_ptr<const GreensTable> table_;  // read and written with std::atomic_load / atomic_store
+  CutOptions cut_options_;
+  std::unique_ptr<SurfaceCutter> cutter_;          // the current cut (null: the next step opens one)
+  std::unique_ptr<SurfaceCutter> pending_before_;  // the cutter before a surface step not yet applied
+  std::shared_ptr<const GreensTable> table_;       // read and written with std::atomic_load / atomic_store
   Eigen::VectorXd x_;
   Eigen::MatrixXd A_;  // explicit A* (iterative modes only)
   std::mutex publish_;

@@ -42,6 +42,7 @@ namespace bemsurg {
 
 /// Geometry and acceptance limits of a cut: the gap width, the depth of one level, the smallest angle allowed in the
 /// triangles a step changes or adds, and the largest normal deviation at a path vertex.
+/// \ingroup cutting
 struct CutOptions {
   /// Gap width as a fraction of the local edge length (used when gap_width == 0).
   double gap_fraction = 0.1;
@@ -72,6 +73,7 @@ struct CutOptions {
 
 /// The outcome of one SurfaceCutter step or deepen(): accepted or refused with the reason, the MeshDelta of the change,
 /// and the parent of each added element.
+/// \ingroup cutting
 struct CutStep {
   bool accepted = false;
   /// Why a step was refused (empty when accepted).
@@ -86,6 +88,7 @@ struct CutStep {
 
 /// The topology of one cut (docs/cutting.md, "Topology"): opens a narrow groove at the surface, extends it by one
 /// edge per step and deepens it, publishing each step only after its checks pass and refusing it whole otherwise.
+/// \ingroup cutting
 class SurfaceCutter {
  public:
   /// `mesh` must be a valid closed surface (require_valid_mesh); `locked_elements` has one entry

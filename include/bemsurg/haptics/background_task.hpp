@@ -23,6 +23,7 @@ namespace bemsurg::haptics {
 /// One computation on its own (detached) thread, polled without blocking. The thread owns what it
 /// computes from (the function object and its captures) through shared state, so a caller that
 /// gives up on a hung task (an error leaves the session) never waits for it.
+/// \ingroup haptics
 template <class Result>
 class BackgroundTask {
  public:

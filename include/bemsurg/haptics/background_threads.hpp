@@ -18,6 +18,7 @@ int background_thread_count(unsigned cores = 0) noexcept;
 /// While it lives (a haptic loop runs): OpenBLAS's thread pool and the OpenMP threads of the
 /// constructing thread are capped at background_thread_count(); the destructor restores both.
 /// `enabled = false` changes nothing (the before/after benchmark's "before"). Not copyable.
+/// \ingroup haptics
 class BackgroundThreadBudget {
  public:
   explicit BackgroundThreadBudget(bool enabled = true) noexcept;

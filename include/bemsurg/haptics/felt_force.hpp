@@ -14,6 +14,7 @@
 namespace bemsurg::haptics {
 
 /// The two figures and where they occurred (tool index, session seconds).
+/// \ingroup haptics
 struct FeltForce {
   double min_delivered_ratio = 1.0;  // 1 when no tick qualifies
   double min_delivered_ratio_time = 0.0;
@@ -24,6 +25,7 @@ struct FeltForce {
 };
 
 /// Collects ticks (off the haptic thread) and computes FeltForce once the peaks are known.
+/// \ingroup haptics
 class FeltForceRecorder {
  public:
   /// `max_force`: the device's magnitude limit (N). The model force counts up to it: clamping is

@@ -10,6 +10,7 @@ namespace bemsurg::haptics {
 
 /// The last stage before a force reaches a haptic device: the device receives a finite force no larger than max_force, whose
 /// change is bounded by max_rate newtons per second so a contact switch cannot kick the hand.
+/// \ingroup haptics
 class ForceLimiter {
  public:
   /// max_force in newtons (3.3 N suits a Touch-class desktop device); max_rate in newtons per

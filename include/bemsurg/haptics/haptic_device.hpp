@@ -14,6 +14,7 @@
 namespace bemsurg::haptics {
 
 /// What the device reports each haptic tick.
+/// \ingroup haptics
 struct DeviceState {
   Eigen::Vector3d position = Eigen::Vector3d::Zero();               // tool tip, metres
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  // handle orientation
@@ -27,6 +28,7 @@ struct DeviceState {
 
 /// Device frame -> model frame: x_model = scale * x_device + offset; directions and orientations
 /// are not scaled. Forces go back as force_scale * F (1: the model's newtons are the hand's).
+/// \ingroup haptics
 struct Workspace {
   double scale = 1.0;
   Eigen::Vector3d offset = Eigen::Vector3d::Zero();
@@ -41,6 +43,7 @@ struct Workspace {
 
 /// The one abstract haptic device the simulation talks to: read() gives the pose and buttons, write_force() sends the force,
 /// both from the haptic thread without blocking, allocating or throwing; available() and why() say whether it is usable.
+/// \ingroup haptics
 class HapticDevice {
  public:
   virtual ~HapticDevice() = default;
@@ -62,6 +65,7 @@ class HapticDevice {
 
 /// A device with no hardware: the pose is set by the program (tests, the viewer's mouse) and the
 /// last force written is kept for inspection. set_state and read must be called from one thread.
+/// \ingroup haptics
 class NullDevice : public HapticDevice {
  public:
   explicit NullDevice(double max_force = 10.0) : max_force_(max_force) {}

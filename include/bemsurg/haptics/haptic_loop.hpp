@@ -42,6 +42,7 @@ constexpr int kMaxChannels = 4;
 
 /// What the haptic thread computes forces from. Built and engaged off the haptic thread, then
 /// owned by the loop from offer() until it comes back from take_retired().
+/// \ingroup haptics
 struct ContactModel {
   std::shared_ptr<const TriangleMesh> mesh;
   std::shared_ptr<const GreensTable> table;
@@ -56,6 +57,7 @@ struct ContactModel {
 
 /// Settings of a HapticLoop: tick rate, the safety stages (force and force-rate limits, watchdog staleness, overruns and
 /// ramp time), the blend between models, ring capacities, and the real-time priority and spin time of the haptic thread.
+/// \ingroup haptics
 struct HapticLoopOptions {
   double rate_hz = 1000.0;        // 100 .. 10000
   double max_force = 3.3;         // N (a Touch-class desktop device); also capped by each device's own
@@ -86,6 +88,7 @@ using HapticLoopSettings [[deprecated("renamed to HapticLoopOptions in bemsurg 0
 
 /// One device channel in one tick: the pose in the model frame, the contact model's force and the force sent after the
 /// safety stages, buttons, contact elements and the contact step's status.
+/// \ingroup haptics
 struct ChannelSample {
   Eigen::Vector3d position = Eigen::Vector3d::Zero();  // model frame
   Eigen::Vector3d direction = -Eigen::Vector3d::UnitZ();
@@ -101,6 +104,7 @@ struct ChannelSample {
 
 /// What one tick of the haptic loop did, per channel, with the session time, the model version and the watchdog gain:
 /// the entries of the trace (pop_sample) and the newest sample for graphics (latest).
+/// \ingroup haptics
 struct TickSample {
   std::uint64_t tick = 0;
   double time = 0.0;  // session seconds
@@ -117,6 +121,7 @@ struct TickSample {
 /// contact elements (CapacitanceContact::contact_tractions) and the model they belong to. The
 /// field is then GreensTable::displacement_field(elements, tractions, count, u) on that model's
 /// read-only table, with the reader's own buffers.
+/// \ingroup haptics
 struct PublishedContact {
   std::uint64_t model_version = 0;
   double time = 0.0;
@@ -128,6 +133,7 @@ struct PublishedContact {
 
 /// A button edge on a device channel (press or release), with the pose in the model frame at the edge: what the haptic
 /// thread hands the simulation side (pop_event).
+/// \ingroup haptics
 struct ButtonEvent {
   double time = 0.0;
   int channel = 0;
@@ -140,6 +146,7 @@ struct ButtonEvent {
 
 /// The haptic loop: its own thread at a fixed rate that reads the devices, computes each tool's force from the contact model
 /// and writes it back through the safety stages, never locking, allocating, throwing or waiting (docs/haptics.md).
+/// \ingroup haptics
 class HapticLoop {
  public:
   /// `devices[c]` drives channel c (at most kMaxChannels; the loop does not own them and they

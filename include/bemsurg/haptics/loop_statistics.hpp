@@ -12,6 +12,7 @@ namespace bemsurg::haptics {
 
 /// A fixed-size histogram of durations in microseconds (0.1 us bins up to 20 ms, one overflow bin) that the haptic thread
 /// records into without allocating; quantiles are exact to 0.1 us below 20 ms.
+/// \ingroup haptics
 class MicrosecondHistogram {
  public:
   static constexpr double kBinUs = 0.1;
@@ -50,12 +51,14 @@ class MicrosecondHistogram {
 };
 
 /// Median, 99th and 99.9th percentiles and maximum of a distribution of times (percentiles_of a MicrosecondHistogram).
+/// \ingroup haptics
 struct Percentiles {
   double p50 = 0.0, p99 = 0.0, p999 = 0.0, max = 0.0;
 };
 inline Percentiles percentiles_of(const MicrosecondHistogram& h) { return {h.quantile(0.5), h.quantile(0.99), h.quantile(0.999), h.max()}; }
 
 /// A loop's report (docs/haptics.md, "Statistics"; the session's report.json carries it).
+/// \ingroup haptics
 struct LoopStatistics {
   double rate_hz = 0.0;  // requested
   double achieved_rate_hz = 0.0;

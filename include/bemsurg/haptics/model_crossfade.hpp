@@ -20,6 +20,7 @@ constexpr double kDefaultModelBlendSeconds = 0.03;
 /// The weight of the new model in a blend that started at `start` (session seconds) and lasts
 /// `duration`: 0 at the start, 1 from start + duration on, linear between. Allocation-free and
 /// noexcept: the haptic thread and the viewer's tick call it.
+/// \ingroup haptics
 class ModelCrossfade {
  public:
   explicit ModelCrossfade(double duration = kDefaultModelBlendSeconds) noexcept : duration_(duration) {}

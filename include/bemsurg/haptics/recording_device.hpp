@@ -13,6 +13,7 @@ namespace bemsurg::haptics {
 
 /// Wraps any device and records what it reported and what it was sent, tick by tick, into memory reserved up front; after
 /// the session the record is written as CSV, which ScriptedDevice::read_csv plays back.
+/// \ingroup haptics
 class RecordingDevice : public HapticDevice {
  public:
   /// One recorded tick: the session time, the state the device reported and the force written after that read.

@@ -15,6 +15,7 @@ namespace bemsurg::haptics {
 /// One point of a trajectory. Between keyframes position and direction are interpolated linearly
 /// in time; buttons and `connected` hold the value of the keyframe at or before the time. Two
 /// keyframes at the same time make a jump (the later one holds from then on).
+/// \ingroup haptics
 struct Keyframe {
   double time = 0.0;
   Eigen::Vector3d position = Eigen::Vector3d::Zero();
@@ -26,6 +27,7 @@ struct Keyframe {
 
 /// A device whose pose and buttons follow a trajectory: a function of time, keyframes or a CSV file (what RecordingDevice
 /// writes). Forces written to it are kept for inspection.
+/// \ingroup haptics
 class ScriptedDevice : public HapticDevice {
  public:
   /// From a function of the session time (it must not allocate, lock or throw).

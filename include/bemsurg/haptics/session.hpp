@@ -13,16 +13,17 @@
 #include <string>
 #include <vector>
 
+#include "bemsurg/haptics/action_script.hpp"
 #include "bemsurg/haptics/background_task.hpp"
 #include "bemsurg/haptics/felt_force.hpp"
 #include "bemsurg/haptics/haptic_loop.hpp"
 #include "bemsurg/haptics/scripted_device.hpp"
-#include "bemsurg/io/action_script.hpp"
 
 namespace bemsurg::haptics {
 
 /// One cut increment to compute (docs/design.md §7): on the current snapshots, from the surface
 /// point nearest `from` along `direction`; `step` counts from 0 within the action.
+/// \ingroup haptics
 struct CutRequest {
   std::shared_ptr<const TriangleMesh> mesh;
   std::shared_ptr<const GreensTable> table;
@@ -32,6 +33,7 @@ struct CutRequest {
   int action = 0;  // index into ActionScript::actions
 };
 /// The new snapshots after the cut (new objects: the old ones stay valid for whoever holds them).
+/// \ingroup haptics
 struct CutResult {
   std::shared_ptr<const TriangleMesh> mesh;
   std::shared_ptr<const GreensTable> table;
@@ -41,6 +43,7 @@ using CutHook = std::function<CutResult(const CutRequest&)>;
 
 /// How a Session runs: virtual or real-time clock, the simulation and graphics rates, how far sphere and flat tools may slide,
 /// the haptic loop's options and the hook that computes cuts.
+/// \ingroup haptics
 struct SessionOptions {
   /// true: ticks run back to back in session time on the calling thread, the simulation side
   /// every few ticks — deterministic (tests, reproducible traces); false: the loop's own thread
@@ -68,6 +71,7 @@ struct SessionOptions {
 };
 
 /// Receives what the session produces, on the simulation side's thread.
+/// \ingroup haptics
 class SessionObserver {
  public:
   virtual ~SessionObserver() = default;
@@ -78,6 +82,7 @@ class SessionObserver {
 
 /// What Session::run reports: the loop's statistics, the largest force jump between ticks, peak forces per tool, the models
 /// built, cuts, displacement-field updates and their times.
+/// \ingroup haptics
 struct SessionResult {
   LoopStatistics loop;
   /// Largest |F_k - F_(k-1)| / max(|F_k|, |F_(k-1)|) of a tool's contact-model force between
@@ -100,6 +105,7 @@ struct SessionResult {
 
 /// A scripted surgical session (docs/actions.md, docs/haptics.md): the action script drives scripted devices, the haptic loop
 /// renders their forces, and this object, on the calling thread, runs engagements and cuts and hands new contact models to the loop.
+/// \ingroup haptics
 class Session {
  public:
   /// Checks the script against the model (tools on channels 0..3, no cut without a hook: the

@@ -12,6 +12,7 @@ namespace bemsurg::haptics {
 
 /// A bounded single-producer / single-consumer queue for events, trace samples and pointers leaving or reaching the haptic
 /// thread. Capacity is fixed at construction; push and pop never wait or allocate, and a full queue refuses the push.
+/// \ingroup haptics
 template <class T>
 class SpscRing {
  public:

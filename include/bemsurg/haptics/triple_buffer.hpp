@@ -16,6 +16,7 @@ namespace bemsurg::haptics {
 
 /// Lock-free single-producer / single-consumer hand-over of a snapshot between threads running at different rates: the
 /// writer publish()es its back slot, the reader acquire()s the newest one. Neither side waits or allocates.
+/// \ingroup haptics
 template <class T>
 class TripleBuffer {
  public:

@@ -28,6 +28,7 @@ constexpr std::size_t kPoseBytes = 88;
 constexpr std::size_t kForceBytes = 64;
 
 /// A pose packet, bridge to bemsurg: sequence number, channel, sender time, position, orientation and buttons (docs/haptics.md).
+/// \ingroup haptics
 struct PosePacket {
   std::uint32_t sequence = 0;
   std::uint16_t channel = 0;
@@ -37,6 +38,7 @@ struct PosePacket {
   std::uint32_t buttons = 0;
 };
 /// A force packet, bemsurg to bridge: sequence number, channel, sender time, the force, status bits and the pose it answers.
+/// \ingroup haptics
 struct ForcePacket {
   std::uint32_t sequence = 0;
   std::uint16_t channel = 0;
@@ -58,6 +60,7 @@ std::uint64_t monotonic_us() noexcept;
 
 /// Settings of a UdpDevice: the ports, the channel accepted, when a pose counts as late or the device as disconnected, and
 /// the largest force.
+/// \ingroup haptics
 struct UdpDeviceOptions {
   int listen_port = 0;        // 127.0.0.1 port to bind; 0: any free port (see UdpDevice::port())
   int peer_port = 0;          // the only sender port accepted; 0: the first valid sender is locked in
@@ -72,6 +75,7 @@ struct UdpDeviceOptions {
 using UdpDeviceSettings [[deprecated("renamed to UdpDeviceOptions in bemsurg 0.2")]] = UdpDeviceOptions;
 
 /// Counts of refused packets (each increments exactly one).
+/// \ingroup haptics
 struct UdpCounters {
   std::uint64_t accepted = 0, malformed = 0, late = 0, out_of_order = 0, unexpected_sender = 0, send_failures = 0;
   std::uint64_t dropped() const { return malformed + late + out_of_order + unexpected_sender; }
@@ -79,6 +83,7 @@ struct UdpCounters {
 
 /// A haptic device on the other side of a loopback UDP socket, so a separate program holding a vendor SDK drives bemsurg;
 /// malformed, late, out-of-order or foreign packets are dropped and counted, never acted on.
+/// \ingroup haptics
 class UdpDevice : public HapticDevice {
  public:
   static constexpr int kMaxPacketsPerRead = 64;
@@ -115,6 +120,7 @@ class UdpDevice : public HapticDevice {
 };
 
 /// The bridge program's side (and the tests'): sends poses to a UdpDevice and receives its forces.
+/// \ingroup haptics
 class UdpBridgeClient {
  public:
   /// Binds 127.0.0.1:local_port (0: any) and sends to 127.0.0.1:device_port.

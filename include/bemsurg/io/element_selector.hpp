@@ -16,6 +16,7 @@ namespace bemsurg {
 
 /// Picks boundary elements by geometry (plane, box, sphere, normal direction, shell) or by list, tested on each element's
 /// centroid and normal, so a scene need not list face numbers (docs/scene-format.md, selectors; see select_elements).
+/// \ingroup io
 struct ElementSelector {
   enum class Kind {
     Plane,     // centroid within `tolerance` of the plane through `point` with normal `direction`

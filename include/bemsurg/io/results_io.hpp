@@ -49,6 +49,7 @@ void write_linear_solution_vtk(const std::string& path, const TriangleMesh& mesh
                                const BoundarySolution& nodes);
 
 /// Seconds per phase of a run. `total` is wall time from start to the last file written.
+/// \ingroup io
 struct PhaseTimings {
   double load = 0.0;      // scene, mesh, validation, boundary conditions
   double assembly = 0.0;  // H, G and gravity
@@ -60,6 +61,7 @@ struct PhaseTimings {
 
 /// What report.json records of a `bemsurg solve` run (write_report_json): scene and mesh source, sizes, phase timings,
 /// peak memory and the solver summary.
+/// \ingroup io
 struct RunResult {
   std::string scene;
   std::string element_type = "constant";  // "constant" or "linear" (docs/elements.md)

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "bemsurg/elastostatic_solver.hpp"
+#include "bemsurg/elastostatics/elastostatic_solver.hpp"
 #include "bemsurg/mesh/mesh_quality.hpp"
 #include "bemsurg/mesh/operating_region.hpp"
 #include "bemsurg/solvers/linear_solve.hpp"
@@ -23,6 +23,7 @@ namespace bemsurg {
 
 /// A scene file read into a ready-to-solve problem (docs/scene-format.md): the elastostatic problem, solver settings,
 /// optional interior points and operating region, and what loading did (grading, mesh source, warnings).
+/// \ingroup io
 struct Scene {
   /// Mesh (validated: closed, manifold, oriented, non-degenerate), material (validated), gravity
   /// (acceleration; body force = density * gravity), boundary conditions (every element set:

@@ -6,13 +6,14 @@
 
 #include <cmath>
 
+#include "bemsurg/constants.hpp"
 #include "bemsurg/material.hpp"
-#include "bemsurg/mesh/geometry.hpp"
 
 namespace bemsurg {
 
 /// The material constants of the Kelvin kernels U, T, the gravity kernel P and their derivatives (Wang et al. 2007
 /// eqs. 2-3), computed in one place from a Material so that every kernel and the assembler use the same convention.
+/// \ingroup kernels
 struct KelvinConstants {
   double mu;               // shear modulus
   double nu;               // Poisson's ratio

@@ -15,6 +15,7 @@ namespace bemsurg {
 
 /// The 3D Kelvin fundamental solution (Wang et al. 2007 eqs. 2-3): U_ij and T_ij, the displacement and traction in
 /// direction j at the field point Q due to a unit point force in direction i at the source point p, from r = x_Q - x_p.
+/// \ingroup kernels
 class KelvinKernel {
  public:
   explicit KelvinKernel(const Material& m) : c_(m) {}
@@ -81,6 +82,7 @@ class KelvinKernel {
 /// Gravity (uniform body force per volume b = rho g) moved from the volume to the surface:
 /// P_i = [b_i dr/dn - n_i (b . r,) / (2 (1 - nu))] / (8 pi mu), integrated over the boundary, adds
 /// to the displacement at the source point (docs/design.md, kernels). P is bounded, so no singular rule is needed.
+/// \ingroup kernels
 class GravityKernel {
  public:
   GravityKernel(const Material& m, const Eigen::Vector3d& body_force) : GravityKernel(KelvinConstants(m), body_force) {}

@@ -22,6 +22,7 @@ using KernelGradient = std::array<Eigen::Matrix3d, 3>;
 
 /// Derivatives of the kernels U, T and P with respect to the source point p (grad[b](a, j) = d K_aj / d p_b), for
 /// stresses at interior points through Hooke's law (Wang et al. 2007 eqs. 7-9).
+/// \ingroup kernels
 class KelvinKernelGradients {
  public:
   explicit KelvinKernelGradients(const Material& m) : c_(m) {}

@@ -26,6 +26,7 @@ namespace bemsurg {
 
 /// Shape and resolution of the procedural brain surface (brain_mesh, brain_surface_point): overall size, midline
 /// fissure, gyri-like folds and the icosphere subdivisions of the returned mesh.
+/// \ingroup mesh
 struct BrainModelOptions {
   /// Overall extent along x (front to back), y (left to right) and z (height above the support);
   /// an adult human brain is about 167 x 140 x 93 mm.

@@ -19,6 +19,7 @@ namespace bemsurg {
 
 /// Where a ray or segment meets the surface (TriangleBvh::intersect_ray, intersect_segment): the element, the ray
 /// parameter t, barycentric coordinates, the point, and whether the ray enters the material there.
+/// \ingroup mesh
 struct RayHit {
   Index element = -1;
   double t = std::numeric_limits<double>::infinity();  // origin + t * direction (segment: t in [0, 1])
@@ -29,6 +30,7 @@ struct RayHit {
 
 /// Bounding-volume hierarchy over the triangles of the current (deformed) surface, for picking with a tool's ray or
 /// segment and for finding elements near a tool; built once per topology and refitted when the vertices move.
+/// \ingroup mesh
 class TriangleBvh {
  public:
   TriangleBvh() = default;

@@ -1,4 +1,4 @@
-// bemsurg/mesh/geometry.hpp: the geometry of one triangle that every module shares, and pi.
+// bemsurg/mesh/geometry.hpp: the geometry of one triangle that every module shares.
 //
 // One definition of each figure, so that the quadrature's near/far decision, the assembler's
 // precomputed geometry, the cutter's checks and the mesh's cached diameters agree to the last
@@ -11,15 +11,10 @@
 #include <cmath>
 #include <cstddef>
 
+#include "bemsurg/constants.hpp"  // numbers::pi, which users of this header have always had
 #include "bemsurg/types.hpp"
 
 namespace bemsurg {
-
-namespace numbers {
-/// pi to double precision: the one spelling in bemsurg (M_PI is POSIX, not standard C++17).
-/// Named as C++20's std::numbers::pi, which it becomes when the project moves to C++20.
-inline constexpr double pi = 3.14159265358979323846;
-}  // namespace numbers
 
 /// Closest point to p on the triangle (a, b, c) (Ericson, Real-Time Collision Detection, 2005,
 /// §5.1.5): the Voronoi regions of the vertices, then the edges, else the face (barycentric

@@ -16,6 +16,7 @@
 namespace bemsurg {
 
 /// Size and resolution of the procedural liver surface (liver_mesh, liver_surface_point).
+/// \ingroup mesh
 struct LiverModelOptions {
   /// Overall extent along x (right lobe at +x, left lobe at -x), y (front to back) and z (height);
   /// an adult liver measures about 200 x 150 x 100 mm. The lobes are scaled from it.

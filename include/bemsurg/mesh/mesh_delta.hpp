@@ -23,6 +23,7 @@ namespace bemsurg {
 
 /// What one change of the surface (a cut step) did to the elements, with stable element ids: counts before and after,
 /// and the added, modified and removed elements, under the contract written at the top of mesh/mesh_delta.hpp.
+/// \ingroup mesh
 struct MeshDelta {
   Index elements_before = 0;
   Index elements_after = 0;

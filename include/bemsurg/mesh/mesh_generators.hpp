@@ -6,6 +6,7 @@
 // closed, 2-manifold, normals out of the material, welded (shared vertices along box edges).
 #pragma once
 
+#include <array>
 #include <vector>
 
 #include "bemsurg/mesh/triangle_mesh.hpp"
@@ -58,6 +59,11 @@ TriangleMesh merge_meshes(const TriangleMesh& a, const TriangleMesh& b);
 
 /// The same surface with every face's vertex order reversed (normals negated).
 TriangleMesh flip_orientation(const TriangleMesh& mesh);
+
+namespace detail {
+/// A mesh from vertex and face lists: the generators' last step, shared with the organ samples (meshing/).
+TriangleMesh to_mesh(const std::vector<Vec3>& v, const std::vector<std::array<int, 3>>& f);
+}  // namespace detail
 
 }  // namespace bemsurg
 

@@ -21,6 +21,7 @@ namespace bemsurg {
 
 /// Shape and grading figures of a triangle surface (measure_mesh_quality): smallest angles and neighbouring element
 /// size ratios, the two figures the graded remesher promises and its tests check.
+/// \ingroup mesh
 struct MeshQuality {
   Index elements = 0;
   /// Smallest interior angle of any element, degrees (60 for equilateral elements).
@@ -51,6 +52,7 @@ inline double aspect_ratio(const Vec3& a, const Vec3& b, const Vec3& c) {
 }
 
 /// The element of largest aspect_ratio and that ratio (element -1 for an empty mesh).
+/// \ingroup mesh
 struct WorstAspectRatio {
   Index element = -1;
   double ratio = 0.0;

@@ -18,6 +18,7 @@ namespace bemsurg {
 /// box-grid triangle) above the local thickness, the distance from the centroid along the inward
 /// normal to the next face. `count` such elements; `element` is the one with the largest
 /// size / thickness, with its size and thickness (-1, 0, 0 when count is 0).
+/// \ingroup mesh
 struct ThinElements {
   std::size_t count = 0;
   Index element = -1;

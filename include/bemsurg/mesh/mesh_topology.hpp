@@ -16,6 +16,7 @@ namespace bemsurg {
 
 /// One use of an edge by a face. Local edge k of face f runs from corner k to corner (k+1) % 3,
 /// i.e. from faces(f, k) to faces(f, (k+1) % 3).
+/// \ingroup mesh
 struct EdgeFace {
   Index face = -1;
   int local = 0;
@@ -26,6 +27,7 @@ struct EdgeFace {
 
 /// An undirected edge. vertices[0] <= vertices[1]; they are equal only for an edge of a
 /// collapsed face that repeats a vertex.
+/// \ingroup mesh
 struct MeshEdge {
   std::array<Index, 2> vertices{{-1, -1}};
   std::vector<EdgeFace> faces;  // in increasing face index
@@ -38,6 +40,7 @@ struct MeshEdge {
 
 /// Who touches whom in a triangle mesh: edges with the faces that use them, the face across each edge, the faces
 /// around each vertex, and the connected shells with their signed volumes. A plain value, rebuilt after a topology change.
+/// \ingroup mesh
 class MeshTopology {
  public:
   MeshTopology() = default;

@@ -15,6 +15,8 @@
 
 namespace bemsurg {
 
+/// What a MeshIssue is about: one value per check validate_mesh makes (kNumMeshIssueKinds of them).
+/// \ingroup mesh
 enum class MeshIssueKind {
   EmptyMesh,                // no faces (or no vertices)
   NonFiniteVertex,          // NaN or infinite coordinate
@@ -29,9 +31,12 @@ enum class MeshIssueKind {
 };
 inline constexpr std::size_t kNumMeshIssueKinds = 10;
 
+/// How bad a MeshIssue is: an Error makes the mesh unusable (MeshValidationResult::valid), a Warning does not.
+/// \ingroup mesh
 enum class MeshIssueSeverity { Warning, Error };
 
 /// One problem validate_mesh found: its kind and severity, the offending face, vertex, edge or shell, and a message.
+/// \ingroup mesh
 struct MeshIssue {
   MeshIssueKind kind;
   MeshIssueSeverity severity;
@@ -42,6 +47,7 @@ struct MeshIssue {
 
 /// Tolerances and switches of validate_mesh and require_valid_mesh: which checks run and how many issues of each
 /// kind are stored.
+/// \ingroup mesh
 struct MeshValidationOptions {
   /// A face is degenerate if its area is below this fraction of the mean face area.
   double degenerate_area_tolerance = 1e-10;
@@ -67,6 +73,7 @@ struct MeshValidationOptions {
 
 /// The result of validate_mesh: the stored issues in check order and the number found of each kind, including
 /// those not stored.
+/// \ingroup mesh
 struct MeshValidationResult {
   std::vector<MeshIssue> issues;  // stored issues, errors and warnings, in check order
   /// Number of issues found per kind, including those beyond max_issues_per_kind.

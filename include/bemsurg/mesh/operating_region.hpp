@@ -19,6 +19,7 @@ namespace bemsurg {
 
 /// Where the surgery happens: a sphere, an axis-aligned box or a set of elements of a mesh, with its distance
 /// function. One region drives both the graded remesher and the Green's table region (docs/graded.md).
+/// \ingroup mesh
 class OperatingRegion {
  public:
   enum class Kind { Sphere, Box, Elements };

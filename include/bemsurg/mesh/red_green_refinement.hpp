@@ -28,6 +28,7 @@ namespace bemsurg {
 
 /// What refine_red_green returns: the refined surface, the input element each new element lies in
 /// (so boundary conditions and element selections carry over), and counts of what was done.
+/// \ingroup mesh
 struct RedGreenRefinement {
   TriangleMesh mesh;
   /// parent[e]: the element of the input mesh that new element e lies in. Children of one input

@@ -23,6 +23,7 @@
 namespace bemsurg {
 
 /// Touching tolerance and pair limit of find_self_intersections.
+/// \ingroup mesh
 struct SelfIntersectionOptions {
   /// Distance below which two triangles count as touching, as a fraction of the bounding-box
   /// diagonal (closed-surface meshes in double precision are far from it).

@@ -21,6 +21,7 @@ namespace bemsurg {
 
 /// The surface of the body as flat triangles, counter-clockwise seen from outside: each face is one constant boundary
 /// element collocated at its centroid, whose geometry (centroid, normal, area, diameter) is computed once on construction.
+/// \ingroup mesh
 class TriangleMesh {
  public:
   TriangleMesh() = default;

@@ -36,3 +36,8 @@ inline TriangleMesh weld_vertices(const TriangleMesh& mesh, double relative_tole
 }
 
 }  // namespace bemsurg
+
+// Definitions (header-only: the numerical core needs no compiled library, docs/design.md).
+#ifndef BEMSURG_SEPARATE_COMPILATION  // else compiled once by the library (bemsurg/config.hpp)
+#include "bemsurg/mesh/impl/vertex_welding_impl.hpp"
+#endif

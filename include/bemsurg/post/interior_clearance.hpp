@@ -44,11 +44,13 @@ double min_stress_clearance_fraction(const QuadratureOptions& options);
 
 /// Which quantity a clearance check is for: displacement (the quadrature's limit) or stress (also
 /// the constant elements' limit, kMinStressClearanceFraction).
+/// \ingroup post
 enum class ClearanceQuantity { Displacement, Stress };
 
 /// The first point closer to some element than min_clearance_fraction x that element's longest
 /// edge: point = -1 when every point is clear. element, distance, element_size and required
 /// describe the violation (the element with the smallest distance / required ratio).
+/// \ingroup post
 struct ClearanceViolation {
   Index point = -1;
   Index element = -1;

@@ -24,6 +24,7 @@ using StressRows = Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::RowMajor>;
 
 /// Displacement and stress at points inside the body from the boundary solution by Somigliana's identity (Wang et
 /// al. 2007 eqs. 7-9), with the adaptive quadrature of assembly; points too close to an element are refused.
+/// \ingroup post
 class InteriorEvaluator {
  public:
   InteriorEvaluator(const TriangleMesh& mesh, const Material& material, const Eigen::Vector3d& gravity = Eigen::Vector3d::Zero(),

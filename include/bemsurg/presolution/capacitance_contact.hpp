@@ -35,6 +35,7 @@ namespace bemsurg {
 
 /// One constraint row of a contact: the displacement component direction . u(element) is prescribed and the traction
 /// along `direction` is the unknown; `tag` says which tool owns the row.
+/// \ingroup presolution
 struct ContactRow {
   Index element = 0;
   Eigen::Vector3d direction = Eigen::Vector3d::UnitX();  // unit vector
@@ -43,6 +44,7 @@ struct ContactRow {
 
 /// Exact contact on any set of elements at once by the capacitance-matrix method (James & Pai 1999; docs/design.md §6)
 /// on the compliance table: keeps P = S^-1 explicitly and borders or reduces it as rows join or leave. Allocation-free after construction.
+/// \ingroup presolution
 class CapacitanceContact {
  public:
   /// `mesh` gives areas (the force) and must be the table's mesh; both are shared snapshots.

@@ -41,11 +41,16 @@
 
 namespace bemsurg {
 
+/// The shape of a contact tool (ToolSpec; what each one does: the top of this header).
+/// \ingroup presolution
 enum class ToolShape { Point, FlatPunch, Sphere, Plate, Pinch };
+/// How a tool holds the elements it touches: bonded (all three components) or frictionless (the normal one only).
+/// \ingroup presolution
 enum class ContactMode { Bonded, Frictionless };
 
 /// Shape and contact mode of a surgical tool (point, flat punch, sphere, plate, pinch) and its sizes, with a factory per
 /// shape; see the top of this header for what each shape does.
+/// \ingroup presolution
 struct ToolSpec {
   ToolShape shape = ToolShape::Point;
   ContactMode mode = ContactMode::Bonded;
@@ -70,6 +75,7 @@ struct ToolSpec {
 };
 
 /// What the haptic-thread step returns instead of throwing.
+/// \ingroup presolution
 enum class ContactStatus : std::uint8_t {
   Ok = 0,
   Unsettled,         // the active set did not settle within the iteration limit (force usable)
@@ -80,6 +86,7 @@ enum class ContactStatus : std::uint8_t {
 const char* to_string(ContactStatus status) noexcept;
 
 /// What one update() did.
+/// \ingroup presolution
 struct ContactUpdateResult {
   int active_set_iterations = 0;
   bool consistent = true;  // false: the active set did not settle within the iteration limit
@@ -91,6 +98,7 @@ using ContactUpdateReport [[deprecated("renamed to ContactUpdateResult in bemsur
 
 /// Surgical tools as contact constraints on the compliance table, several at once, solved exactly and together by
 /// CapacitanceContact. Engagement runs off the haptic thread; try_set_translation, try_set_rotation and step() are the haptic path.
+/// \ingroup presolution
 class ToolContactSolver {
  public:
   /// `capacity_rows`: the most constraint rows of all tools together (bonded elements take 3).

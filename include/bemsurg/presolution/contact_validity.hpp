@@ -19,6 +19,7 @@ namespace bemsurg {
 ///   axis and its footprint sqrt(R d) reaches that radius at d = R, where the contact breaks down.
 /// Up to warn_* the answer is the model's; between warn_* and max_* it is returned with a warning
 /// (the model is increasingly approximate); beyond max_* it is refused.
+/// \ingroup presolution
 struct ContactDepthLimits {
   double warn_body_strain = 0.05;
   double max_body_strain = 0.2;
@@ -39,6 +40,7 @@ struct ContactDepthLimits {
 
 /// What check_contact_depth found: the two strains (tool_strain is 0 for a point tool) and a
 /// warning (empty when the depth is inside the small-strain range).
+/// \ingroup presolution
 struct ContactDepthCheck {
   double body_extent = 0.0;
   double body_strain = 0.0;
@@ -64,6 +66,7 @@ constexpr double kMinSphereContactRadiusPerElement = 2.5;
 /// What check_tool_resolution found: the contact radius (the punch's radius, or the sphere's
 /// Hertz footprint sqrt(R depth), at most R), the element size sqrt(2 area) under the tool's
 /// axis, the limit that applies, and a warning naming the three (empty when resolved).
+/// \ingroup presolution
 struct ToolResolutionCheck {
   double contact_radius = 0.0;
   double element_size = 0.0;

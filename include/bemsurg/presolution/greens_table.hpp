@@ -13,21 +13,24 @@
 // new page, per entry: about a hundred times slower when measured).
 // Rows of displacement-prescribed dofs hold the prescribed change, zero.
 //
-// After a cut (docs/design.md §7, §9) the table is not recomputed: updated() returns a NEW table
-// (an immutable snapshot, version() + 1) for the cut mesh whose base state and columns equal those
-// computed from scratch, integrating only the rows and columns of the changed elements. For that
-// a computed table keeps the LU factors and pivots of A* (n^2 doubles, in estimate_bytes), the
-// right-hand side, the mesh snapshot and the reaction rows (see below); a table read from a file
-// has none of these and cannot be updated (has_factorization() is false).
+// After a cut (docs/design.md §7, §9) the table is not recomputed: the cutting module's
+// updated_table (bemsurg/cutting/table_update.hpp) returns a NEW table (an immutable snapshot,
+// version() + 1) for the cut mesh whose base state and columns equal those computed from scratch,
+// integrating only the rows and columns of the changed elements. For that a computed table keeps
+// the LU factors and pivots of A* (n^2 doubles, in estimate_bytes), the right-hand side, the mesh
+// snapshot and the reaction rows (see below); a table read from a file has none of these and
+// cannot be updated (has_factorization() is false).
 #pragma once
 
 #include <Eigen/Core>
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "bemsurg/assembly/boundary_conditions.hpp"
+#include "bemsurg/elastostatics/elastostatic_problem.hpp"
 #include "bemsurg/material.hpp"
 #include "bemsurg/mesh/mesh_delta.hpp"
 #include "bemsurg/mesh/triangle_mesh.hpp"
@@ -39,6 +42,7 @@ namespace bemsurg {
 
 /// What GreensTable::compute is asked for: the region where tools may act, the gravity of the base state, the quadrature
 /// and the memory limit.
+/// \ingroup presolution
 struct GreensTableOptions {
   /// Elements where tools may act (each must be free: traction prescribed on all three
   /// components). Empty: every free element.
@@ -51,35 +55,16 @@ struct GreensTableOptions {
 };
 
 /// Wall-clock seconds of the three phases of the one-time precomputation.
+/// \ingroup presolution
 struct PrecomputeTimings {
   double assembly_seconds = 0.0;       // H, G, gravity, A* and the right-hand sides
   double factorization_seconds = 0.0;  // LU of A* (LAPACK dgetrf when BLAS is linked)
   double table_seconds = 0.0;          // multi-right-hand-side back-substitution (dgetrs)
 };
 
-/// How updated() treats a cut step.
-struct GreensTableUpdateOptions {
-  /// New (cut-wall) elements join the region when the region holds every free element, or when
-  /// their centroid lies within this distance of a region element's centroid. 0: three times the
-  /// largest diameter among the step's changed elements.
-  double join_distance = 0.0;
-};
-
-/// Wall-clock seconds of one updated() call, by phase.
-struct GreensTableUpdateResult {
-  double integration_seconds = 0.0;  // rows and columns of the changed elements, both meshes
-  double system_seconds = 0.0;       // low-rank update of the factorisation and the base state
-  double table_seconds = 0.0;        // the table's columns (old ones corrected, new ones solved)
-  double total_seconds = 0.0;
-  Index rank = 0;                   // accumulated rank of the correction after the step
-  Index added_region_elements = 0;  // new elements that joined the region
-};
-/// Deprecated name (before 0.2), kept one minor version: use GreensTableUpdateResult.
-using GreensTableUpdateReport [[deprecated("renamed to GreensTableUpdateResult in bemsurg 0.2")]] = GreensTableUpdateResult;
-
-struct CutChange;  // assembly/cut_change.hpp
-
-/// What a table was computed for; a saved table is used only when all of it matches.
+/// What a table was computed for, to identify its file: a saved table is used only when all of it matches. The
+/// physics of a table is read through GreensTable::material() and gravity(), not from here.
+/// \ingroup presolution
 struct GreensTableKey {
   std::uint64_t mesh_hash = 0;        // vertices and faces, bit for bit
   std::uint64_t conditions_hash = 0;  // kinds and values of the base boundary conditions
@@ -100,8 +85,14 @@ GreensTableKey make_greens_table_key(const TriangleMesh& mesh, const Material& m
 /// Base boundary conditions of docs/design.md §6: `supported` elements held (u = 0), the rest free.
 BoundaryConditions supported_base_conditions(Index num_elements, const std::vector<Index>& supported);
 
+class GreensTable;
+namespace detail {
+struct GreensTableParts;  // the cutting module's access to a table's parts (cutting/impl/table_update_impl.hpp)
+}  // namespace detail
+
 /// The compliance Green's-function table of a supported body (docs/design.md §6; Wang et al. 2007 §5.1): the base state
-/// and the displacement of every dof per unit traction on each region dof. Immutable: a cut's updated() returns a new table.
+/// and the displacement of every dof per unit traction on each region dof. Immutable: a cut step (updated_table, cutting/) returns a new table.
+/// \ingroup presolution
 class GreensTable {
  public:
   GreensTable() = default;
@@ -114,46 +105,41 @@ class GreensTable {
   /// The default limit: 80 % of this machine's physical memory (bemsurg/memory_budget.hpp).
   static double default_memory_limit_bytes();
 
-  /// Assembles, factorises A* once, solves the base state and the region's columns. Throws
-  /// ResourceError (with the estimate) when it would not fit, BoundaryConditionError for an
-  /// unsupported body or a region element that is not free, SolverError for a singular A*.
+  /// The table of `problem` (constant elements) on `region` (elements where tools may act, each free:
+  /// traction prescribed on all three components; empty: every free element). Runs the problem's one
+  /// check (check_before_solve, as solve_elastostatic does; its warnings are kept in warnings()),
+  /// assembles, factorises A* once, solves the base state and the region's columns. Throws
+  /// ResourceError (with the estimate) when it would not fit within `memory_limit_bytes` (0: 80 % of
+  /// physical memory), BoundaryConditionError for an unsupported body or a region element that is
+  /// not free, InvalidMaterialError, InvalidArgumentError for linear elements, SolverError for a
+  /// singular A*.
+  static GreensTable compute(const ElastostaticProblem& problem, const std::vector<Index>& region = {}, double memory_limit_bytes = 0.0);
+  /// The same for a mesh snapshot shared with its other users (no copy of the mesh kept;
+  /// problem.mesh is not read).
+  static GreensTable compute(std::shared_ptr<const TriangleMesh> mesh, const ElastostaticProblem& problem,
+                             const std::vector<Index>& region = {}, double memory_limit_bytes = 0.0);
+  /// The same from its parts (GreensTableOptions carries region, gravity, quadrature and the limit).
   static GreensTable compute(const TriangleMesh& mesh, const Material& material, const BoundaryConditions& base,
                              const GreensTableOptions& options = {});
   /// The same for a mesh snapshot shared with its other users (no copy of the mesh kept).
   static GreensTable compute(std::shared_ptr<const TriangleMesh> mesh, const Material& material, const BoundaryConditions& base,
                              const GreensTableOptions& options = {});
 
-  /// The exact table of the cut mesh `after` (a new snapshot, version() + 1): `delta` says what
-  /// changed (mesh/mesh_delta.hpp). Modified elements keep their boundary condition, added
-  /// ones are traction-free; the region keeps its elements in their slots and appends the added
-  /// elements near it (GreensTableUpdateOptions). Cost: the rows and columns of the changed
-  /// elements are integrated anew, 2 n^2 (2|M| + |N|) x 3 flops of LU solves plus GEMMs of the
-  /// table against the step's rank (docs/cutting.md). Throws InvalidArgumentError for a delta
-  /// that does not fit (or removes elements) or a table without factorisation, SolverError when
-  /// the cut system is singular. `this` is not changed.
-  std::shared_ptr<const GreensTable> updated(std::shared_ptr<const TriangleMesh> after, const MeshDelta& delta,
-                                             const GreensTableUpdateOptions& options = {}, GreensTableUpdateResult* report = nullptr) const;
-
-  /// The same step taken with the rows and columns already integrated (integrate_cut_change on
-  /// this table's mesh, `after`, its material, quadrature and gravity), e.g. shared with an
-  /// iterative re-solve of the same step.
-  std::shared_ptr<const GreensTable> updated(std::shared_ptr<const TriangleMesh> after, const MeshDelta& delta, const CutChange& change,
-                                             const GreensTableUpdateOptions& options = {}, GreensTableUpdateResult* report = nullptr) const;
-  /// The reference for updated(): the same step by full re-assembly and a new factorisation
-  /// (same region rule, version() + 1).
-  std::shared_ptr<const GreensTable> recomputed_after(std::shared_ptr<const TriangleMesh> after, const MeshDelta& delta,
-                                                      const GreensTableUpdateOptions& options = {}) const;
   /// This table computed again from scratch on its own mesh (same region, conditions, version):
   /// what a background refactorisation publishes in place of a table whose correction rank grew.
   std::shared_ptr<const GreensTable> refactored() const;
-  /// The region after a cut step: this region in its slots, then the added elements that join it
-  /// (GreensTableUpdateOptions::join_distance).
-  std::vector<Index> region_after_cut(const TriangleMesh& after, const MeshDelta& delta,
-                                      const GreensTableUpdateOptions& options = {}) const;
+  /// The same body with Young's modulus `young_modulus` and gravity scaled by `gravity_factor`: exact without
+  /// recomputing, because with zero prescribed displacements every displacement (the table's columns and the
+  /// base state) scales as 1/E and the reactions do not, and with zero prescribed tractions the base state is
+  /// linear in gravity (docs/viewer.md). A new snapshot (same version) that keeps the mesh but no factorisation
+  /// (A* changes with E), so cut a table before rescaling it. Throws InvalidArgumentError when the base state
+  /// prescribes a non-zero displacement (and E changes) or a non-zero traction (and gravity changes), or for
+  /// E <= 0 or a non-finite factor.
+  std::shared_ptr<const GreensTable> with_young_modulus(double young_modulus, double gravity_factor = 1.0) const;
 
-  /// Snapshot number: 0 from compute() or a file, +1 per updated().
+  /// Snapshot number: 0 from compute() or a file, +1 per cut step (updated_table).
   std::uint64_t version() const { return version_; }
-  /// True when the table kept what updated() needs (computed, not read from a file).
+  /// True when the table kept what a cut update (updated_table) needs (computed, not read from a file).
   bool has_factorization() const { return solver_ != nullptr && mesh_ != nullptr; }
   /// The mesh the table was computed for (null for a table read from a file).
   const std::shared_ptr<const TriangleMesh>& mesh() const { return mesh_; }
@@ -165,6 +151,12 @@ class GreensTable {
   const Eigen::VectorXd& rhs() const { return rhs_; }
   /// The quadrature the table was integrated with.
   const QuadratureOptions& quadrature() const { return quadrature_; }
+  /// The material of the body the table describes.
+  const Material& material() const { return key_.material; }
+  /// The gravity acceleration of the base state.
+  const Eigen::Vector3d& gravity() const { return key_.gravity; }
+  /// What check_before_solve warned of when the table was computed (slivers, a nearly incompressible held surface).
+  const std::vector<std::string>& warnings() const { return warnings_; }
 
   /// From stored parts (the table file reader); checks that the sizes agree.
   GreensTable(GreensTableKey key, std::vector<Index> region, Eigen::VectorXd base_displacement, Eigen::VectorXd base_traction,
@@ -211,25 +203,10 @@ class GreensTable {
   void displacement_field(const Index* elements, const double* tractions, Index count, Eigen::VectorXd& u) const;
 
  private:
-  // The steps of updated() (docs/cutting.md), in the order it takes them.
-  /// A cut step's change of A* in low-rank form: A*_after = blockdiag(A*_before, I) + U_s V_s^T
-  /// with U_s = [E_D, Y], V_s = [X^T, E_D]; X (the change of the rows D) also corrects the table.
-  struct SystemChange {
-    Eigen::MatrixXd X, Us, Vs;
-  };
-  /// The new table's columns solved afresh (reshaped or joining region elements): column
-  /// table_cols[i] comes from column sources[i] of the step's change (an index into D).
-  struct FreshColumns {
-    std::vector<Index> table_cols, sources;
-  };
-  void check_update(const TriangleMesh* after, const MeshDelta& delta, const CutChange& change) const;
-  static SystemChange system_change(const CutChange& change, const BoundaryConditions& before, const BoundaryConditions& after);
-  static FreshColumns fresh_columns(const CutChange& change, const std::vector<Index>& region_after);
-  Eigen::MatrixXd fresh_right_hand_sides(const CutChange& change, const FreshColumns& fresh, const Eigen::VectorXd& rhs_after) const;
-  Eigen::MatrixXd correction_coefficients_transposed(const CutChange& change, const Eigen::MatrixXd& X) const;
-  Eigen::MatrixXd columns_after_cut(const CutChange& change, const Eigen::MatrixXd& Z, const Eigen::MatrixXd& CTt, const Eigen::MatrixXd& F,
-                                    const FreshColumns& fresh, Index region_after_size) const;
-
+  friend struct detail::GreensTableParts;
+  static GreensTable compute_on(std::shared_ptr<const TriangleMesh> mesh, const Material& material, const BoundaryConditions& base,
+                                const Eigen::Vector3d& gravity, const QuadratureOptions& quadrature, const std::vector<Index>& region,
+                                double memory_limit_bytes);
   void build_slots();
   /// Base displacement and traction from the solution x of A* x = b (u on traction dofs, t on
   /// displacement dofs) and the prescribed values of `bc`.
@@ -244,7 +221,7 @@ class GreensTable {
   std::vector<BcKind> base_kinds_;
   Eigen::MatrixXd columns_;
   PrecomputeTimings timings_;
-  // Kept for updated() (empty for a table read from a file).
+  // Kept for the cut updates (cutting/table_update.hpp) (empty for a table read from a file).
   std::uint64_t version_ = 0;
   std::shared_ptr<const TriangleMesh> mesh_;
   std::shared_ptr<const LowRankUpdatedLu> solver_;
@@ -253,6 +230,7 @@ class GreensTable {
   Eigen::VectorXd rhs_;
   std::vector<Index> reaction_dofs_;
   Eigen::MatrixXd reactions_;
+  std::vector<std::string> warnings_;
 };
 
 }  // namespace bemsurg

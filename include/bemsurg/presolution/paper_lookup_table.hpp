@@ -21,6 +21,7 @@ namespace bemsurg {
 
 /// The paper's look-up tables [Up] and [Tp] (Wang et al. 2007 §5.1, eq. 10), built from the compliance table and kept as
 /// the "paper" mode for comparison: exact for one touched element only (use CapacitanceContact for several).
+/// \ingroup presolution
 class PaperLookupTable {
  public:
   /// Builds Up and Tp for every element of the table's region (same memory as the table).

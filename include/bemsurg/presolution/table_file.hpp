@@ -29,4 +29,32 @@ GreensTable load_greens_table(const std::string& path, const GreensTableKey& exp
 /// stale too (IoError), since a tool landing outside its region would feel part of its contact.
 GreensTable load_greens_table(const std::string& path, const GreensTableKey& expected, const std::vector<Index>& expected_region);
 
+/// How load_or_compute_greens_table treats its file.
+/// \ingroup presolution
+struct TableCacheOptions {
+  /// Compute even when a matching file exists: the table will be updated after cuts, which needs the
+  /// factorisation a file does not keep.
+  bool for_cuts = false;
+  /// Save a computed table to the file (written to a private name and renamed into place, so processes that
+  /// compute the same table at once never read a half-written file).
+  bool save = true;
+};
+
+/// What load_or_compute_greens_table did: the table, whether it came from the file, and what a program should tell
+/// its user (a stale or corrupt file recomputed, a file left unread because of cuts).
+/// \ingroup presolution
+struct CachedGreensTable {
+  GreensTable table;
+  bool loaded_from_file = false;
+  std::vector<std::string> warnings;  // e.g. "FILE: stale (...); recomputed"
+  std::vector<std::string> notes;     // e.g. the file was not read because the table will be cut
+};
+
+/// The one load-or-compute of a problem's table on `region` (empty: every free element), used by the command line,
+/// sessions, the viewer and the tests: with `path` empty the table is computed; with a file there whose key and
+/// region match, it is read (unless options.for_cuts); a stale or corrupt file is recomputed and replaced (with a
+/// warning saying why); a computed table is saved to `path` when options.save.
+CachedGreensTable load_or_compute_greens_table(const ElastostaticProblem& problem, const std::vector<Index>& region,
+                                               const std::string& path, const TableCacheOptions& options = {});
+
 }  // namespace bemsurg

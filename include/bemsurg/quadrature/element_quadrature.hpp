@@ -25,6 +25,7 @@ namespace bemsurg {
 
 /// Parameters of the quadrature policy: the distance / diameter ratios that select the far and mid rules, the
 /// collapsed Gauss order, the depth at which splitting stops, and the polar rule used on the self element.
+/// \ingroup quadrature
 struct QuadratureOptions {
   double far_ratio = 4.0;
   double mid_ratio = 1.5;
@@ -54,6 +55,7 @@ struct QuadratureOptions {
 
 /// Integrates a kernel over one flat triangle from one source point with the rule the policy chooses (far, mid, near
 /// by subdivision, or polar about the centroid for the self element), passing points and weights to a visitor.
+/// \ingroup quadrature
 class ElementQuadrature {
  public:
   explicit ElementQuadrature(const QuadratureOptions& options = {})

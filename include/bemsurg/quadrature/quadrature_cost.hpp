@@ -15,6 +15,7 @@ namespace bemsurg {
 /// self pairs included), extrapolated from `sampled_sources` source points counted exactly with
 /// ElementQuadrature::count_points; `exceeded` when counting stopped early because the count was
 /// already above the limit asked for (points is then a lower bound).
+/// \ingroup quadrature
 struct QuadratureCostEstimate {
   double points = 0.0;
   Index sampled_sources = 0;

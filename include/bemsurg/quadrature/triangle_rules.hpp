@@ -13,6 +13,7 @@ namespace bemsurg {
 
 /// A quadrature rule on the reference triangle (0,0), (1,0), (0,1): points (xi, eta) and weights that sum to 1, so
 /// int_T f dS ~ area * sum_k w_k f(x_k); polynomials up to `degree` are integrated exactly.
+/// \ingroup quadrature
 struct TriangleRule {
   std::vector<Eigen::Vector2d> points;
   std::vector<double> weights;
@@ -21,6 +22,7 @@ struct TriangleRule {
 
 /// A quadrature rule on the interval [0, 1]: the 1D factor of the collapsed Gauss rule and the angular rule of the
 /// polar one.
+/// \ingroup quadrature
 struct LineRule {  // on [0, 1], weights sum to 1
   std::vector<double> points;
   std::vector<double> weights;

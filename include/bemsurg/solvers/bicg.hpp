@@ -20,6 +20,7 @@ namespace bemsurg {
 
 /// Solves A x = b through solve(b, x) (KrylovSolverBase). One iteration = one product with A
 /// and one with A^T.
+/// \ingroup solvers
 template <class Operator = DenseOperator, class Preconditioner = IdentityPreconditioner>
 class BiCg : public KrylovSolverBase<BiCg<Operator, Preconditioner>, Operator, Preconditioner> {
   using Base = KrylovSolverBase<BiCg<Operator, Preconditioner>, Operator, Preconditioner>;

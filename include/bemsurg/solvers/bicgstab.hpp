@@ -19,6 +19,7 @@ namespace bemsurg {
 
 /// Solves A x = b through solve(b, x) (KrylovSolverBase). One iteration = one BiCGStab step =
 /// two products with A.
+/// \ingroup solvers
 template <class Operator = DenseOperator, class Preconditioner = IdentityPreconditioner>
 class BiCgStab : public KrylovSolverBase<BiCgStab<Operator, Preconditioner>, Operator, Preconditioner> {
   using Base = KrylovSolverBase<BiCgStab<Operator, Preconditioner>, Operator, Preconditioner>;

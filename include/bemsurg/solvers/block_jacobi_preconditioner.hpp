@@ -16,6 +16,7 @@ namespace bemsurg {
 
 /// Block-Jacobi preconditioner M = the 3x3 diagonal blocks of A* (one block per constant element, docs/design.md §2):
 /// inverting each element's own block undoes the differing scales of H and -G columns and the self-coupling, at O(n) per application.
+/// \ingroup solvers
 class BlockJacobiPreconditioner {
  public:
   BlockJacobiPreconditioner() = default;

@@ -16,6 +16,7 @@ namespace bemsurg {
 
 /// The direct solver of A* x = b: LU with partial pivoting of the dense matrix, with a scale-invariant singularity test
 /// (column-equilibrated pivots). Shaped as Eigen's solvers: compute, solve, info.
+/// \ingroup solvers
 class DenseLu {
  public:
   DenseLu() = default;

@@ -23,6 +23,7 @@
 namespace bemsurg {
 
 /// Solves A x = b through solve(b, x) (KrylovSolverBase). One iteration = one product with A.
+/// \ingroup solvers
 template <class Operator = DenseOperator, class Preconditioner = IdentityPreconditioner>
 class Gmres : public KrylovSolverBase<Gmres<Operator, Preconditioner>, Operator, Preconditioner> {
   using Base = KrylovSolverBase<Gmres<Operator, Preconditioner>, Operator, Preconditioner>;

@@ -14,6 +14,7 @@ namespace bemsurg {
 
 /// "No preconditioner" (M = I) in the preconditioner concept the Krylov solvers take, described at the top of this
 /// header: apply and apply_transpose copy r to z.
+/// \ingroup solvers
 class IdentityPreconditioner {
  public:
   IdentityPreconditioner() = default;

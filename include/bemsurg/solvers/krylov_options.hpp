@@ -12,6 +12,7 @@ namespace bemsurg {
 
 /// When the Krylov solvers (GMRES, BiCGStab, BiCG; Wang et al. 2007 §5.3) stop, and what they call a breakdown or
 /// stagnation. Shared by all three methods.
+/// \ingroup solvers
 struct KrylovOptions {
   /// Stop when the true relative residual ||b - A x|| / ||b|| is at most this.
   double tolerance = 1e-10;

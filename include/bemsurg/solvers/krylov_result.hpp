@@ -13,6 +13,8 @@
 
 namespace bemsurg {
 
+/// How a Krylov solve ended (KrylovResult::status; to_string gives the names reports use).
+/// \ingroup solvers
 enum class KrylovStatus {
   Converged,       // true relative residual <= tolerance
   IterationLimit,  // max_iterations reached first
@@ -38,6 +40,7 @@ inline const char* to_string(KrylovStatus status) {
 
 /// What a Krylov solve says about itself: status, iterations, restarts, residuals and wall time. Converged means the true
 /// residual b - A x, recomputed from the returned x, met the tolerance.
+/// \ingroup solvers
 struct KrylovResult {
   KrylovStatus status = KrylovStatus::NotComputed;
   /// For Breakdown: which quantity vanished, e.g. "rho = (r0~, r)"; for NonFinite: where the

@@ -39,6 +39,7 @@ namespace bemsurg {
 /// provides `Eigen::VectorXd& workspace(n)` (sizes its vectors when n changed, returns the one
 /// that holds the residual) and `void iterate(A, M, b, x, residual, start)` (from x0, whose
 /// relative residual `residual` is in that vector, until it calls finish()).
+/// \ingroup solvers
 template <class Derived, class Operator, class Preconditioner>
 class KrylovSolverBase {
  public:

@@ -27,6 +27,7 @@ namespace bemsurg {
 /// EIGEN_USE_BLAS (bemsurg's default when OpenBLAS is found) it is OpenBLAS's dgemv, which runs
 /// on all cores. Without BLAS, Eigen's gemv is single-threaded and memory bound, so for large n the
 /// rows are split across OpenMP threads (each thread streams its own part of A).
+/// \ingroup solvers
 class DenseOperator {
  public:
   explicit DenseOperator(const Eigen::MatrixXd& A) : A_(&A) {

@@ -14,8 +14,10 @@
 namespace bemsurg {
 
 /// The method for A* x = b: direct LU, or a Krylov method (the paper's Table 1 re-solves).
+/// \ingroup solvers
 enum class SolverMethod { Lu, Gmres, BiCgStab, BiCg };
 /// The preconditioner of a Krylov method (docs/solvers.md).
+/// \ingroup solvers
 enum class PreconditionerKind { None, BlockJacobi, NearField };
 
 /// Names as scene files and report.json write them: "lu", "gmres", "bicgstab", "bicg".
@@ -51,6 +53,7 @@ inline PreconditionerKind parse_preconditioner(const std::string& name) {
 
 /// What solve_linear_system is asked to do: the method (direct LU or a Krylov method), the Krylov stopping rule and
 /// restart length, and the preconditioner (block-Jacobi by default) with its near-field radius.
+/// \ingroup solvers
 struct LinearSolverOptions {
   SolverMethod method = SolverMethod::Lu;
   double tolerance = 1e-10;  // relative residual ||b - A x|| / ||b|| for Krylov methods
@@ -68,6 +71,7 @@ using LinearSolverSettings [[deprecated("renamed to LinearSolverOptions in bemsu
 
 /// What solve_linear_system reports about a solve: method, preconditioner, status, iterations, true relative residual
 /// and timings, plus the Krylov details (zero or empty for LU).
+/// \ingroup solvers
 struct LinearSolveResult {
   SolverMethod method = SolverMethod::Lu;
   PreconditionerKind preconditioner = PreconditionerKind::None;  // None for LU

@@ -32,6 +32,7 @@ namespace bemsurg {
 
 /// The solver of a system a cut has grown and reshaped: the precompute's LU (LuFactors) plus an accumulated low-rank
 /// correction A = K + U V^T, solved with Woodbury as described at the top of this header. Immutable: updated() returns a new one.
+/// \ingroup solvers
 class LowRankUpdatedLu {
  public:
   LowRankUpdatedLu() = default;

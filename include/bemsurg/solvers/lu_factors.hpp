@@ -28,6 +28,7 @@ namespace bemsurg {
 
 /// A dense LU factorisation that is kept (factors and pivots), so that later right-hand sides and low-rank updates after
 /// a cut reuse it (docs/design.md §7). Takes over A's storage; the singularity test is DenseLu's.
+/// \ingroup solvers
 class LuFactors {
  public:
   LuFactors() = default;

@@ -21,6 +21,7 @@
 namespace bemsurg {
 
 /// What building the preconditioner cost: reported next to the iteration counts.
+/// \ingroup solvers
 struct NearFieldStatistics {
   double radius = 0.0;               // in element diameters
   Eigen::Index element_pairs = 0;    // (i, e) pairs kept, self pairs included
@@ -35,6 +36,7 @@ struct NearFieldStatistics {
 
 /// Preconditioner M = the near-field part of A* (element pairs within radius element diameters), factorised once by UMFPACK
 /// and back-substituted every iteration. Compiled, needs SuiteSparse; apply() is const but not safe from two threads at once.
+/// \ingroup solvers
 class NearFieldPreconditioner {
  public:
   NearFieldPreconditioner();

@@ -14,7 +14,7 @@
 #include "bemsurg/assembly/element_types.hpp"
 #include "bemsurg/assembly/influence_assembler.hpp"
 #include "bemsurg/assembly/linear_system.hpp"
-#include "bemsurg/elastostatic_solver.hpp"
+#include "bemsurg/elastostatics/elastostatic_solver.hpp"
 #include "bemsurg/kernels/kelvin_kernel.hpp"
 #include "bemsurg/kernels/kernel_gradients.hpp"
 #include "bemsurg/material.hpp"
@@ -24,6 +24,7 @@
 namespace bemsurg::verification {
 
 /// A displacement field with its stress, both as functions of position.
+/// \ingroup verification
 struct ElasticField {
   std::function<Eigen::Vector3d(const Eigen::Vector3d&)> displacement;
   std::function<Eigen::Matrix3d(const Eigen::Vector3d&)> stress;
@@ -112,6 +113,7 @@ inline BoundarySolution exact_traces(const TriangleMesh& mesh, const ElasticFiel
 
 /// Area-weighted relative L2 error of the solved (not prescribed) components:
 /// sqrt(sum a_e |x_e - x*_e|^2 / sum a_e |x*_e|^2) over the dofs where the quantity was unknown.
+/// \ingroup verification
 struct RelativeErrors {
   double displacement = 0.0;
   double traction = 0.0;
@@ -218,6 +220,7 @@ inline RelativeErrors solve_linear_exact_trace_problem(
 /// Relative L2 errors over a set of interior points of the displacement u and of the six stress
 /// components (sxx, syy, szz, sxy, syz, sxz) that InteriorEvaluator gives from a boundary solution:
 /// sqrt(sum_k |x_k - x*_k|^2 / sum_k |x*_k|^2), with x* from the closed-form `field`.
+/// \ingroup verification
 struct InteriorErrors {
   double displacement = 0.0;
   double stress = 0.0;

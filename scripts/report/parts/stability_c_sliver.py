@@ -1,5 +1,5 @@
 """Stability study (c): sliver triangles (issue 25, docs/stability.md; bench_stability --study sliver,
-benchmarks/stability/geometry_studies.cpp and geometry_setup.hpp).
+benchmarks/stability/geometry_studies.cpp and tests/support/studies/geometry_setup.hpp).
 
 CSV stability_sliver.csv, one row per mesh and quadrature: family (needle: the Kelvin box with a
 slab of width eps around x = 0, whose faces are needles; cap: the box with every valence-4 vertex of

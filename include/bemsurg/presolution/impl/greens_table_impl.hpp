@@ -11,9 +11,9 @@
 #include <cstring>
 #include <memory>
 
-#include "bemsurg/assembly/cut_change.hpp"
 #include "bemsurg/assembly/influence_assembler.hpp"
 #include "bemsurg/assembly/linear_system.hpp"
+#include "bemsurg/elastostatics/elastostatic_problem.hpp"
 #include "bemsurg/error.hpp"
 #include "bemsurg/memory_budget.hpp"
 #include "bemsurg/quadrature/quadrature_cost.hpp"
@@ -78,31 +78,50 @@ BEMSURG_INLINE double GreensTable::estimate_bytes(Index num_elements, Index regi
 
 BEMSURG_INLINE double GreensTable::default_memory_limit_bytes() { return bemsurg::default_memory_limit_bytes(); }
 
+BEMSURG_INLINE GreensTable GreensTable::compute(const ElastostaticProblem& problem, const std::vector<Index>& region,
+                                                double memory_limit_bytes) {
+  return compute(std::make_shared<const TriangleMesh>(problem.mesh), problem, region, memory_limit_bytes);
+}
+
+BEMSURG_INLINE GreensTable GreensTable::compute(std::shared_ptr<const TriangleMesh> mesh, const ElastostaticProblem& problem,
+                                                const std::vector<Index>& region, double memory_limit_bytes) {
+  if (problem.elements != ElementType::Constant)
+    throw InvalidArgumentError("GreensTable: pre-solution tables use constant elements; the problem has linear ones (docs/elements.md)");
+  return compute_on(std::move(mesh), problem.material, problem.boundary_conditions, problem.gravity, problem.quadrature, region,
+                    memory_limit_bytes);
+}
+
 BEMSURG_INLINE GreensTable GreensTable::compute(const TriangleMesh& mesh, const Material& material, const BoundaryConditions& base,
                                                 const GreensTableOptions& options) {
   return compute(std::make_shared<const TriangleMesh>(mesh), material, base, options);
 }
 
-BEMSURG_INLINE GreensTable GreensTable::compute(std::shared_ptr<const TriangleMesh> mesh_ptr, const Material& material,
+BEMSURG_INLINE GreensTable GreensTable::compute(std::shared_ptr<const TriangleMesh> mesh, const Material& material,
                                                 const BoundaryConditions& base, const GreensTableOptions& options) {
+  return compute_on(std::move(mesh), material, base, options.gravity, options.quadrature, options.region, options.memory_limit_bytes);
+}
+
+BEMSURG_INLINE GreensTable GreensTable::compute_on(std::shared_ptr<const TriangleMesh> mesh_ptr, const Material& material,
+                                                   const BoundaryConditions& base, const Eigen::Vector3d& gravity,
+                                                   const QuadratureOptions& quadrature, const std::vector<Index>& region,
+                                                   double memory_limit_bytes) {
   if (!mesh_ptr) throw InvalidArgumentError("GreensTable: no mesh");
   const TriangleMesh& mesh = *mesh_ptr;
-  material.validate();
-  if (mesh.num_elements() == 0) throw InvalidMeshError("GreensTable: the mesh has no elements");
-  if (!options.gravity.allFinite()) throw BoundaryConditionError("GreensTable: gravity is not finite");
-  base.require_supported(mesh);
+  if (base.num_elements() != mesh.num_elements())
+    throw BoundaryConditionError("GreensTable: the boundary conditions are for " + std::to_string(base.num_elements()) +
+                                 " elements, the mesh has " + std::to_string(mesh.num_elements()));
   const Index E = mesh.num_elements();
   const Index n = 3 * E;
 
   GreensTable table;
-  table.key_ = make_greens_table_key(mesh, material, base, options.gravity, options.quadrature);
+  table.key_ = make_greens_table_key(mesh, material, base, gravity, quadrature);
   table.base_kinds_ = base.kinds();
-  if (options.region.empty()) {
+  if (region.empty()) {
     for (Index e = 0; e < E; ++e)
       if (base.is_free(e)) table.region_.push_back(e);
   } else {
     std::vector<char> seen(static_cast<std::size_t>(E), 0);
-    for (Index e : options.region) {
+    for (Index e : region) {
       if (e < 0 || e >= E)
         throw BoundaryConditionError("GreensTable: region element " + std::to_string(e) + " is out of range (the mesh has " +
                                      std::to_string(E) + " elements)");
@@ -117,22 +136,24 @@ BEMSURG_INLINE GreensTable GreensTable::compute(std::shared_ptr<const TriangleMe
   if (table.region_.empty()) throw BoundaryConditionError("GreensTable: no free element for the table's region");
   const Index R = static_cast<Index>(table.region_.size());
 
-  const double need = estimate_bytes(E, R);
-  const double limit = options.memory_limit_bytes > 0.0 ? options.memory_limit_bytes : default_memory_limit_bytes();
-  if (need > limit)
-    throw ResourceError("GreensTable: the precomputation for " + std::to_string(E) + " elements (" + std::to_string(n) +
-                        " equations) with a region of " + std::to_string(R) + " elements needs about " + format_gib(need) +
-                        " (A* and G: " + format_gib(8.0 * 2.0 * double(n) * double(n)) +
-                        "; table: " + format_gib(8.0 * double(n) * 3.0 * double(R)) + "), more than the limit of " + format_gib(limit) +
-                        "; restrict the region to where tools act, or coarsen the mesh away from it");
-  require_assembly_quadrature_within(mesh, options.quadrature, "GreensTable");  // docs/design.md §4, §10
+  // The problem's one check, as solve_elastostatic runs it (docs/design.md §5, §6).
+  MemoryNeed memory;
+  memory.bytes = estimate_bytes(E, R);
+  memory.limit_bytes = memory_limit_bytes;
+  memory.refusal = [E, n, R](double need, double limit) {
+    return "the precomputation for " + std::to_string(E) + " elements (" + std::to_string(n) + " equations) with a region of " +
+           std::to_string(R) + " elements needs about " + format_gib(need) +
+           " (A* and G: " + format_gib(8.0 * 2.0 * double(n) * double(n)) + "; table: " + format_gib(8.0 * double(n) * 3.0 * double(R)) +
+           "), more than the limit of " + format_gib(limit) + "; restrict the region to where tools act, or coarsen the mesh away from it";
+  };
+  table.warnings_ = check_before_solve(mesh, material, gravity, base, quadrature, memory, "GreensTable");
 
   auto t0 = std::chrono::steady_clock::now();
   Eigen::MatrixXd A, B;
   {
-    const InfluenceAssembler assembler(mesh, material, options.quadrature);
+    const InfluenceAssembler assembler(mesh, material, quadrature);
     Eigen::VectorXd gvec;  // H, G and gravity in one pass (zero without gravity)
-    InfluenceMatrices hg = assembler.assemble(options.gravity, gvec);
+    InfluenceMatrices hg = assembler.assemble(gravity, gvec);
     B.resize(n, 3 * R + 1);
     for (Index s = 0; s < R; ++s) B.middleCols(3 * s, 3) = hg.G.middleCols(3 * table.region_[static_cast<std::size_t>(s)], 3);
     B.col(3 * R) = build_right_hand_side(hg, base, gvec);
@@ -146,7 +167,7 @@ BEMSURG_INLINE GreensTable GreensTable::compute(std::shared_ptr<const TriangleMe
   table.timings_.table_seconds = seconds_since(t0);
   table.solver_ = std::make_shared<const LowRankUpdatedLu>(lu);
   table.mesh_ = std::move(mesh_ptr);
-  table.quadrature_ = options.quadrature;
+  table.quadrature_ = quadrature;
   table.base_values_ = base.values();
 
   table.set_base_state(base, B.col(3 * R));
@@ -171,7 +192,7 @@ BEMSURG_INLINE void GreensTable::set_base_state(const BoundaryConditions& bc, co
 
 BEMSURG_INLINE void GreensTable::set_columns_from_solution(Eigen::MatrixXd&& X) {
   // Rows of displacement-prescribed dofs: the solution there is a traction (kept as reactions_,
-  // which updated() needs); the table holds the change of the prescribed displacement, zero.
+  // which the cut updates need); the table holds the change of the prescribed displacement, zero.
   const Index n = X.rows();
   reaction_dofs_.clear();
   for (Index k = 0; k < n; ++k)
@@ -195,257 +216,44 @@ BEMSURG_INLINE BoundaryConditions GreensTable::base_conditions() const {
   return bc;
 }
 
-BEMSURG_INLINE std::shared_ptr<const GreensTable> GreensTable::updated(std::shared_ptr<const TriangleMesh> after, const MeshDelta& delta,
-                                                                       const GreensTableUpdateOptions& options,
-                                                                       GreensTableUpdateResult* report) const {
-  const auto t_start = SteadyClock::now();
-  if (!has_factorization())
-    throw InvalidArgumentError("GreensTable::updated: this table kept no factorisation (it was read from a file); recompute it");
-  if (!after) throw InvalidArgumentError("GreensTable::updated: no mesh");
-  const CutChange change = integrate_cut_change(*mesh_, *after, delta, key_.material, quadrature_, key_.gravity);
-  auto out = updated(std::move(after), delta, change, options, report);
-  if (report) report->total_seconds = seconds_since(t_start);  // integration included
-  return out;
-}
-
-BEMSURG_INLINE std::vector<Index> GreensTable::region_after_cut(const TriangleMesh& after, const MeshDelta& delta,
-                                                                const GreensTableUpdateOptions& options) const {
-  std::vector<Index> region = region_;
-  Index free_count = 0;
-  for (Index e = 0; e < key_.num_elements; ++e) free_count += is_free(e) ? 1 : 0;
-  const bool all_free = free_count == static_cast<Index>(region_.size());
-  double reach = options.join_distance;
-  if (!(reach > 0.0)) {
-    double largest = 0.0;
-    for (Index e : delta.changed())
-      if (e >= 0 && e < after.num_elements()) largest = std::max(largest, after.diameter(e));
-    reach = 3.0 * largest;
-  }
-  for (Index e : delta.added) {  // new cut surface: traction-free, so a tool may act on it
-    if (e < 0 || e >= after.num_elements()) continue;
-    bool join = all_free;
-    for (std::size_t s = 0; !join && s < region_.size(); ++s)
-      join = (after.centroid(e) - after.centroid(region_[s])).squaredNorm() <= reach * reach;
-    if (join) region.push_back(e);
-  }
-  return region;
-}
-
-BEMSURG_INLINE std::shared_ptr<const GreensTable> GreensTable::recomputed_after(std::shared_ptr<const TriangleMesh> after,
-                                                                                const MeshDelta& delta,
-                                                                                const GreensTableUpdateOptions& options) const {
-  if (!mesh_) throw InvalidArgumentError("GreensTable::recomputed_after: this table has no mesh (read from a file)");
-  if (!after) throw InvalidArgumentError("GreensTable::recomputed_after: no mesh");
-  check_mesh_delta(delta, *mesh_, *after);
-  GreensTableOptions o;
-  o.region = region_after_cut(*after, delta, options);
-  o.gravity = key_.gravity;
-  o.quadrature = quadrature_;
-  auto out = std::make_shared<GreensTable>(compute(std::move(after), key_.material, conditions_after_cut(base_conditions(), delta), o));
-  out->version_ = version_ + 1;
-  return out;
-}
-
 BEMSURG_INLINE std::shared_ptr<const GreensTable> GreensTable::refactored() const {
   if (!mesh_) throw InvalidArgumentError("GreensTable::refactored: this table has no mesh (read from a file)");
-  GreensTableOptions o;
-  o.region = region_;
-  o.gravity = key_.gravity;
-  o.quadrature = quadrature_;
-  auto out = std::make_shared<GreensTable>(compute(mesh_, key_.material, base_conditions(), o));
+  auto out = std::make_shared<GreensTable>(compute_on(mesh_, key_.material, base_conditions(), key_.gravity, quadrature_, region_, 0.0));
   out->version_ = version_;
   return out;
 }
 
-BEMSURG_INLINE void GreensTable::check_update(const TriangleMesh* after, const MeshDelta& delta, const CutChange& change) const {
-  if (!has_factorization())
-    throw InvalidArgumentError("GreensTable::updated: this table kept no factorisation (it was read from a file); recompute it");
-  if (!after) throw InvalidArgumentError("GreensTable::updated: no mesh");
-  check_mesh_delta(delta, *mesh_, *after);
-  if (change.n_before != num_dofs() || change.n_after != after->num_dofs())
-    throw InvalidArgumentError("GreensTable::updated: the integrated change is for another step");
-}
-
-BEMSURG_INLINE GreensTable::SystemChange GreensTable::system_change(const CutChange& change, const BoundaryConditions& before,
-                                                                    const BoundaryConditions& after) {
-  // A*_after = blockdiag(A*_before, I) + U_s V_s^T with U_s = [E_D, Y], V_s = [X^T, E_D]:
-  // X = the change of the rows D, Y = the change of the columns D outside the rows D.
-  const Index n1 = change.n_after, d = change.size();
-  SystemChange c;
-  c.X = system_rows_after(change, after) - system_rows_before(change, before);
-  Eigen::MatrixXd Y = system_columns_after(change, after) - system_columns_before(change, before);
-  for (Index j = 0; j < d; ++j) Y.row(change.dofs[static_cast<std::size_t>(j)]).setZero();
-  c.Us = Eigen::MatrixXd::Zero(n1, 2 * d);
-  c.Vs = Eigen::MatrixXd::Zero(n1, 2 * d);
-  for (Index j = 0; j < d; ++j) {
-    c.Us(change.dofs[static_cast<std::size_t>(j)], j) = 1.0;
-    c.Vs(change.dofs[static_cast<std::size_t>(j)], d + j) = 1.0;
+BEMSURG_INLINE std::shared_ptr<const GreensTable> GreensTable::with_young_modulus(double young_modulus, double gravity_factor) const {
+  if (!(young_modulus > 0.0) || !std::isfinite(young_modulus))
+    throw InvalidArgumentError("GreensTable::with_young_modulus: Young's modulus must be a finite positive number");
+  if (!std::isfinite(gravity_factor)) throw InvalidArgumentError("GreensTable::with_young_modulus: the gravity factor must be finite");
+  const double scale = key_.material.young_modulus / young_modulus;  // displacements scale as 1/E
+  for (Index k = 0; k < num_dofs(); ++k) {
+    const bool displacement = base_kinds_[static_cast<std::size_t>(k)] == BcKind::Displacement;
+    const double value = base_values_.size() == num_dofs() ? base_values_(k) : 0.0;
+    if (value == 0.0) continue;
+    if (displacement && scale != 1.0)
+      throw InvalidArgumentError("GreensTable::with_young_modulus: element " + std::to_string(k / 3) +
+                                 " has a prescribed non-zero displacement, so a new E does not scale the table; recompute it");
+    if (gravity_factor != 1.0)
+      throw InvalidArgumentError("GreensTable::with_young_modulus: element " + std::to_string(k / 3) +
+                                 " has a prescribed non-zero value, so scaling gravity does not scale the base state; recompute it");
   }
-  c.Us.rightCols(d) = Y;
-  c.Vs.leftCols(d) = c.X.transpose();
-  return c;
-}
-
-BEMSURG_INLINE GreensTable::FreshColumns GreensTable::fresh_columns(const CutChange& change, const std::vector<Index>& region_after) {
-  // Columns to solve afresh: F for reshaped region elements, G' columns for joining elements.
-  const Index d = change.size(), R1 = static_cast<Index>(region_after.size());
-  std::vector<Index> position(static_cast<std::size_t>(change.n_after), -1);  // dof -> index in D
-  for (Index j = 0; j < d; ++j) position[static_cast<std::size_t>(change.dofs[static_cast<std::size_t>(j)])] = j;
-  FreshColumns fresh;
-  for (Index s = 0; s < R1; ++s)
-    for (int a = 0; a < 3; ++a) {
-      const Index k = 3 * region_after[static_cast<std::size_t>(s)] + a, p = position[static_cast<std::size_t>(k)];
-      if (p >= 0) {
-        fresh.table_cols.push_back(3 * s + a);
-        fresh.sources.push_back(p);
-      }
-    }
-  return fresh;
-}
-
-BEMSURG_INLINE Eigen::MatrixXd GreensTable::fresh_right_hand_sides(const CutChange& change, const FreshColumns& fresh,
-                                                                   const Eigen::VectorXd& rhs_after) const {
-  // Right-hand sides that ride along with U_s's LU solve (one multi-right-hand-side dgetrs, which
-  // streams the n^2 factors once): F, the fresh table columns, and last the base state's b'.
-  const Index n = num_dofs(), d = change.size(), R0 = static_cast<Index>(region_.size());
-  const Index nf = static_cast<Index>(fresh.table_cols.size());
-  Eigen::MatrixXd F = Eigen::MatrixXd::Zero(change.n_after, nf + 1);
-  for (Index i = 0; i < nf; ++i) {
-    const Index j = fresh.sources[static_cast<std::size_t>(i)];
-    F.col(i) = change.cols_G.col(j);
-    if (fresh.table_cols[static_cast<std::size_t>(i)] < 3 * R0) {  // an old column whose element was reshaped: its change only
-      F.col(i).head(n) -= change.old_cols_G.col(j);
-      for (Index q = 0; q < d; ++q) F(change.dofs[static_cast<std::size_t>(q)], i) = 0.0;  // in coef already
-    }
-  }
-  F.col(nf) = rhs_after;
-  return F;
-}
-
-BEMSURG_INLINE Eigen::MatrixXd GreensTable::correction_coefficients_transposed(const CutChange& change, const Eigen::MatrixXd& X) const {
-  // The old columns: T' = T + A'^-1 (B' - A' T) with T extended by zero rows. The residual is
-  // E_D (dB_D - X T) - Y T_D + F (F: whole columns of reshaped region elements outside rows D),
-  // so T' = T + Z_E (dB_D - X T) - Z_Y T_D + A'^-1 F, Z = A'^-1 U_s: T' = T + [Z_E, -Z_Y] CT with
-  // CT = [dB_D - X T; T_D] (2d x 3|R0|). T holds the reactions in the rows of supported dofs
-  // (columns_ keeps zeros there, reactions_ the values, reaction_dofs_ ascending); the cutter never
-  // reshapes a supported element, but a delta may; new dofs have zero rows in T.
-  // Held transposed (3|R0| x 2d): X T is then computed as T^T X^T, a GEMM with a long output and
-  // a short inner side, which OpenBLAS runs faster than the d-row product (measured by
-  // benchmarks/bench_cut, the table phase of the exact update).
-  const Index n = num_dofs(), d = change.size(), R0 = static_cast<Index>(region_.size());
-  Eigen::MatrixXd CTt(3 * R0, 2 * d);
-  auto coef_t = CTt.leftCols(d);
-  const Eigen::MatrixXd Xt = X.leftCols(n).transpose();
-  coef_t.noalias() = -columns_.transpose() * Xt;
-  if (!reaction_dofs_.empty()) {
-    Eigen::MatrixXd Xr_t(static_cast<Index>(reaction_dofs_.size()), d);
-    for (std::size_t i = 0; i < reaction_dofs_.size(); ++i) Xr_t.row(static_cast<Index>(i)) = Xt.row(reaction_dofs_[i]);
-    coef_t.noalias() -= reactions_.transpose() * Xr_t;
-  }
-  for (Index s = 0; s < R0; ++s)
-    for (int a = 0; a < 3; ++a) {
-      const Index k = 3 * region_[static_cast<std::size_t>(s)] + a, col = 3 * s + a;
-      coef_t.row(col) += change.rows_G.col(k).transpose();  // B'_D: the rows D of G' in column k
-      if (k < n) coef_t.row(col).head(change.num_modified_dofs) -= change.old_rows_G.col(k).transpose();
-    }
-  for (Index j = 0; j < d; ++j) {  // T_D: a supported dof's row is its reactions
-    const Index k = change.dofs[static_cast<std::size_t>(j)];
-    const auto it = std::lower_bound(reaction_dofs_.begin(), reaction_dofs_.end(), k);
-    if (k >= n)
-      CTt.col(d + j).setZero();
-    else if (it != reaction_dofs_.end() && *it == k)
-      CTt.col(d + j) = reactions_.row(it - reaction_dofs_.begin()).transpose();
-    else
-      CTt.col(d + j) = columns_.row(k).transpose();
-  }
-  return CTt;
-}
-
-BEMSURG_INLINE Eigen::MatrixXd GreensTable::columns_after_cut(const CutChange& change, const Eigen::MatrixXd& Z, const Eigen::MatrixXd& CTt,
-                                                              const Eigen::MatrixXd& F, const FreshColumns& fresh,
-                                                              Index region_after_size) const {
-  const Index n = num_dofs(), n1 = change.n_after, d = change.size();
-  const Index R0 = static_cast<Index>(region_.size()), R1 = region_after_size;
-  Eigen::MatrixXd ZZ(n1, 2 * d);
-  ZZ.leftCols(d) = Z.leftCols(d);
-  ZZ.rightCols(d) = -Z.rightCols(d);
-  // The new n' x 3|R1| table. A fresh matrix per step (snapshots are immutable): advise huge pages
-  // before the first touch, which otherwise costs one page fault per 4 KiB. Reaction rows are
-  // gathered and scattered column by column: a row of a column-major matrix touches one page per
-  // entry. (Panels of columns updated in cache were measured slower: narrow GEMMs cost more than
-  // the passes over memory they save.)
-  const Index S0 = static_cast<Index>(reaction_dofs_.size());
-  Eigen::MatrixXd T = large_dense_matrix(n1, 3 * R1);
-  T.topLeftCorner(n, 3 * R0) = columns_;
-  for (Index c = 0; c < 3 * R0; ++c) {
-    double* col = T.col(c).data();
-    const double* r = reactions_.col(c).data();
-    for (Index i = 0; i < S0; ++i) col[reaction_dofs_[static_cast<std::size_t>(i)]] = r[i];
-  }
-  T.bottomLeftCorner(n1 - n, 3 * R0).setZero();
-  T.rightCols(3 * (R1 - R0)).setZero();
-  if (d > 0) T.leftCols(3 * R0).noalias() += ZZ * CTt.transpose();  // one GEMM: both halves of Z
-  for (std::size_t i = 0; i < fresh.table_cols.size(); ++i) {
-    if (fresh.table_cols[i] < 3 * R0)
-      T.col(fresh.table_cols[i]) += F.col(static_cast<Index>(i));
-    else
-      T.col(fresh.table_cols[i]) = F.col(static_cast<Index>(i));
-  }
-  return T;
-}
-
-BEMSURG_INLINE std::shared_ptr<const GreensTable> GreensTable::updated(std::shared_ptr<const TriangleMesh> after, const MeshDelta& delta,
-                                                                       const CutChange& change, const GreensTableUpdateOptions& options,
-                                                                       GreensTableUpdateResult* report) const {
-  const auto t_start = SteadyClock::now();
-  check_update(after.get(), delta, change);
-  const BoundaryConditions before = base_conditions();
-  const BoundaryConditions bc = conditions_after_cut(before, delta);
-  const auto t_system = SteadyClock::now();
-  const SystemChange system = system_change(change, before, bc);
-  // The region after the step and the table's columns to solve afresh come first: their LU solve
-  // rides along with U_s's (one multi-right-hand-side dgetrs). Old elements keep their slots;
-  // added elements near the region join at the end.
-  std::vector<Index> region1 = region_after_cut(*after, delta, options);
-  const FreshColumns fresh = fresh_columns(change, region1);
-  const Index nf = static_cast<Index>(fresh.table_cols.size());
-  Eigen::VectorXd rhs1 = rhs_after_cut(change, rhs_, before, bc);
-  Eigen::MatrixXd F = fresh_right_hand_sides(change, fresh, rhs1);
-  Eigen::MatrixXd Z;  // K^-1 U_s, then A*_after^-1 U_s (push-through: no further LU solve)
-  auto solver = std::make_shared<const LowRankUpdatedLu>(solver_->updated(change.n_after, system.Us, system.Vs, &Z, &F));
-  solver->finish_solve(Z);
-  solver->finish_solve(F);  // K^-1 F came with U_s's solve
-
-  auto out = std::make_shared<GreensTable>();
+  auto out = std::make_shared<GreensTable>(*this);
   GreensTable& t = *out;
-  t.version_ = version_ + 1;
-  t.mesh_ = std::move(after);
-  t.solver_ = solver;
-  t.quadrature_ = quadrature_;
-  t.key_ = make_greens_table_key(*t.mesh_, key_.material, bc, key_.gravity, quadrature_);
-  t.base_kinds_ = bc.kinds();
-  t.base_values_ = bc.values();
-  t.rhs_ = std::move(rhs1);
-  t.set_base_state(bc, F.col(nf));
-  const auto t_table = SteadyClock::now();
-
-  const Index R1 = static_cast<Index>(region1.size());
-  t.region_ = std::move(region1);
-  const Eigen::MatrixXd CTt = correction_coefficients_transposed(change, system.X);
-  Eigen::MatrixXd T = columns_after_cut(change, Z, CTt, F, fresh, R1);
-  if (!T.allFinite()) throw SolverError("GreensTable::updated: the table has non-finite entries");
-  t.set_columns_from_solution(std::move(T));
-  t.build_slots();
-  t.timings_ = timings_;
-
-  if (report) {
-    report->integration_seconds = change.integration_seconds;
-    report->system_seconds = seconds_between(t_system, t_table);
-    report->table_seconds = seconds_since(t_table);
-    report->total_seconds = seconds_since(t_start);
-    report->rank = solver->rank();
-    report->added_region_elements = R1 - static_cast<Index>(region_.size());
+  t.key_.material.young_modulus = young_modulus;
+  t.key_.gravity = gravity_factor * key_.gravity;
+  // The displacement of traction dofs scales as 1/E (and with gravity); the reactions on displacement
+  // dofs only with gravity; prescribed values stay (zero wherever a factor applies, checked above).
+  for (Index k = 0; k < num_dofs(); ++k) {
+    if (base_kinds_[static_cast<std::size_t>(k)] == BcKind::Traction)
+      t.base_displacement_(k) *= scale * gravity_factor;
+    else
+      t.base_traction_(k) *= gravity_factor;
   }
+  t.columns_ *= scale;
+  t.solver_.reset();  // A* changes with E: no cut update from a rescaled table
+  t.rhs_.resize(0);
   return out;
 }
 

@@ -1,0 +1,79 @@
+// bemsurg/cutting/table_update.hpp: the exact Green's table of a cut body, from the table before the
+// cut and the rows and columns the step changed (docs/cutting.md; docs/design.md §7, §9; Wang et al.
+// 2007 §5.3, eqs. 11-13).
+//
+// updated_table returns a NEW table (an immutable snapshot, version() + 1) for the cut mesh whose
+// base state and columns equal those computed from scratch (recomputed_table_after, the reference),
+// integrating only the rows and columns of the changed elements: bordering by partitioning for the
+// added elements and a low-rank (Woodbury) correction for the reshaped ones, on top of the LU the
+// table kept. The rules of a cut — the conditions after it (conditions_after_cut) and the region
+// after it (region_after_cut) — are stated here once; CutSystemUpdate (cut_system_update.hpp) is the
+// one entry point that the command line, sessions and the viewer use.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "bemsurg/cutting/cut_change.hpp"
+#include "bemsurg/mesh/mesh_delta.hpp"
+#include "bemsurg/mesh/triangle_mesh.hpp"
+#include "bemsurg/presolution/greens_table.hpp"
+
+namespace bemsurg {
+
+/// How a cut step's table update treats the region where tools may act.
+/// \ingroup cutting
+struct GreensTableUpdateOptions {
+  /// New (cut-wall) elements join the region when the region holds every free element, or when
+  /// their centroid lies within this distance of a region element's centroid. 0: three times the
+  /// largest diameter among the step's changed elements.
+  double join_distance = 0.0;
+};
+
+/// Wall-clock seconds of one table update after a cut step, by phase, and what it left.
+/// \ingroup cutting
+struct GreensTableUpdateResult {
+  double integration_seconds = 0.0;  // rows and columns of the changed elements, both meshes
+  double system_seconds = 0.0;       // low-rank update of the factorisation and the base state
+  double table_seconds = 0.0;        // the table's columns (old ones corrected, new ones solved)
+  double total_seconds = 0.0;
+  Index rank = 0;                   // accumulated rank of the correction after the step
+  Index added_region_elements = 0;  // new elements that joined the region
+};
+/// Deprecated name (before 0.2), kept one minor version: use GreensTableUpdateResult.
+using GreensTableUpdateReport [[deprecated("renamed to GreensTableUpdateResult in bemsurg 0.2")]] = GreensTableUpdateResult;
+
+/// The region after a cut step: `table`'s region in its slots, then the added elements that join it
+/// (GreensTableUpdateOptions::join_distance).
+std::vector<Index> region_after_cut(const GreensTable& table, const TriangleMesh& after, const MeshDelta& delta,
+                                    const GreensTableUpdateOptions& options = {});
+
+/// The exact table of the cut mesh `after` (a new snapshot, version() + 1): `delta` says what changed
+/// (mesh/mesh_delta.hpp). Modified elements keep their boundary condition, added ones are traction-free
+/// (conditions_after_cut); the region keeps its elements in their slots and appends the added elements
+/// near it (region_after_cut). Cost: the rows and columns of the changed elements are integrated anew,
+/// 2 n^2 (2|M| + |N|) x 3 flops of LU solves plus GEMMs of the table against the step's rank
+/// (docs/cutting.md). Throws InvalidArgumentError for a delta that does not fit (or removes elements) or
+/// a table without factorisation, SolverError when the cut system is singular. `table` is not changed.
+std::shared_ptr<const GreensTable> updated_table(const GreensTable& table, std::shared_ptr<const TriangleMesh> after,
+                                                 const MeshDelta& delta, const GreensTableUpdateOptions& options = {},
+                                                 GreensTableUpdateResult* report = nullptr);
+
+/// The same step taken with the rows and columns already integrated (integrate_cut_change on the
+/// table's mesh, `after`, its material, quadrature and gravity), e.g. shared with an iterative
+/// re-solve of the same step.
+std::shared_ptr<const GreensTable> updated_table(const GreensTable& table, std::shared_ptr<const TriangleMesh> after,
+                                                 const MeshDelta& delta, const CutChange& change,
+                                                 const GreensTableUpdateOptions& options = {}, GreensTableUpdateResult* report = nullptr);
+
+/// The reference for updated_table: the same step by full re-assembly and a new factorisation (same
+/// rules, version() + 1).
+std::shared_ptr<const GreensTable> recomputed_table_after(const GreensTable& table, std::shared_ptr<const TriangleMesh> after,
+                                                          const MeshDelta& delta, const GreensTableUpdateOptions& options = {});
+
+}  // namespace bemsurg
+
+// Definitions (header-only: the numerical core needs no compiled library, docs/design.md).
+#ifndef BEMSURG_SEPARATE_COMPILATION  // else compiled once by the library (bemsurg/config.hpp)
+#include "bemsurg/cutting/impl/table_update_impl.hpp"
+#endif

@@ -1,6 +1,0 @@
-// The assembled system A* x = b: column swaps by boundary condition (the paper's eq. 6).
-// Compiled once here under BEMSURG_SEPARATE_COMPILATION (include/bemsurg/config.hpp); header-only
-// programs (bemsurg::core) get the same definitions inline from the headers.
-#include "bemsurg/assembly/linear_system.hpp"
-
-#include "bemsurg/assembly/impl/linear_system_impl.hpp"

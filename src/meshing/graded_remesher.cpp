@@ -1,0 +1,254 @@
+// Graded remeshing of a closed surface with Gmsh (mesh/graded_remesher.hpp, docs/graded.md).
+//
+// The one compiled file that talks to Gmsh, so the rest of bemsurg neither includes gmsh.h nor
+// needs libgmsh; built without BEMSURG_HAVE_GMSH it keeps the same interface and says why it
+// cannot remesh.
+#include "bemsurg/meshing/graded_remesher.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <mutex>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "bemsurg/error.hpp"
+#include "bemsurg/mesh/geometry.hpp"
+#include "bemsurg/mesh/mesh_topology.hpp"
+#include "bemsurg/mesh/mesh_validation.hpp"
+#include "bemsurg/number_text.hpp"
+
+#ifdef BEMSURG_HAVE_GMSH
+#include <gmsh.h>
+#endif
+
+namespace bemsurg {
+
+namespace {
+
+void check_options(const GradedRemeshOptions& o) {
+  const double hi = o.inside_edge_length, ho = o.outside_edge_length;
+  if (!(std::isfinite(hi) && hi > 0.0))
+    throw InvalidArgumentError("graded remesh: inside_edge_length must be a positive length, got " + number_text(hi));
+  if (!(std::isfinite(ho) && ho > 0.0))
+    throw InvalidArgumentError("graded remesh: outside_edge_length must be a positive length, got " + number_text(ho));
+  if (hi > ho)
+    throw InvalidArgumentError("graded remesh: inside_edge_length (" + number_text(hi) + ") is larger than outside_edge_length (" +
+                               number_text(ho) + "): the operating region must be the finer part (inverted target lengths?)");
+  if (!(o.growth > 1.0 && o.growth <= 2.0))
+    throw InvalidArgumentError("graded remesh: growth must lie in (1, 2], got " + number_text(o.growth));
+  if (!(o.feature_angle_degrees > 0.0 && o.feature_angle_degrees < 180.0))
+    throw InvalidArgumentError("graded remesh: feature_angle_degrees must lie in (0, 180)");
+}
+
+#ifdef BEMSURG_HAVE_GMSH
+// Gmsh keeps one model per process behind its API (gmsh::initialize / finalize are global); two
+// threads remeshing at once would share it. This lock is the one piece of shared state here, and
+// exists only because the library we call has it.
+std::mutex& gmsh_mutex() {
+  static std::mutex m;
+  return m;
+}
+
+// Gmsh meshes each patch in its own parametrisation, so patches need not come back with the
+// input's orientation. Written here because no Gmsh call re-orients a discrete surface mesh to
+// match another: orient every shell consistently by a walk across its edges, then flip the shells
+// whose faces disagree with the nearest faces of the input (a vote over sample faces).
+void orient_like_input(const TriangleMesh& input, RowMatrixX3d& V, RowMatrixX3i& F) {
+  {
+    const TriangleMesh m(V, F);
+    const MeshTopology topo(m);
+    std::vector<char> done(static_cast<std::size_t>(F.rows()), 0);
+    std::vector<Index> stack;
+    for (Index seed = 0; seed < F.rows(); ++seed) {
+      if (done[static_cast<std::size_t>(seed)]) continue;
+      done[static_cast<std::size_t>(seed)] = 1;
+      stack.push_back(seed);
+      while (!stack.empty()) {
+        const Index f = stack.back();
+        stack.pop_back();
+        for (int k = 0; k < 3; ++k) {
+          const Index g = topo.neighbour(f, k);
+          if (g < 0 || done[static_cast<std::size_t>(g)]) continue;
+          // f runs a -> b on this edge; a consistently oriented g runs b -> a.
+          const int a = F(f, k), b = F(f, (k + 1) % 3);
+          bool same_direction = false;
+          for (int j = 0; j < 3; ++j)
+            if (F(g, j) == a && F(g, (j + 1) % 3) == b) same_direction = true;
+          if (same_direction) std::swap(F(g, 1), F(g, 2));
+          done[static_cast<std::size_t>(g)] = 1;
+          stack.push_back(g);
+        }
+      }
+    }
+  }
+  const TriangleMesh m(V, F);
+  const MeshTopology topo(m);
+  for (Index s = 0; s < topo.num_shells(); ++s) {
+    const std::vector<Index>& faces = topo.shell(s);
+    const std::size_t stride = std::max<std::size_t>(1, faces.size() / 64);
+    double vote = 0.0;
+    for (std::size_t i = 0; i < faces.size(); i += stride) {
+      const Index f = faces[i];
+      Index nearest = 0;
+      double best = std::numeric_limits<double>::infinity();
+      for (Index e = 0; e < input.num_elements(); ++e) {
+        const double d = (input.centroid(e) - m.centroid(f)).squaredNorm();
+        if (d < best) best = d, nearest = e;
+      }
+      vote += m.normal(f).dot(input.normal(nearest));
+    }
+    if (vote < 0.0)
+      for (Index f : faces) std::swap(F(f, 1), F(f, 2));
+  }
+}
+
+TriangleMesh remesh_with_gmsh(const TriangleMesh& input, const OperatingRegion& region, const GradedRemeshOptions& o) {
+  std::lock_guard<std::mutex> lock(gmsh_mutex());
+  gmsh::initialize(0, nullptr, false);
+  struct Finalize {
+    ~Finalize() { gmsh::finalize(); }
+  } finalize;
+  gmsh::option::setNumber("General.Terminal", 0);
+  gmsh::option::setNumber("General.Verbosity", 0);
+  gmsh::model::add("bemsurg_graded");
+
+  const int surface = gmsh::model::addDiscreteEntity(2);
+  std::vector<std::size_t> node_tags(static_cast<std::size_t>(input.num_vertices()));
+  std::vector<double> coords(3 * node_tags.size());
+  for (Index v = 0; v < input.num_vertices(); ++v) {
+    node_tags[static_cast<std::size_t>(v)] = static_cast<std::size_t>(v) + 1;
+    for (int k = 0; k < 3; ++k) coords[static_cast<std::size_t>(3 * v + k)] = input.vertices()(v, k);
+  }
+  gmsh::model::mesh::addNodes(2, surface, node_tags, coords);
+  std::vector<std::size_t> element_tags(static_cast<std::size_t>(input.num_elements()));
+  std::vector<std::size_t> element_nodes(3 * element_tags.size());
+  for (Index e = 0; e < input.num_elements(); ++e) {
+    element_tags[static_cast<std::size_t>(e)] = static_cast<std::size_t>(e) + 1;
+    for (int k = 0; k < 3; ++k) element_nodes[static_cast<std::size_t>(3 * e + k)] = static_cast<std::size_t>(input.faces()(e, k)) + 1;
+  }
+  gmsh::model::mesh::addElementsByType(surface, 2, element_tags, element_nodes);  // 2 = 3-node triangle
+
+  // Split the surface at creases and into patches Gmsh can parametrise, then make them geometry.
+  gmsh::model::mesh::classifySurfaces(o.feature_angle_degrees * numbers::pi / 180.0, true, true, numbers::pi);
+  gmsh::model::mesh::createGeometry();
+
+  gmsh::option::setNumber("Mesh.MeshSizeFromPoints", 0);
+  gmsh::option::setNumber("Mesh.MeshSizeFromCurvature", 0);
+  gmsh::option::setNumber("Mesh.MeshSizeExtendFromBoundary", 0);
+  gmsh::option::setNumber("Mesh.Algorithm", 6);  // Frontal-Delaunay: the best-shaped triangles
+  gmsh::option::setNumber("Mesh.MeshSizeMin", o.inside_edge_length);
+  gmsh::option::setNumber("Mesh.MeshSizeMax", o.outside_edge_length);
+  gmsh::model::mesh::setSizeCallback(
+      [&region, &o](int, int, double x, double y, double z) { return graded_target_size(region, o, Vec3(x, y, z)); });
+  gmsh::model::mesh::generate(2);
+
+  std::vector<std::size_t> tags, tri_tags, tri_nodes;
+  std::vector<double> xyz, param;
+  gmsh::model::mesh::getNodes(tags, xyz, param, -1, -1, true, false);
+  gmsh::model::mesh::getElementsByType(2, tri_tags, tri_nodes);
+  if (tri_tags.empty()) throw Error("graded remesh: Gmsh produced no triangles");
+  std::unordered_map<std::size_t, std::size_t> position;
+  for (std::size_t i = 0; i < tags.size(); ++i) position.emplace(tags[i], i);
+  std::unordered_map<std::size_t, int> index;  // Gmsh node tag -> our vertex index (used nodes only)
+  std::vector<Vec3> points;
+  RowMatrixX3i F(static_cast<Index>(tri_tags.size()), 3);
+  for (std::size_t t = 0; t < tri_tags.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const std::size_t tag = tri_nodes[3 * t + static_cast<std::size_t>(k)];
+      auto it = index.find(tag);
+      if (it == index.end()) {
+        const auto p = position.find(tag);
+        if (p == position.end()) throw Error("graded remesh: Gmsh returned a triangle with an unknown node");
+        const std::size_t i = p->second;
+        points.emplace_back(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
+        it = index.emplace(tag, static_cast<int>(points.size() - 1)).first;
+      }
+      F(static_cast<Index>(t), k) = it->second;
+    }
+  RowMatrixX3d V(static_cast<Index>(points.size()), 3);
+  for (std::size_t i = 0; i < points.size(); ++i) V.row(static_cast<Index>(i)) = points[i].transpose();
+  orient_like_input(input, V, F);
+  return TriangleMesh(std::move(V), std::move(F));
+}
+#endif
+
+}  // namespace
+
+double graded_target_size(const OperatingRegion& region, const GradedRemeshOptions& o, const Vec3& x) {
+  double d = region.distance(x);
+  for (const OperatingRegion& s : o.supported_regions) d = std::min(d, s.distance(x));
+  return std::min(o.outside_edge_length, o.inside_edge_length + (o.growth - 1.0) * d);
+}
+
+double support_size_ratio(const TriangleMesh& mesh, const std::vector<char>& displacement_prescribed) {
+  // Percentiles, not extremes: a uniform Gmsh mesh's element sizes spread by about 1.4 between the
+  // largest and the smallest (docs/graded.md), which says nothing about its grading.
+  std::vector<double> all, held;
+  for (Index e = 0; e < mesh.num_elements(); ++e) {
+    all.push_back(element_size(mesh, e));
+    if (static_cast<std::size_t>(e) < displacement_prescribed.size() && displacement_prescribed[static_cast<std::size_t>(e)])
+      held.push_back(all.back());
+  }
+  if (held.empty()) return 0.0;
+  const auto percentile = [](std::vector<double>& v, double q) {
+    const auto k = v.begin() + static_cast<std::ptrdiff_t>(q * static_cast<double>(v.size() - 1));
+    std::nth_element(v.begin(), k, v.end());
+    return *k;
+  };
+  return percentile(held, 0.9) / percentile(all, 0.1);
+}
+
+std::string grading_rule_warning(const TriangleMesh& mesh, const std::vector<char>& displacement_prescribed) {
+  const double ratio = support_size_ratio(mesh, displacement_prescribed);
+  if (ratio <= kMaxSupportSizeRatio) return {};
+  return "the displacement-prescribed (supported) elements are up to " + number_text(std::round(100.0 * ratio) / 100.0) +
+         " times the size of the finest elements (limit " + number_text(kMaxSupportSizeRatio) +
+         "): with constant elements such a grading can be less accurate than no refinement; refine the held region too "
+         "(scene: operating_region.supported, or a mesh.refine that covers it; docs/graded.md, section Safe gradings)";
+}
+
+bool graded_remesher_available() {
+#ifdef BEMSURG_HAVE_GMSH
+  return true;
+#else
+  return false;
+#endif
+}
+
+GradedRemeshResult graded_remesh(const TriangleMesh& input, const OperatingRegion& region, const GradedRemeshOptions& options) {
+  check_options(options);
+  try {
+    require_valid_mesh(input);
+  } catch (const InvalidMeshError& e) {
+    throw InvalidMeshError(std::string("graded remesh: the input surface is not a closed, oriented mesh: ") + e.what());
+  }
+  region.require_meets_surface(input, 0.5 * options.inside_edge_length);
+#ifdef BEMSURG_HAVE_GMSH
+  const auto start = std::chrono::steady_clock::now();
+  GradedRemeshResult result;
+  try {
+    result.mesh = remesh_with_gmsh(input, region, options);
+  } catch (const Error&) { throw; } catch (const std::string& what) {  // Gmsh 4.8 throws its messages as std::string
+    throw Error("graded remesh: Gmsh failed: " + what +
+                " (a crease the input mesh does not follow? try a finer input mesh or another feature angle)");
+  } catch (const std::exception& e) { throw Error(std::string("graded remesh: Gmsh failed: ") + e.what()); }
+  try {
+    require_valid_mesh(result.mesh);
+  } catch (const InvalidMeshError& e) {
+    throw Error(std::string("graded remesh: Gmsh's mesh is not a valid closed surface (") + e.what() +
+                "); try a finer input mesh or a larger feature angle");
+  }
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.quality = measure_mesh_quality(result.mesh);
+  return result;
+#else
+  throw Error(
+      "graded remesh: this build of bemsurg has no remesher (configured with BEMSURG_WITH_REMESHER=OFF or "
+      "without libgmsh-dev; see docs/graded.md)");
+#endif
+}
+
+}  // namespace bemsurg

@@ -1,0 +1,6 @@
+// The solvers module's definitions: the one linear-solve entry point.
+// Compiled once here under BEMSURG_SEPARATE_COMPILATION (include/bemsurg/config.hpp); header-only
+// programs (bemsurg::core) get the same definitions inline from the headers.
+#include "bemsurg/solvers/linear_solve.hpp"
+
+#include "bemsurg/solvers/impl/linear_solve_impl.hpp"
