@@ -19,6 +19,7 @@
 #include "bemsurg/haptics/background_task.hpp"
 #include "bemsurg/haptics/haptic_loop.hpp"
 #include "bemsurg/haptics/session.hpp"
+#include "bemsurg/io/action_script.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/presolution/greens_table.hpp"
 #include "support/haptic_block.hpp"

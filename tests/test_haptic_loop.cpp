@@ -16,6 +16,7 @@
 #include "bemsurg/haptics/recording_device.hpp"
 #include "bemsurg/haptics/scripted_device.hpp"
 #include "bemsurg/haptics/session.hpp"
+#include "bemsurg/io/action_script.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/presolution/greens_table.hpp"
 #include "support/allocation_counter.hpp"

@@ -183,7 +183,7 @@ CachedGreensTable load_or_compute_greens_table(const ElastostaticProblem& proble
   std::error_code ec;
   const bool exists = !path.empty() && std::filesystem::exists(path, ec);
   if (exists && options.for_cuts)
-    out.notes.push_back("the table will be cut, so it is computed rather than read from " + path +
+    out.notes.push_back("cuts will update the table, so the table is computed rather than read from " + path +
                         " (a table read from a file keeps no factorisation for the exact updates after a cut)");
   if (exists && !options.for_cuts) {
     try {
