@@ -62,27 +62,27 @@ nlohmann::json study_poisson(const StudyContext& ctx) {
       }
     }
   }
-  return {
-      {"parameter", "poisson_ratio"},
-      {"threshold", threshold},
-      {"threshold_text",
-       "With a closed surface component whose displacement is prescribed everywhere (Kelvin Dirichlet box, Lamé sphere "
-       "with its cavity displaced), cond(A*) grows as 1/(0.5 - nu) and the error against the closed form passes 100 % "
-       "from nu = " +
-           number_text(threshold) +
-           " for every solver, each still reporting convergence; the mixed Kelvin "
-           "problem stays below " +
-           fixed_text(100.0 * mixed_worst, 1) + " % up to the last nu swept."},
-      {"behaviour",
-       "solve_elastostatic (include/bemsurg/elastostatics/impl/elastostatic_solver_impl.hpp) warns in ElastostaticResult::warnings from "
-       "nu = " +
-           number_text(kPoissonRatioWarning) +
-           " (kPoissonRatioWarning) and refuses with InvalidMaterialError from nu = " + number_text(kPoissonRatioLimit) +
-           " (kPoissonRatioLimit, bemsurg/material.hpp) when such a component exists; "
-           "other problems are solved up to nu < 0.5 (Material::validate)."},
-      {"warning_poisson_ratio", kPoissonRatioWarning},
-      {"limit_poisson_ratio", kPoissonRatioLimit},
-      {"csv", {"stability_a_poisson.csv"}}};
+  return {{"parameter", "poisson_ratio"},
+          {"threshold", threshold},
+          {"threshold_text",
+           "With a closed surface component whose displacement is prescribed everywhere (Kelvin Dirichlet box, Lamé sphere "
+           "with its cavity displaced), cond(A*) grows as 1/(0.5 - nu) and the error against the closed form passes 100 % "
+           "from nu = " +
+               number_text(threshold) +
+               " for every solver, each still reporting convergence; the mixed Kelvin "
+               "problem stays below " +
+               fixed_text(100.0 * mixed_worst, 1) + " % up to the last nu swept."},
+          {"behaviour",
+           "check_before_solve (include/bemsurg/elastostatics/impl/elastostatic_problem_impl.hpp), run by solve_elastostatic and "
+           "GreensTable::compute, warns (ElastostaticResult::warnings, GreensTable::warnings) from "
+           "nu = " +
+               number_text(kPoissonRatioWarning) +
+               " (kPoissonRatioWarning) and refuses with InvalidMaterialError from nu = " + number_text(kPoissonRatioLimit) +
+               " (kPoissonRatioLimit, bemsurg/material.hpp) when such a component exists; "
+               "other problems are solved up to nu < 0.5 (Material::validate)."},
+          {"warning_poisson_ratio", kPoissonRatioWarning},
+          {"limit_poisson_ratio", kPoissonRatioLimit},
+          {"csv", {"stability_a_poisson.csv"}}};
 }
 
 namespace {

@@ -117,7 +117,7 @@ struct CutSystemOptions {
 struct CutStepResult {
   bool accepted = true;  // false: refused (by the cutter or a singular cut system), nothing changed
   std::string reason;    // why a step was refused
-  MeshDelta delta;       // what the accepted step changed (CutSystemUpdate::cut and apply)
+  MeshDelta delta;       // what the accepted step changed
   CutUpdateMethod method = CutUpdateMethod::Exact;
   int iterations = 0;                // Krylov iterations (0 for exact and refactor)
   double relative_residual = 0.0;    // Krylov: ||b - A x|| / ||b||
@@ -188,16 +188,8 @@ class CutSystemUpdate {
   /// update), is returned with accepted false and the reason, and changes nothing.
   CutStepResult cut(const Eigen::Vector3d& from, const Eigen::Vector3d& direction, CutUpdateMethod method = CutUpdateMethod::Exact) {
     const auto t0 = SteadyClock::now();
-    CutSurfaceStep surface = cut_surface(from, direction);
-    if (!surface.accepted) {
-      CutStepResult refused;
-      refused.method = method;
-      refused.accepted = false;
-      refused.reason = surface.reason;
-      refused.total_seconds = seconds_since(t0);
-      return refused;
-    }
-    CutStepResult r = apply(surface, method);
+    const CutSurfaceStep surface = cut_surface(from, direction);
+    CutStepResult r = surface.accepted ? apply(surface, method) : refused(method, surface.reason);
     r.total_seconds = seconds_since(t0);
     return r;
   }
@@ -229,21 +221,21 @@ class CutSystemUpdate {
   CutStepResult apply(const CutSurfaceStep& surface, CutUpdateMethod method = CutUpdateMethod::Exact) {
     if (!surface.accepted || !pending_before_ || surface.mesh != cutter_->mesh())
       throw InvalidArgumentError("CutSystemUpdate::apply: not the surface step just taken");
-    CutStepResult r;
-    try {
-      r = apply(surface.mesh, surface.delta, method);
-    } catch (const Error& e) {
+    const auto undo_surface = [this] {
       *cutter_ = std::move(*pending_before_);
       pending_before_.reset();
-      r = CutStepResult();
-      r.method = method;
-      r.accepted = false;
-      r.reason = e.what();
+    };
+    try {
+      CutStepResult r = apply(surface.mesh, surface.delta, method);
+      pending_before_.reset();
       return r;
+    } catch (const Error& e) {
+      undo_surface();
+      return refused(method, e.what());
+    } catch (...) {
+      undo_surface();
+      throw;
     }
-    pending_before_.reset();
-    r.delta = surface.delta;
-    return r;
   }
 
   /// One system step for a surface cut elsewhere: `after` is the cut mesh, `delta` what changed from the
@@ -253,6 +245,7 @@ class CutSystemUpdate {
     const auto t0 = SteadyClock::now();
     CutStepResult r;
     r.method = method;
+    r.delta = delta;
     const std::shared_ptr<const GreensTable> current = table();
     std::shared_ptr<const GreensTable> next;
     Eigen::VectorXd x;
@@ -311,6 +304,14 @@ class CutSystemUpdate {
   }
 
  private:
+  static CutStepResult refused(CutUpdateMethod method, std::string reason) {
+    CutStepResult r;
+    r.method = method;
+    r.accepted = false;
+    r.reason = std::move(reason);
+    return r;
+  }
+
   static Eigen::VectorXd solution_of(const GreensTable& t) {
     Eigen::VectorXd x(t.num_dofs());
     for (Index k = 0; k < t.num_dofs(); ++k)

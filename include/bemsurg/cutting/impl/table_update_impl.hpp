@@ -230,7 +230,7 @@ struct GreensTableParts {
     if (!g.has_factorization())
       throw InvalidArgumentError("updated_table: this table kept no factorisation (it was read from a file); recompute it");
     if (!after) throw InvalidArgumentError("updated_table: no mesh");
-    const CutChange change = integrate_cut_change(*g.mesh_, *after, delta, g.key_.material, g.quadrature_, g.key_.gravity);
+    const CutChange change = integrate_cut_change(*g.mesh_, *after, delta, g.material(), g.quadrature(), g.gravity());
     auto out = updated(g, std::move(after), delta, change, options, report);
     if (report) report->total_seconds = seconds_since(t_start);  // integration included
     return out;
@@ -241,9 +241,9 @@ struct GreensTableParts {
     if (!g.mesh_) throw InvalidArgumentError("recomputed_table_after: this table has no mesh (read from a file)");
     if (!after) throw InvalidArgumentError("recomputed_table_after: no mesh");
     check_mesh_delta(delta, *g.mesh_, *after);
-    auto out = std::make_shared<GreensTable>(GreensTable::compute_on(std::move(after), g.key_.material,
-                                                                     conditions_after_cut(g.base_conditions(), delta), g.key_.gravity,
-                                                                     g.quadrature_, region_after_cut(g, *after, delta, options), 0.0));
+    const std::vector<Index> region = region_after_cut(g, *after, delta, options);  // before `after` moves
+    auto out = std::make_shared<GreensTable>(GreensTable::compute_on(
+        std::move(after), g.material(), conditions_after_cut(g.base_conditions(), delta), g.gravity(), g.quadrature(), region, 0.0));
     out->version_ = g.version_ + 1;
     return out;
   }
