@@ -344,8 +344,12 @@ TEST_CASE("one cut script through the command line's, a session's and the viewer
   // The command line's door.
   CutSystemUpdate cli(std::make_shared<const GreensTable>(compute_scene_table(scene)));
   cli.begin_cut();
-  for (int i = 0; i < steps; ++i) REQUIRE(cli.cut(from, direction).accepted);
-  cli.wait_for_refactor();  // the second step passes the refactor rank: every door refactorises
+  for (int i = 0; i < steps; ++i) {
+    REQUIRE(cli.cut(from, direction).accepted);
+    // Past the refactor rank each door refactorises (the session inline, the viewer's worker waits): so
+    // that the next step starts from the same snapshot, wait here too.
+    cli.wait_for_refactor();
+  }
   const std::shared_ptr<const GreensTable> by_cli = cli.table();
 
   // A session's door: the hook, called as a session calls it for one cut action.
