@@ -70,8 +70,7 @@ void model_panel(App& app, const WorkerStatus& st, const std::shared_ptr<const P
   if (ph && ph->cuts > 0) {
     if (ph->table && st.tables_exact) {
       ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(0.1f, 0.5f, 0.1f, 1.0f));
-      ImGui::TextWrapped("exact tables in after %d cut steps (%s, %.0f ms)", ph->cuts,
-                         st.last_cut_exact_update ? "delta update" : "recomputed", 1000.0 * st.last_cut_update_seconds);
+      ImGui::TextWrapped("exact tables in after %d cut steps (delta update, %.0f ms)", ph->cuts, 1000.0 * st.last_cut_update_seconds);
       ImGui::PopStyleColor();
     } else {
       ImGui::TextColored(ImVec4(0.7f, 0.35f, 0.0f, 1.0f), "cut shown; exact tables being computed...");

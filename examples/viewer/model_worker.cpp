@@ -195,7 +195,6 @@ void ModelWorker::do_cut(const CutRequest& cut) {
     std::lock_guard<std::mutex> lock(mutex_);
     ++status_.cut_steps_accepted;
     status_.last_cut_update_seconds = now_seconds() - t0;
-    status_.last_cut_exact_update = true;
   }
   do_rescale();
 }

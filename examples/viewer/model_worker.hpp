@@ -70,7 +70,6 @@ struct WorkerStatus {
   double last_rescale_seconds = 0.0;
   double last_cut_update_seconds = 0.0;   // the system and table update of the last cut step (CutSystemUpdate)
   double last_cut_surface_seconds = 0.0;  // the surface step of the last cut step (SurfaceCutter)
-  bool last_cut_exact_update = false;     // the last cut's tables came from the delta update
   bool tables_exact = false;              // the table in use was computed for the current mesh
   int cuts = 0;                           // accepted cut steps whose mesh is in use
   int cut_steps_accepted = 0;             // every cut step so far (all models)
