@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Builds the tests under a sanitizer and runs them. Used by .ci/run; docs/development.md says what
 # each pass costs. Optimised at -O1 with line tables only (-g1): stack traces keep file and line,
-# sanitizers stay accurate, and the build takes about half the time of -O2 -g. The viewer's window
+# sanitizers stay accurate, and the build takes about half the time of -O2 -g. UndefinedBehaviorSanitizer
+# runs its arithmetic checks (CMakeLists.txt says which four pointer checks are left out, and why). The viewer's window
 # is left out (BEMSURG_VIEWER_GUI=OFF): these trees run the viewer's core tests, never the window.
 #
 #   scripts/run-sanitized-tests.sh [address]   AddressSanitizer + UndefinedBehaviorSanitizer over
@@ -28,10 +29,9 @@ case "$mode" in
 esac
 bash scripts/setup-deps.sh
 BUILD_DIR=${BUILD_DIR:-$default_dir}
-# Unity build (the libraries, the CLI and the viewer's core in batches of 8 files; test programs stay one
-# file per unit, tests/CMakeLists.txt): these trees are built once per CI run and never edited in, and
-# batching saves parsing Eigen and nlohmann-json again per file (measured on the ASan libraries + CLI:
-# 3.5 min of CPU instead of 6.5, docs/development.md).
+# Unity build (the libraries, the CLI and the viewer's core in batches of 8 files, each test program as
+# one unit, tests/CMakeLists.txt): these trees are built once per CI run and never edited in, and
+# batching saves parsing Eigen and nlohmann-json, and instantiating the header-only core, again per file.
 cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1" "${sanitizer[@]}" -DCMAKE_UNITY_BUILD=ON \
   -DBEMSURG_BUILD_TESTS=ON -DBEMSURG_BUILD_BENCHMARKS=OFF -DBEMSURG_BUILD_EXAMPLES=OFF -DBEMSURG_VIEWER_GUI=OFF \
   -DBEMSURG_WARNINGS_AS_ERRORS="${BEMSURG_WARNINGS_AS_ERRORS:-OFF}"

@@ -6,9 +6,9 @@ cd "$(dirname "$0")/.."
 bash scripts/setup-deps.sh
 BUILD_DIR=${BUILD_DIR:-build}
 # CI sets BEMSURG_WARNINGS_AS_ERRORS=ON; a newcomer's compiler may warn where GCC 12 does not.
-# The libraries, the CLI and the viewer's core build as unity builds (test programs stay one file
-# per unit, tests/CMakeLists.txt), as the sanitizer trees do: each library source parses Eigen once
-# per batch instead of once per file (docs/development.md, "CI, step by step").
+# Everything builds as a unity build, test programs included (one translation unit per program,
+# tests/CMakeLists.txt): each unit parses Eigen once per batch and instantiates the header-only
+# core's templates once per program instead of once per file (docs/development.md, "CI, step by step").
 cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release -DBEMSURG_BUILD_TESTS=ON -DBEMSURG_BUILD_BENCHMARKS=ON -DCMAKE_UNITY_BUILD=ON \
   -DBEMSURG_WARNINGS_AS_ERRORS="${BEMSURG_WARNINGS_AS_ERRORS:-OFF}"
 cmake --build "$BUILD_DIR" -j"${JOBS:-2}"

@@ -6,11 +6,12 @@
 
 #include "bemsurg/error.hpp"
 #include "bemsurg/io/action_script.hpp"
+#include "support/test_constants.hpp"
 
 using namespace bemsurg;
 
 namespace {
-constexpr double kEps = std::numeric_limits<double>::epsilon();
+using bemsurg_test::kEps;
 const char* kScript = R"({
   "format": "bemsurg-actions", "version": 1,
   "scene": "block.json", "rate_hz": 2000, "capacity_rows": 120,

@@ -20,7 +20,7 @@ using namespace bemsurg;
 
 namespace {
 
-const Material kMaterial{3000.0, 0.45, 1000.0};
+const Material kFastMaterial{3000.0, 0.45, 1000.0};
 const Eigen::Vector3d kGravity(0.3, -0.2, -9.81);
 
 TriangleMesh graded_box() {
@@ -86,8 +86,8 @@ void compare_full(const TriangleMesh& mesh) {
   REQUIRE(mix.far > 0);
   REQUIRE(mix.mid > 0);
   REQUIRE(mix.near > 0);
-  const InfluenceAssembler fast(mesh, kMaterial);
-  const testing::ReferenceAssembler ref(mesh, kMaterial);
+  const InfluenceAssembler fast(mesh, kFastMaterial);
+  const testing::ReferenceAssembler ref(mesh, kFastMaterial);
   const auto all = ref.all();
   Eigen::MatrixXd H, G;
   ref.assemble(all, all, H, G);
@@ -132,8 +132,8 @@ TEST_CASE("fast assembly equals the reference on a hollow sphere (two shells)", 
 TEST_CASE("rows and columns equal the reference's, in list order, and the full matrices' blocks", "[assembly]") {
   const TriangleMesh mesh = gap_pair();
   const Index E = mesh.num_elements();
-  const InfluenceAssembler fast(mesh, kMaterial);
-  const testing::ReferenceAssembler ref(mesh, kMaterial);
+  const InfluenceAssembler fast(mesh, kFastMaterial);
+  const testing::ReferenceAssembler ref(mesh, kFastMaterial);
   // Unordered, with neighbours of each other and of the gap, more than one tile of rows.
   std::vector<Index> pick;
   for (Index e = E - 1; e >= 0; e -= 2) pick.push_back(e);
@@ -162,7 +162,7 @@ TEST_CASE("rows and columns equal the reference's, in list order, and the full m
 
 TEST_CASE("the assembled matrices do not depend on the number of threads", "[assembly]") {
   const TriangleMesh mesh = graded_box();
-  const InfluenceAssembler fast(mesh, kMaterial);
+  const InfluenceAssembler fast(mesh, kFastMaterial);
   const int before = omp_get_max_threads();
   omp_set_num_threads(1);
   Eigen::VectorXd g1, g3;
@@ -177,7 +177,7 @@ TEST_CASE("the assembled matrices do not depend on the number of threads", "[ass
 
 TEST_CASE("rows and columns into matrices of the right size allocate nothing on the calling thread", "[assembly]") {
   const TriangleMesh mesh = gap_pair();
-  const InfluenceAssembler fast(mesh, kMaterial);
+  const InfluenceAssembler fast(mesh, kFastMaterial);
   const std::vector<Index> pick = {3, 17, 40, 41};
   Eigen::MatrixXd rH, rG, cH, cG;
   const int before = omp_get_max_threads();
@@ -203,7 +203,7 @@ TEST_CASE("rows and columns into matrices of the right size allocate nothing on 
 
 TEST_CASE("rows or columns naming an element that does not exist are refused", "[assembly]") {
   const TriangleMesh mesh = gap_pair();
-  const InfluenceAssembler fast(mesh, kMaterial);
+  const InfluenceAssembler fast(mesh, kFastMaterial);
   Eigen::MatrixXd H, G;
   CHECK_THROWS_AS(fast.assemble_rows({mesh.num_elements()}, H, G), Error);
   CHECK_THROWS_AS(fast.assemble_columns({-1}, H, G), Error);
@@ -211,7 +211,7 @@ TEST_CASE("rows or columns naming an element that does not exist are refused", "
 
 TEST_CASE("A* built in H's storage equals A* built beside it", "[assembly]") {
   const TriangleMesh mesh = gap_pair();
-  const InfluenceAssembler fast(mesh, kMaterial);
+  const InfluenceAssembler fast(mesh, kFastMaterial);
   InfluenceMatrices hg = fast.assemble();
   BoundaryConditions bc(mesh.num_elements());
   for (Index e = 0; e < mesh.num_elements(); e += 3) bc.prescribe_displacement(e, Eigen::Vector3d::Zero());

@@ -20,15 +20,15 @@ using bemsurg_test::solve_split;
 using bemsurg_test::SplitErrors;
 
 namespace {
-const Material kMaterial{1.0, 0.3, 0.0};
-const ElasticField kField = kelvin_field(kMaterial, Eigen::Vector3d(0.3, 0.2, 1.4), Eigen::Vector3d(0.4, -0.3, 1.0));
+const Material kKelvinMaterial{1.0, 0.3, 0.0};
+const ElasticField kKelvinField = kelvin_field(kKelvinMaterial, Eigen::Vector3d(0.3, 0.2, 1.4), Eigen::Vector3d(0.4, -0.3, 1.0));
 TriangleMesh box(int n) { return box_mesh(Eigen::Vector3d(-1, -0.6, -0.6), Eigen::Vector3d(1, 0.6, 0.6), 3 * n, 2 * n, 2 * n); }
 const double kHCoarse = 0.3, kHFine = 0.2;  // box(2), box(3)
 
 template <class Held>
 std::pair<SplitErrors, SplitErrors> two_levels(Held held) {
   const TriangleMesh c = box(2), f = box(3);
-  return {solve_split(c, kMaterial, kField, held(c)), solve_split(f, kMaterial, kField, held(f))};
+  return {solve_split(c, kKelvinMaterial, kKelvinField, held(c)), solve_split(f, kKelvinMaterial, kKelvinField, held(f))};
 }
 double order(double coarse, double fine) { return observed_order(coarse, fine, kHCoarse, kHFine); }
 }  // namespace
@@ -55,7 +55,7 @@ TEST_CASE("Kelvin, Neumann: displacements from prescribed tractions (four elemen
   // picture), so no order is asserted between these two meshes, only the errors. From h = 0.6
   // (all edge row) to 0.3 the error falls with order 1.11 (12.5 % -> 5.8 %); asserted > 0.83.
   const TriangleMesh coarsest = box(1);
-  const SplitErrors c0 = solve_split(coarsest, kMaterial, kField, a_few_elements(coarsest));
+  const SplitErrors c0 = solve_split(coarsest, kKelvinMaterial, kKelvinField, a_few_elements(coarsest));
   INFO("h = 0.6: all " << c0.all.displacement);
   CHECK(observed_order(c0.all.displacement, c.all.displacement, 0.6, kHCoarse) > 0.83);
   CHECK(f.all.displacement < 0.07);

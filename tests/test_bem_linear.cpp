@@ -20,9 +20,9 @@ using namespace bemsurg::verification;
 using bemsurg_test::observed_order;
 
 namespace {
-const Material kMaterial{1.0, 0.3, 0.0};
-const ElasticField kKelvin = kelvin_field(kMaterial, Eigen::Vector3d(0.3, 0.2, 1.4), Eigen::Vector3d(0.4, -0.3, 1.0));
-TriangleMesh box(int n) { return box_mesh(Eigen::Vector3d(-1, -0.6, -0.6), Eigen::Vector3d(1, 0.6, 0.6), 3 * n, 2 * n, 2 * n); }
+const Material kLinearMaterial{1.0, 0.3, 0.0};
+const ElasticField kKelvin = kelvin_field(kLinearMaterial, Eigen::Vector3d(0.3, 0.2, 1.4), Eigen::Vector3d(0.4, -0.3, 1.0));
+TriangleMesh linear_box(int n) { return box_mesh(Eigen::Vector3d(-1, -0.6, -0.6), Eigen::Vector3d(1, 0.6, 0.6), 3 * n, 2 * n, 2 * n); }
 auto all_held() {
   return [](Index) { return true; };
 }
@@ -33,15 +33,15 @@ auto lower_half(const TriangleMesh& m) {
 
 TEST_CASE(
     "linear elements: blocked assembly equals the pair rules, rows of H sum to zero, the constant trait reproduces the constant assembler") {
-  const TriangleMesh m = box(1);
-  const LinearInfluenceAssembler linear(m, kMaterial);
+  const TriangleMesh m = linear_box(1);
+  const LinearInfluenceAssembler linear(m, kLinearMaterial);
   const InfluenceMatrices hg = linear.assemble();
   REQUIRE(hg.H.rows() == 9 * m.num_elements());
   // Rigid translation: every block row of H sums to zero (the self blocks are evaluated directly).
   // Measured: 1.4e-8 (box), 1.1e-8 (sphere).
   CHECK(rigid_body_row_sum_ratio(hg) < 5e-8);
   const TriangleMesh sphere = icosphere_mesh(Eigen::Vector3d::Zero(), 1.0, 1);
-  CHECK(rigid_body_row_sum_ratio(LinearInfluenceAssembler(sphere, kMaterial).assemble()) < 5e-8);
+  CHECK(rigid_body_row_sum_ratio(LinearInfluenceAssembler(sphere, kLinearMaterial).assemble()) < 5e-8);
   // The blocked path (far pairs 64 nodes at a time) against node_element_pair, self and near pairs included.
   double worst = 0.0;
   LinearInfluenceAssembler::PairBlock H, G;
@@ -54,8 +54,8 @@ TEST_CASE(
   CHECK(worst < 1e-12);
   // The same template with the constant trait: the constant assembler's matrices (to quadrature
   // round-off; measured 6e-11, pairs exactly at a rule threshold may take the other rule).
-  const InfluenceMatrices c = InfluenceAssembler(m, kMaterial).assemble();
-  const InfluenceMatrices g = NodeInfluenceAssembler<ConstantElement>(m, kMaterial).assemble();
+  const InfluenceMatrices c = InfluenceAssembler(m, kLinearMaterial).assemble();
+  const InfluenceMatrices g = NodeInfluenceAssembler<ConstantElement>(m, kLinearMaterial).assemble();
   CHECK((c.H - g.H).norm() < 1e-9 * c.H.norm());
   CHECK((c.G - g.G).norm() < 1e-9 * c.G.norm());
 }
@@ -66,17 +66,18 @@ TEST_CASE(
   const Eigen::Vector3d a(0.01, -0.02, 0.03), w(0.002, 0.001, -0.003);
   const ElasticField rigid{[=](const Eigen::Vector3d& x) { return Eigen::Vector3d(a + w.cross(x)); },
                            [](const Eigen::Vector3d&) { return Eigen::Matrix3d(Eigen::Matrix3d::Zero()); }};
-  const TriangleMesh m = box(1);
+  const TriangleMesh m = linear_box(1);
   BoundarySolution s;
-  solve_linear_exact_trace_problem(m, kMaterial, rigid, lower_half(m), Eigen::Vector3d::Zero(), &s);
+  solve_linear_exact_trace_problem(m, kLinearMaterial, rigid, lower_half(m), Eigen::Vector3d::Zero(), &s);
   const BoundarySolution exact = exact_node_traces(m, rigid);
   // Measured: 3e-9 (u), 1e-10 (t, relative to the load scale |a| mu).
   CHECK((s.displacement - exact.displacement).cwiseAbs().maxCoeff() < 1e-7 * a.norm());
-  CHECK(s.traction.cwiseAbs().maxCoeff() < 1e-6 * a.norm() * kMaterial.shear_modulus());
+  CHECK(s.traction.cwiseAbs().maxCoeff() < 1e-6 * a.norm() * kLinearMaterial.shear_modulus());
   CHECK(estimate_elastostatic_bytes(100, ElementType::Linear) > 8.9 * estimate_elastostatic_bytes(100));
   // The Krylov methods with block-Jacobi (3x3 node blocks) and the near-field preconditioner (on the
   // proxy mesh of corner children) agree with LU on a mixed Kelvin problem.
-  ElastostaticProblem p{m, kMaterial, Eigen::Vector3d::Zero(), exact_trace_conditions(m, kKelvin, lower_half(m)), QuadratureOptions()};
+  ElastostaticProblem p{m, kLinearMaterial, Eigen::Vector3d::Zero(), exact_trace_conditions(m, kKelvin, lower_half(m)),
+                        QuadratureOptions()};
   p.elements = ElementType::Linear;
   const ElastostaticSolution lu = solve_elastostatic(p);
   REQUIRE(lu.nodes.displacement.rows() == 3 * m.num_elements());
@@ -99,13 +100,13 @@ TEST_CASE("linear elements, Kelvin box: second-order displacement and a fifth of
   RowMatrixX3d points(4, 3);  // bench_accuracy's interior points
   points << 0.0, 0.0, 0.0, 0.5, -0.2, 0.1, -0.4, 0.3, -0.2, 0.2, 0.1, 0.3;
   for (int n : {1, 2}) {
-    const TriangleMesh m = box(n);
+    const TriangleMesh m = linear_box(n);
     BoundarySolution nodes, centroids;
-    lin.push_back(solve_linear_exact_trace_problem(m, kMaterial, kKelvin, lower_half(m), Eigen::Vector3d::Zero(), &nodes));
-    con.push_back(solve_exact_trace_problem(m, kMaterial, kKelvin, lower_half(m), Eigen::Vector3d::Zero(), &centroids));
+    lin.push_back(solve_linear_exact_trace_problem(m, kLinearMaterial, kKelvin, lower_half(m), Eigen::Vector3d::Zero(), &nodes));
+    con.push_back(solve_exact_trace_problem(m, kLinearMaterial, kKelvin, lower_half(m), Eigen::Vector3d::Zero(), &centroids));
     // Somigliana's identity with the linear field (the 3E-row per-node solution).
-    lin_inside.push_back(interior_relative_errors(m, kMaterial, kKelvin, nodes, points));
-    con_inside.push_back(interior_relative_errors(m, kMaterial, kKelvin, centroids, points));
+    lin_inside.push_back(interior_relative_errors(m, kLinearMaterial, kKelvin, nodes, points));
+    con_inside.push_back(interior_relative_errors(m, kLinearMaterial, kKelvin, centroids, points));
   }
   INFO("interior u: linear " << lin_inside[0].displacement << " -> " << lin_inside[1].displacement << ", constant "
                              << con_inside[0].displacement << " -> " << con_inside[1].displacement);
@@ -132,10 +133,10 @@ TEST_CASE("linear elements, Kelvin box: the traction in the first row along the 
   std::vector<RelativeErrors> lin;
   std::vector<bemsurg_test::SplitErrors> con;
   for (int n : {1, 2}) {
-    const TriangleMesh m = box(n);
-    lin.push_back(solve_linear_exact_trace_problem(m, kMaterial, kKelvin, all_held(), Eigen::Vector3d::Zero(), nullptr,
+    const TriangleMesh m = linear_box(n);
+    lin.push_back(solve_linear_exact_trace_problem(m, kLinearMaterial, kKelvin, all_held(), Eigen::Vector3d::Zero(), nullptr,
                                                    bemsurg_test::box_edge_row(m)));
-    con.push_back(bemsurg_test::solve_split(m, kMaterial, kKelvin, all_held()));
+    con.push_back(bemsurg_test::solve_split(m, kLinearMaterial, kKelvin, all_held()));
   }
   INFO("edge row t: linear " << lin[0].traction << " -> " << lin[1].traction << ", constant " << con[0].edge.traction << " -> "
                              << con[1].edge.traction);
@@ -146,12 +147,12 @@ TEST_CASE("linear elements, Kelvin box: the traction in the first row along the 
 }
 
 TEST_CASE("linear elements, Lamé sphere: second-order displacement and a converging traction on two shells") {
-  const ElasticField lame = lame_field(kMaterial, Eigen::Vector3d::Zero(), 1.0, 2.0, 1.0, 0.0);
+  const ElasticField lame = lame_field(kLinearMaterial, Eigen::Vector3d::Zero(), 1.0, 2.0, 1.0, 0.0);
   std::vector<RelativeErrors> e;
   std::vector<double> h;
   for (int s : {0, 1}) {
     const TriangleMesh m = hollow_sphere_mesh(Eigen::Vector3d::Zero(), 1.0, 2.0, s, s);
-    e.push_back(solve_linear_exact_trace_problem(m, kMaterial, lame, [&m](Index k) { return m.centroid(k).norm() < 1.5; }));
+    e.push_back(solve_linear_exact_trace_problem(m, kLinearMaterial, lame, [&m](Index k) { return m.centroid(k).norm() < 1.5; }));
     h.push_back(m.diameters().mean());
   }
   INFO("h " << h[0] << " -> " << h[1] << ", u " << e[0].displacement << " -> " << e[1].displacement << ", t " << e[0].traction << " -> "
@@ -183,14 +184,14 @@ TEST_CASE("linear elements: refining either half of the surface keeps the error 
   // Kelvin box, lower half held (docs/stability.md (i) for constant elements): red-green refinement of
   // the half x < 0 or x > 0. Measured linear u 2.37e-2 -> 1.51e-2 / 4.95e-3, t 4.69e-2 -> 3.46e-2 /
   // 2.60e-2; constant u 8.2e-2 -> 8.0e-2 / 3.4e-2.
-  const TriangleMesh base = box(1);
-  const RelativeErrors parent = solve_linear_exact_trace_problem(base, kMaterial, kKelvin, lower_half(base));
+  const TriangleMesh base = linear_box(1);
+  const RelativeErrors parent = solve_linear_exact_trace_problem(base, kLinearMaterial, kKelvin, lower_half(base));
   for (const double side : {-1.0, 1.0}) {
     std::vector<Index> marked;
     for (Index e = 0; e < base.num_elements(); ++e)
       if (side * base.centroid(e).x() > 0.0) marked.push_back(e);
     const TriangleMesh m = refine_red_green(base, marked, 1).mesh;
-    const RelativeErrors half = solve_linear_exact_trace_problem(m, kMaterial, kKelvin, lower_half(m));
+    const RelativeErrors half = solve_linear_exact_trace_problem(m, kLinearMaterial, kKelvin, lower_half(m));
     INFO("half x " << (side < 0 ? "< 0" : "> 0") << ": u " << parent.displacement << " -> " << half.displacement << ", t "
                    << parent.traction << " -> " << half.traction);
     CHECK(half.displacement <= 1.05 * parent.displacement);

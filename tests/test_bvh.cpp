@@ -7,11 +7,12 @@
 
 #include "bemsurg/mesh/bvh.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
+#include "support/test_constants.hpp"
 
 using namespace bemsurg;
 
 namespace {
-constexpr double kEps = std::numeric_limits<double>::epsilon();
+using bemsurg_test::kEps;
 
 // Brute force: closest hit over every triangle (Moller-Trumbore, both sides).
 RayHit brute_force(const RowMatrixX3d& V, const RowMatrixX3i& F, const Vec3& o, const Vec3& d, double t_max) {

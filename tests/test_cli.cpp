@@ -23,6 +23,7 @@
 #include "bemsurg/meshing/mesh_io.hpp"
 #include "support/cli_run.hpp"
 #include "support/temp_dir.hpp"
+#include "support/test_constants.hpp"
 
 using namespace bemsurg;
 namespace fs = std::filesystem;
@@ -63,7 +64,7 @@ Table read_table(const std::string& path) {
 }
 
 constexpr double kE = 3000.0, kNu = 0.3, kP = 100.0;
-constexpr double kEps = std::numeric_limits<double>::epsilon();
+using bemsurg_test::kEps;
 
 /// Errors of the uniform-pressure solve of the cube [-1/2, 1/2]^3 with `div` divisions per side.
 struct PressureErrors {
@@ -309,13 +310,13 @@ TEST_CASE("a mesh file too large for the dense solve is refused at load with the
                           Catch::Contains("docs/organs.md") &&
                           Catch::Contains(R"(or add "prepare": {"scale": 0.001} to the scene's mesh section and remove mesh.scale)"));
   };
-  const auto t0 = std::chrono::steady_clock::now();
+  // Refused before any matrix: the message is the pre-solve check's (check_before_solve), which runs
+  // on the mesh alone, and no output exists. (No wall-clock bound: CI's machines and the sanitizer
+  // trees vary in speed by far more than a bound could allow for.)
   refused(run_cli("solve '" + scene + "' -o '" + dir.file("solve") + "'", dir));
   CHECK_FALSE(fs::exists(dir.file("solve/elements.csv")));
   refused(run_cli("press '" + scene + "' --tool point --at 0,0,0.05 --direction 0,0,-1 --depth 0.001 -o '" + dir.file("press") + "'", dir));
   CHECK_FALSE(fs::exists(dir.file("press/force.json")));
-  // Refused before any matrix: reading and validating 81,920 triangles, not a dense assembly.
-  CHECK(std::chrono::steady_clock::now() - t0 < std::chrono::seconds(20));
 }
 
 TEST_CASE("press: --direction is any finite nonzero vector, however large or small", "[cli]") {

@@ -17,6 +17,7 @@
 #include "bemsurg/presolution/paper_lookup_table.hpp"
 #include "bemsurg/solvers/dense_lu.hpp"
 #include "support/allocation_counter.hpp"
+#include "support/test_constants.hpp"
 
 using namespace bemsurg;
 
@@ -81,7 +82,7 @@ Eigen::Vector3d prescribed(const Fixture& f, Index e, int i) {
 // column-equilibrated matrix: 34.2 for this mesh (6.5e4 unscaled), hence kSolve = 40 n eps. A
 // contact solve adds the capacitance block G_CC, whose condition number is 1.5, 6.6 and 27 for 1, 7
 // and 50 bonded elements: kContact = 30 kSolve.
-constexpr double kEps = std::numeric_limits<double>::epsilon();
+using bemsurg_test::kEps;
 constexpr double kSolve = 40.0 * 864.0 * kEps;  // 7.7e-12
 constexpr double kContact = 30.0 * kSolve;      // 2.3e-10
 

@@ -17,7 +17,7 @@
 namespace fs = std::filesystem;
 
 namespace {
-int run(const std::string& args) {
+int run_press_cli(const std::string& args) {
   const std::string cmd = std::string(BEMSURG_CLI_PATH) + " " + args + " > /dev/null 2>&1";
   const int status = std::system(cmd.c_str());
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -37,7 +37,8 @@ TEST_CASE("bemsurg press writes elements.csv and force.json consistent with each
   }
   const std::string scene = (dir / "scene.json").string(), out = (dir / "out").string();
   const auto started = std::chrono::steady_clock::now();
-  REQUIRE(run("press " + scene + " --tool flat:0.02 --at 0,0,0.05 --direction 0,0,-1 --depth 0.002 --frictionless -o " + out) == 0);
+  REQUIRE(run_press_cli("press " + scene + " --tool flat:0.02 --at 0,0,0.05 --direction 0,0,-1 --depth 0.002 --frictionless -o " + out) ==
+          0);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   std::ifstream fj(dir / "out" / "force.json");
   const nlohmann::json j = nlohmann::json::parse(fj);
@@ -85,9 +86,9 @@ TEST_CASE("bemsurg press writes elements.csv and force.json consistent with each
   // round-trip text): 2 loaded eps (measured 0, 8 elements).
   CHECK(fz == Approx(force[2]).epsilon(2.0 * loaded * std::numeric_limits<double>::epsilon()));
   // Refusals: unknown tool (usage, 2), a line that misses the body (error, 1).
-  CHECK(run("press " + scene + " --tool cone --at 0,0,1 --direction 0,0,-1 --depth 0.001 -o " + out) == 2);
-  CHECK(run("press " + scene + " --tool point --at 5,5,1 --direction 0,0,-1 --depth 0.001 -o " + out) == 1);
-  CHECK(run("press " + scene + " --tool point --at 0,0,1 --direction 0,0,0 --depth 0.001 -o " + out) == 2);
+  CHECK(run_press_cli("press " + scene + " --tool cone --at 0,0,1 --direction 0,0,-1 --depth 0.001 -o " + out) == 2);
+  CHECK(run_press_cli("press " + scene + " --tool point --at 5,5,1 --direction 0,0,-1 --depth 0.001 -o " + out) == 1);
+  CHECK(run_press_cli("press " + scene + " --tool point --at 0,0,1 --direction 0,0,0 --depth 0.001 -o " + out) == 2);
 }
 
 namespace {

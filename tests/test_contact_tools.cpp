@@ -11,6 +11,7 @@
 #include "bemsurg/presolution/contact_tools.hpp"
 #include "bemsurg/presolution/greens_table.hpp"
 #include "support/cached_greens_table.hpp"
+#include "support/test_constants.hpp"
 
 using namespace bemsurg;
 
@@ -44,7 +45,7 @@ struct Block {
 // table is a solve with the capacitance block G_CC of the rows in contact, whose condition number
 // is at most about 30 on these meshes (1.5, 6.6, 27 for 1, 7, 50 bonded elements on the top of the
 // 6 x 6 x 3 box: tests/test_contact_capacitance.cpp): c = kCond, n = the rows.
-constexpr double kEps = std::numeric_limits<double>::epsilon();
+using bemsurg_test::kEps;
 constexpr double kCond = 30.0;
 
 double contact_area(const ToolContactSolver& s, const TriangleMesh& mesh, int tool) {

@@ -18,6 +18,7 @@
 #include "bemsurg/solvers/low_rank_updated_lu.hpp"
 #include "bemsurg/solvers/partitioned_inverse.hpp"
 #include "support/synthetic_cuts.hpp"
+#include "support/test_constants.hpp"
 
 using namespace bemsurg;
 using bemsurg::testing::SyntheticStep;
@@ -30,7 +31,7 @@ namespace {
 // the forward error of a direct solve follows the condition number of the column-equilibrated
 // system, 21.3 .. 22.7 over the steps (7.3e4 .. 8.3e4 unscaled): kCut = 25 x 408 x eps. Two exact
 // paths (updated vs from scratch, partitioned vs direct) each carry that much.
-constexpr double kEps = std::numeric_limits<double>::epsilon();
+using bemsurg_test::kEps;
 constexpr double kCut = 25.0 * 408.0 * kEps;  // 2.3e-12
 
 double relative_max(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {

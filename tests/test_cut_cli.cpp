@@ -19,7 +19,7 @@
 namespace fs = std::filesystem;
 
 namespace {
-int run(const std::string& args) {
+int run_cut_cli(const std::string& args) {
   const std::string cmd = std::string(BEMSURG_CLI_PATH) + " " + args + " > /dev/null 2>&1";
   const int status = std::system(cmd.c_str());
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -76,7 +76,7 @@ TEST_CASE("bemsurg cut writes a report whose steps follow the contract and a sol
   const std::string scene = box_scene(dir);
   for (const char* method : {"exact", "gmres", "refactor"}) {
     const std::string out = (dir.path / (std::string("out_") + method)).string();
-    REQUIRE(run("cut " + scene + " --from 0,0,0.05 --direction 1,0,0 --steps 2 --update " + method + " -o " + out) == 0);
+    REQUIRE(run_cut_cli("cut " + scene + " --from 0,0,0.05 --direction 1,0,0 --steps 2 --update " + method + " -o " + out) == 0);
     const nlohmann::json report = read_json(fs::path(out) / "report.json");
     REQUIRE(report.at("steps").size() == 2);
     long long equations = 288 * 3;
@@ -97,7 +97,7 @@ TEST_CASE("bemsurg cut writes a report whose steps follow the contract and a sol
     // The same scene naming mesh.obj, solved from scratch.
     const std::string again = dir.write(std::string("again_") + method + ".json",
                                         "{\"mesh\": {\"file\": \"" + out + "/mesh.obj\"}, " + std::string(kRules) + "}");
-    REQUIRE(run("solve " + again + " -o " + out + "/solve") == 0);
+    REQUIRE(run_cut_cli("solve " + again + " -o " + out + "/solve") == 0);
     const auto cut = read_csv(fs::path(out) / "elements.csv"), solved = read_csv(fs::path(out) / "solve" / "elements.csv");
     REQUIRE(cut.size() == static_cast<std::size_t>(report.at("elements").get<long long>()));
     REQUIRE(solved.size() == cut.size());
@@ -117,7 +117,7 @@ TEST_CASE("bemsurg cut refuses a step into a sharp edge and a gap too narrow, wr
   const bemsurg_test::TempDir dir("bemsurg_test_cut_");
   const std::string scene = box_scene(dir);
   const std::string out = (dir.path / "edge").string();
-  CHECK(run("cut " + scene + " --from 0,0,0.05 --direction 1,0,0 --steps 12 -o " + out) == 1);
+  CHECK(run_cut_cli("cut " + scene + " --from 0,0,0.05 --direction 1,0,0 --steps 12 -o " + out) == 1);
   const nlohmann::json report = read_json(fs::path(out) / "report.json");
   const auto& steps = report.at("steps");
   REQUIRE(steps.size() >= 2);
@@ -128,13 +128,13 @@ TEST_CASE("bemsurg cut refuses a step into a sharp edge and a gap too narrow, wr
   CHECK(read_csv(fs::path(out) / "elements.csv").size() * 3 == report.at("equations").get<std::size_t>());
 
   const std::string narrow = (dir.path / "narrow").string();
-  CHECK(run("cut " + scene + " --from 0,0,0.05 --direction 1,0,0 --steps 2 --gap 1e-6 -o " + narrow) == 1);
+  CHECK(run_cut_cli("cut " + scene + " --from 0,0,0.05 --direction 1,0,0 --steps 2 --gap 1e-6 -o " + narrow) == 1);
   const nlohmann::json r2 = read_json(fs::path(narrow) / "report.json");
   CHECK(r2.at("steps").size() == 1);
   CHECK(r2.at("steps")[0].at("reason").get<std::string>().find("too narrow") != std::string::npos);
   CHECK(r2.at("equations") == 288 * 3);  // nothing completed: the uncut body
 
-  CHECK(run("cut " + scene + " --from 0,0 --direction 1,0,0 --steps 2 -o " + narrow) == 2);
-  CHECK(run("cut " + scene + " --from 0,0,0.05 --direction 1,0,0 --steps 2 --update lu -o " + narrow) == 2);
-  CHECK(run("cut " + scene + " --from 0,0,0.05 --direction 1,0,0 -o " + narrow) == 2);
+  CHECK(run_cut_cli("cut " + scene + " --from 0,0 --direction 1,0,0 --steps 2 -o " + narrow) == 2);
+  CHECK(run_cut_cli("cut " + scene + " --from 0,0,0.05 --direction 1,0,0 --steps 2 --update lu -o " + narrow) == 2);
+  CHECK(run_cut_cli("cut " + scene + " --from 0,0,0.05 --direction 1,0,0 -o " + narrow) == 2);
 }

@@ -7,12 +7,13 @@
 #include <limits>
 
 #include "bemsurg/haptics/force_limiter.hpp"
+#include "support/test_constants.hpp"
 
 using bemsurg::haptics::ForceLimiter;
 
 namespace {
 const double kMaxForce = 3.0, kMaxRate = 500.0, kDt = 1e-3, kMaxStep = kMaxRate * kDt;
-const double kEps = std::numeric_limits<double>::epsilon();
+using bemsurg_test::kEps;
 // Relative slack of the step and size checks: |f| <= 3 N and the step 0.5 N, so f - last carries
 // about 2 eps x 3 N of rounding (12 eps of the step) and each clip (a scaling and a norm) 3 eps:
 // 16 eps. Measured: at most 2 eps above the step, never above max_force.

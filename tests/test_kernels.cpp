@@ -5,11 +5,12 @@
 
 #include "bemsurg/kernels/kelvin_kernel.hpp"
 #include "bemsurg/kernels/kernel_gradients.hpp"
+#include "support/test_constants.hpp"
 
 using namespace bemsurg;
 
 namespace {
-constexpr double kEps = std::numeric_limits<double>::epsilon();
+using bemsurg_test::kEps;
 const Material kMaterial{2.5, 0.3, 1.7};
 const Eigen::Vector3d kR(0.3, -0.7, 0.45);
 const Eigen::Vector3d kN = Eigen::Vector3d(0.2, 0.5, -0.8).normalized();

@@ -19,13 +19,14 @@
 #include "bemsurg/solvers/linear_solve.hpp"
 #include "bemsurg/solvers/near_field_preconditioner.hpp"
 #include "support/krylov_test_systems.hpp"
+#include "support/test_constants.hpp"
 
 using namespace bemsurg;
 using bemsurg_test::BemSystem;
 
 namespace {
 
-constexpr double kEps = std::numeric_limits<double>::epsilon();
+using bemsurg_test::kEps;
 
 const BemSystem& base_system() {
   // 3 x 3 x 3 cells: 6 faces x 9 quads x 2 triangles = 108 elements, 3 unknowns each: 324 equations.

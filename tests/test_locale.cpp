@@ -35,8 +35,8 @@ using namespace bemsurg;
 
 namespace {
 
-struct TempDir : bemsurg_test::TempDir {
-  TempDir() : bemsurg_test::TempDir("bemsurg_test_locale_") {}
+struct LocaleTempDir : bemsurg_test::TempDir {
+  LocaleTempDir() : bemsurg_test::TempDir("bemsurg_test_locale_") {}
 };
 
 /// Switches the C locale (setlocale) and the C++ global locale to a comma-decimal one for its
@@ -105,7 +105,7 @@ TriangleMesh decimal_box() { return box_mesh(Vec3(0.0, 0.0, 0.0), Vec3(0.45, 1.2
 }  // namespace
 
 TEST_CASE("a scene and its CSV files read the same numbers in a comma-decimal locale", "[io][locale]") {
-  const TempDir dir;
+  const LocaleTempDir dir;
   dir.write("conditions.csv",
             "element,kind_x,kind_y,kind_z,value_x,value_y,value_z\n"
             "0,t,t,u,0.25,-1.5e-3,0.125\n");
@@ -150,7 +150,7 @@ TEST_CASE("a scene and its CSV files read the same numbers in a comma-decimal lo
 }
 
 TEST_CASE("a scene reads a mesh file written in a comma-decimal locale", "[io][locale]") {
-  const TempDir dir;
+  const LocaleTempDir dir;
   const CommaDecimalLocale locale;
   require_comma_decimal();
   const TriangleMesh box = decimal_box();
@@ -189,7 +189,7 @@ TEST_CASE("an action script reads the same numbers in a comma-decimal locale", "
 }
 
 TEST_CASE("results and meshes written in a comma-decimal locale read back exactly, with a decimal point", "[io][locale]") {
-  const TempDir dir;
+  const LocaleTempDir dir;
   const CommaDecimalLocale locale;
   require_comma_decimal();
   const TriangleMesh mesh = decimal_box();
@@ -243,7 +243,7 @@ TEST_CASE("results and meshes written in a comma-decimal locale read back exactl
 }
 
 TEST_CASE("a device trajectory CSV and its recording keep the decimal point in a comma-decimal locale", "[io][locale]") {
-  const TempDir dir;
+  const LocaleTempDir dir;
   const std::string path = dir.write("trajectory.csv",
                                      "time,x,y,z,dx,dy,dz,buttons\n"
                                      "0,0.45,0.5,0.125,0,0,-1,0\n"

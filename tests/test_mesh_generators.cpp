@@ -10,12 +10,13 @@
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/mesh/mesh_topology.hpp"
 #include "bemsurg/mesh/mesh_validation.hpp"
+#include "support/test_constants.hpp"
 
 using namespace bemsurg;
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kEps = std::numeric_limits<double>::epsilon();
+using bemsurg_test::kEps;
+using bemsurg_test::kPi;
 }  // namespace
 
 TEST_CASE("box_mesh has exact area, volume, counts and outward normals", "[mesh][generators]") {

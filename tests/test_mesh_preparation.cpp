@@ -28,12 +28,13 @@
 #include "bemsurg/meshing/organ_shapes.hpp"
 #include "bemsurg/number_text.hpp"
 #include "support/skip.hpp"
+#include "support/test_constants.hpp"
 
 using namespace bemsurg;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using bemsurg_test::kPi;
 const Vec3 kCenter(0.01, -0.02, 0.005);
 const Vec3 kAxes(0.06, 0.045, 0.035);
 constexpr Index kTarget = 800;

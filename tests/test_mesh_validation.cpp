@@ -12,12 +12,13 @@
 #include "bemsurg/mesh/mesh_topology.hpp"
 #include "bemsurg/mesh/mesh_validation.hpp"
 #include "bemsurg/mesh/vertex_welding.hpp"
+#include "support/test_constants.hpp"
 
 using namespace bemsurg;
 
 namespace {
 
-constexpr double kEps = std::numeric_limits<double>::epsilon();
+using bemsurg_test::kEps;
 
 TriangleMesh with_faces(const TriangleMesh& mesh, const RowMatrixX3i& faces) { return TriangleMesh(mesh.vertices(), faces); }
 

@@ -38,7 +38,7 @@ OptionParser toy_parser(ToyOptions& o) {
   return parser;
 }
 
-bool parse(OptionParser& parser, std::vector<const char*> args) {
+bool parse_args(OptionParser& parser, std::vector<const char*> args) {
   args.insert(args.begin(), "toy");
   return parser.parse(static_cast<int>(args.size()), args.data());
 }
@@ -48,7 +48,7 @@ bool parse(OptionParser& parser, std::vector<const char*> args) {
 TEST_CASE("the option parser reads values, flags and the argument into the bound variables", "[cli][options]") {
   ToyOptions o;
   OptionParser parser = toy_parser(o);
-  REQUIRE(parse(parser, {"scene.json", "-o", "out", "--gap", "0.5", "--steps", "7", "--sizes", "4,8,16", "-q", "--table=t.bin"}));
+  REQUIRE(parse_args(parser, {"scene.json", "-o", "out", "--gap", "0.5", "--steps", "7", "--sizes", "4,8,16", "-q", "--table=t.bin"}));
   CHECK(o.scene == "scene.json");
   CHECK(o.output == "out");
   CHECK(o.gap == 0.5);
@@ -63,7 +63,7 @@ TEST_CASE("the option parser reads values, flags and the argument into the bound
   // start with a dash, "--name=value" is "--name value", "+2" is 2.
   ToyOptions d;
   OptionParser again = toy_parser(d);
-  REQUIRE(parse(again, {"--output=a", "--output", "-dir", "s.json", "--steps", "+2", "--steps", "5"}));
+  REQUIRE(parse_args(again, {"--output=a", "--output", "-dir", "s.json", "--steps", "+2", "--steps", "5"}));
   CHECK(d.output == "-dir");
   CHECK(d.steps == 5);
   CHECK(d.gap == 0.1);
@@ -75,23 +75,23 @@ TEST_CASE("the option parser reads values, flags and the argument into the bound
 TEST_CASE("the option parser refuses an unknown option and lists the known ones", "[cli][options]") {
   ToyOptions o;
   OptionParser parser = toy_parser(o);
-  CHECK_THROWS_AS(parse(parser, {"s.json", "-o", "out", "--fast"}), UsageError);
-  CHECK_THROWS_WITH(parse(parser, {"s.json", "-o", "out", "--fast"}),
+  CHECK_THROWS_AS(parse_args(parser, {"s.json", "-o", "out", "--fast"}), UsageError);
+  CHECK_THROWS_WITH(parse_args(parser, {"s.json", "-o", "out", "--fast"}),
                     "toy: unknown option '--fast' (known: --output, --gap, --steps, --sizes, --table, --quiet, --help)");
-  CHECK_THROWS_WITH(parse(parser, {"s.json", "-x"}), Catch::StartsWith("toy: unknown option '-x'"));
-  CHECK_THROWS_WITH(parse(parser, {"s.json", "--gapp=1"}), Catch::StartsWith("toy: unknown option '--gapp'"));
+  CHECK_THROWS_WITH(parse_args(parser, {"s.json", "-x"}), Catch::StartsWith("toy: unknown option '-x'"));
+  CHECK_THROWS_WITH(parse_args(parser, {"s.json", "--gapp=1"}), Catch::StartsWith("toy: unknown option '--gapp'"));
 }
 
 TEST_CASE("the option parser refuses a missing value, a missing required option and an extra argument", "[cli][options]") {
   ToyOptions o;
   OptionParser parser = toy_parser(o);
-  CHECK_THROWS_WITH(parse(parser, {"s.json", "-o"}), "toy: -o needs a value (-o OUTDIR)");
-  CHECK_THROWS_WITH(parse(parser, {"s.json", "--output="}), "toy: --output needs a value (--output OUTDIR)");
-  CHECK_THROWS_WITH(parse(parser, {"s.json", "-o", "out", "--gap"}), "toy: --gap needs a value (--gap W)");
-  CHECK_THROWS_WITH(parse(parser, {"s.json"}), "toy: missing -o OUTDIR");
-  CHECK_THROWS_WITH(parse(parser, {"-o", "out"}), "toy: missing SCENE.json");
-  CHECK_THROWS_WITH(parse(parser, {"a.json", "b.json", "-o", "out"}), "toy: unexpected argument 'b.json' (one scene file per run)");
-  CHECK_THROWS_WITH(parse(parser, {"s.json", "-o", "out", "--quiet=yes"}), "toy: --quiet takes no value, got '--quiet=yes'");
+  CHECK_THROWS_WITH(parse_args(parser, {"s.json", "-o"}), "toy: -o needs a value (-o OUTDIR)");
+  CHECK_THROWS_WITH(parse_args(parser, {"s.json", "--output="}), "toy: --output needs a value (--output OUTDIR)");
+  CHECK_THROWS_WITH(parse_args(parser, {"s.json", "-o", "out", "--gap"}), "toy: --gap needs a value (--gap W)");
+  CHECK_THROWS_WITH(parse_args(parser, {"s.json"}), "toy: missing -o OUTDIR");
+  CHECK_THROWS_WITH(parse_args(parser, {"-o", "out"}), "toy: missing SCENE.json");
+  CHECK_THROWS_WITH(parse_args(parser, {"a.json", "b.json", "-o", "out"}), "toy: unexpected argument 'b.json' (one scene file per run)");
+  CHECK_THROWS_WITH(parse_args(parser, {"s.json", "-o", "out", "--quiet=yes"}), "toy: --quiet takes no value, got '--quiet=yes'");
 }
 
 TEST_CASE("the option parser refuses a bad number naming the option and the text", "[cli][options]") {
@@ -101,7 +101,7 @@ TEST_CASE("the option parser refuses a bad number naming the option and the text
     std::vector<const char*> args{"s.json", "-o", "out"};
     args.insert(args.end(), extra.begin(), extra.end());
     try {
-      parse(parser, args);
+      parse_args(parser, args);
     } catch (const UsageError& e) { return std::string(e.what()); }
     return std::string("accepted");
   };
@@ -133,14 +133,14 @@ TEST_CASE("the option parser reads custom values and stops at --help", "[cli][op
     height = *h;
   });
   parser.value("--scene", "FILE", scene, "scene");
-  REQUIRE(parse(parser, {"--size", "640x480"}));
+  REQUIRE(parse_args(parser, {"--size", "640x480"}));
   CHECK(width == 640);
   CHECK(height == 480);
-  CHECK_THROWS_WITH(parse(parser, {"--size", "640"}), "viewer: --size: expected WxH, got '640'");
+  CHECK_THROWS_WITH(parse_args(parser, {"--size", "640"}), "viewer: --size: expected WxH, got '640'");
   // --help ends the reading: nothing after it is read or refused.
-  CHECK_FALSE(parse(parser, {"--scene", "a.json", "-h", "--bogus", "--scene", "b.json"}));
+  CHECK_FALSE(parse_args(parser, {"--scene", "a.json", "-h", "--bogus", "--scene", "b.json"}));
   CHECK(scene == "a.json");
-  CHECK_FALSE(parse(parser, {"--help"}));
+  CHECK_FALSE(parse_args(parser, {"--help"}));
 }
 
 TEST_CASE("the option parser's help lists every option with its value, its default or required, and --help", "[cli][options]") {

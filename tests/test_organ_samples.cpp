@@ -20,12 +20,13 @@
 #include "bemsurg/meshing/mesh_io.hpp"
 #include "bemsurg/meshing/organ_shapes.hpp"
 #include "support/temp_dir.hpp"
+#include "support/test_constants.hpp"
 
 using namespace bemsurg;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using bemsurg_test::kPi;
 
 /// The sampled kidney of about 6,000 triangles: a clean marching-cubes surface with its slivers.
 const TriangleMesh& kidney_sample() {

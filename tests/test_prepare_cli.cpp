@@ -31,7 +31,7 @@ namespace {
 using bemsurg_test::read_text;
 using Run = bemsurg_test::CliRun;
 
-Run run(const std::string& args, const bemsurg_test::TempDir& dir) { return bemsurg_test::run_cli(args, dir); }
+Run run_prepare_cli(const std::string& args, const bemsurg_test::TempDir& dir) { return bemsurg_test::run_cli(args, dir); }
 
 const Vec3 kAxes(0.06, 0.045, 0.035);  // metres
 
@@ -45,7 +45,7 @@ TEST_CASE("bemsurg prepare writes a valid OBJ in metres and a report of what it 
   const bemsurg_test::TempDir dir("bemsurg_test_prepare_");
   write_stl(dir.file("in.stl"), flipped_ellipsoid_mm());
   const std::string args = "prepare '" + dir.file("in.stl") + "' --units mm --target-elements 500 --report '" + dir.file("r.json") + "'";
-  Run r = run(args + " -o '" + dir.file("a.obj") + "'", dir);
+  Run r = run_prepare_cli(args + " -o '" + dir.file("a.obj") + "'", dir);
   REQUIRE(r.exit_code == 0);
   CHECK(r.err.empty());
   const TriangleMesh out = read_mesh(dir.file("a.obj"));
@@ -91,7 +91,7 @@ TEST_CASE("bemsurg prepare writes a valid OBJ in metres and a report of what it 
   CHECK(stages <= j["seconds"].get<double>() + j["timings"]["read"].get<double>() + 1e-3);
   CHECK(j["warnings"].empty());
 
-  r = run(args + " --quiet -o '" + dir.file("b.obj") + "'", dir);
+  r = run_prepare_cli(args + " --quiet -o '" + dir.file("b.obj") + "'", dir);
   REQUIRE(r.exit_code == 0);
   CHECK(read_text(dir.file("a.obj")) == read_text(dir.file("b.obj")));
 }
@@ -101,16 +101,16 @@ TEST_CASE("bemsurg prepare names bad options, a missing file and an open sheet",
   const bemsurg_test::TempDir dir("bemsurg_test_prepare_");
   const std::string in = dir.file("in.stl"), out = " -o '" + dir.file("out.obj") + "'";
   write_stl(in, flipped_ellipsoid_mm());
-  Run r = run("prepare '" + in + "' --units inch" + out, dir);
+  Run r = run_prepare_cli("prepare '" + in + "' --units inch" + out, dir);
   CHECK(r.exit_code == 2);
   CHECK_THAT(r.err, Catch::Contains("--units") && Catch::Contains("'inch'") && Catch::Contains("mm, cm or m"));
-  r = run("prepare '" + in + "' --units mm --scale 0.001" + out, dir);
+  r = run_prepare_cli("prepare '" + in + "' --units mm --scale 0.001" + out, dir);
   CHECK(r.exit_code == 2);
   CHECK_THAT(r.err, Catch::Contains("give --units or --scale, not both"));
-  r = run("prepare '" + in + "' --target-elements 500 --edge-length 0.01" + out, dir);
+  r = run_prepare_cli("prepare '" + in + "' --target-elements 500 --edge-length 0.01" + out, dir);
   CHECK(r.exit_code == 2);
   CHECK_THAT(r.err, Catch::Contains("--target-elements") && Catch::Contains("--edge-length"));
-  r = run("prepare '" + dir.file("missing.stl") + "'" + out, dir);
+  r = run_prepare_cli("prepare '" + dir.file("missing.stl") + "'" + out, dir);
   CHECK(r.exit_code == 1);
   CHECK_THAT(r.err, Catch::Contains("cannot read '" + dir.file("missing.stl") + "'"));
 
@@ -121,7 +121,7 @@ TEST_CASE("bemsurg prepare names bad options, a missing file and an open sheet",
   for (Index f = 0; f < e.num_elements(); ++f)
     if (e.centroid(f).z() > 0.0) upper.row(n++) = e.faces().row(f);
   write_stl(dir.file("sheet.stl"), TriangleMesh(e.vertices(), upper.topRows(n)));
-  r = run("prepare '" + dir.file("sheet.stl") + "' --units mm" + out, dir);
+  r = run_prepare_cli("prepare '" + dir.file("sheet.stl") + "' --units mm" + out, dir);
   CHECK(r.exit_code == 1);
   CHECK_THAT(r.err, Catch::Contains("sheet.stl") && Catch::Contains("the surface is open") && Catch::Contains("more than the limit of") &&
                         Catch::Contains("--max-hole"));

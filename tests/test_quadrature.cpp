@@ -6,11 +6,12 @@
 #include "bemsurg/assembly/influence_assembler.hpp"
 #include "bemsurg/quadrature/element_quadrature.hpp"
 #include "bemsurg/quadrature/triangle_rules.hpp"
+#include "support/test_constants.hpp"
 
 using namespace bemsurg;
 
 namespace {
-constexpr double kEps = std::numeric_limits<double>::epsilon();
+using bemsurg_test::kEps;
 
 // int over the reference triangle of xi^a eta^b = a! b! / (a + b + 2)!
 double monomial_integral(int a, int b) { return std::tgamma(a + 1.0) * std::tgamma(b + 1.0) / std::tgamma(a + b + 3.0); }

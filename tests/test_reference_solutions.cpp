@@ -91,14 +91,14 @@ auto box_integral(const Vec& lo, const Vec& hi, int n, G&& g) {
   return sum;
 }
 
-const Material kMaterial{2.5, 0.3, 1.0};
+const Material kReferenceMaterial{2.5, 0.3, 1.0};
 const Vec kSource(0.3, 0.2, 1.4), kForce(0.4, -0.3, 1.0);
 
 }  // namespace
 
 TEST_CASE("Kelvin reference: displacement is the closed form, stress is Hooke of its gradient") {
-  const ElasticField field = kelvin_field(kMaterial, kSource, kForce);
-  const double E = kMaterial.young_modulus, nu = kMaterial.poisson_ratio, mu = E / (2.0 * (1.0 + nu));
+  const ElasticField field = kelvin_field(kReferenceMaterial, kSource, kForce);
+  const double E = kReferenceMaterial.young_modulus, nu = kReferenceMaterial.poisson_ratio, mu = E / (2.0 * (1.0 + nu));
   // Points at distances 0.3 to 2.6 from the source, in several directions.
   const Vec points[] = {Vec(0, 0, 0), Vec(0.5, -0.2, 0.1), Vec(0.3, 0.2, 1.1), Vec(-1.0, 0.6, 1.5), Vec(0.9, 0.9, 2.0)};
   double worst_u = 0.0, worst_stress = 0.0;
@@ -123,7 +123,7 @@ TEST_CASE("Kelvin reference: displacement is the closed form, stress is Hooke of
 }
 
 TEST_CASE("Kelvin reference: equilibrium, div sigma = 0 away from the source") {
-  const ElasticField field = kelvin_field(kMaterial, kSource, kForce);
+  const ElasticField field = kelvin_field(kReferenceMaterial, kSource, kForce);
   const Vec points[] = {Vec(0, 0, 0), Vec(0.5, -0.2, 0.1), Vec(0.3, 0.2, 1.1), Vec(-1.0, 0.6, 1.5), Vec(0.9, 0.9, 2.0)};
   double worst = 0.0;
   for (const Vec& x : points) {
@@ -139,7 +139,7 @@ TEST_CASE("Kelvin reference: equilibrium, div sigma = 0 away from the source") {
 }
 
 TEST_CASE("Kelvin reference: the traction over a closed surface around the source balances the force") {
-  const ElasticField field = kelvin_field(kMaterial, kSource, kForce);
+  const ElasticField field = kelvin_field(kReferenceMaterial, kSource, kForce);
   auto traction = [&](const Vec& x, const Vec& n) { return Vec(field.stress(x) * n); };
   auto moment = [&](const Vec& x, const Vec& n) { return Vec((x - kSource).cross(field.stress(x) * n)); };
   // Sphere about the source: the integrand is a cubic in n over R^2, integrated exactly.
@@ -165,7 +165,7 @@ TEST_CASE("Kelvin reference: the traction over a closed surface around the sourc
 }
 
 TEST_CASE("Lame, uniform pressure and hanging bar references: Hooke of the gradient and equilibrium") {
-  const Material m = kMaterial;
+  const Material m = kReferenceMaterial;
   const double g = 1.3;
   struct Case {
     const char* what;

@@ -18,6 +18,7 @@
 #include "bemsurg/meshing/mesh_preparation.hpp"
 #include "support/skip.hpp"
 #include "support/temp_dir.hpp"
+#include "support/test_constants.hpp"
 
 using namespace bemsurg;
 namespace fs = std::filesystem;
@@ -53,7 +54,7 @@ std::string scene(const std::string& mesh, const std::string& material, const st
 
 std::set<Index> as_set(const std::vector<Index>& v) { return {v.begin(), v.end()}; }
 
-constexpr double kEps = std::numeric_limits<double>::epsilon();
+using bemsurg_test::kEps;
 
 /// Elements whose normal is +-axis `c` with the given sign (the faces of an axis-aligned box).
 std::set<Index> face_elements(const TriangleMesh& mesh, int c, double sign) {

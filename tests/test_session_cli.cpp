@@ -17,7 +17,7 @@
 namespace fs = std::filesystem;
 
 namespace {
-int run(const std::string& args, std::string* err = nullptr, const fs::path& errfile = {}) {
+int run_session_cli(const std::string& args, std::string* err = nullptr, const fs::path& errfile = {}) {
   const std::string cmd =
       std::string(BEMSURG_CLI_PATH) + " " + args + " > /dev/null 2> " + (errfile.empty() ? std::string("/dev/null") : errfile.string());
   const int status = std::system(cmd.c_str());
@@ -49,7 +49,8 @@ TEST_CASE("bemsurg session writes the force trace and report.json with the loop 
   const std::string scene = temp.write("scene.json", kScene), script = temp.write("actions.json", kScript);
   const std::string out = temp.file("out");
   std::string err;
-  REQUIRE(run("session " + scene + " --script " + script + " -o " + out + " --virtual-clock", &err, temp.path / "err.txt") == 0);
+  REQUIRE(run_session_cli("session " + scene + " --script " + script + " -o " + out + " --virtual-clock", &err, temp.path / "err.txt") ==
+          0);
   std::ifstream fj(fs::path(out) / "report.json");
   const nlohmann::json j = nlohmann::json::parse(fj);
   for (const char* key : {"rate_hz", "overruns", "max_force_jump_fraction"}) CHECK(j.contains(key));
@@ -89,7 +90,7 @@ TEST_CASE("bemsurg session writes the force trace and report.json with the loop 
 TEST_CASE("bemsurg session runs in real time on the haptic thread", "[haptics][cli]") {
   const bemsurg_test::TempDir temp("bemsurg_test_session_rt_");
   const std::string scene = temp.write("scene.json", kScene), script = temp.write("actions.json", kScript);
-  REQUIRE(run("session " + scene + " --script " + script + " -o " + temp.file("out") + " -q") == 0);
+  REQUIRE(run_session_cli("session " + scene + " --script " + script + " -o " + temp.file("out") + " -q") == 0);
   std::ifstream fj(temp.path / "out" / "report.json");
   const nlohmann::json j = nlohmann::json::parse(fj);
   CHECK(j.at("clock") == "realtime");
@@ -107,7 +108,8 @@ TEST_CASE("bemsurg session cuts through the cutting module and writes each cut s
       text.rfind(']'), 1,
       ", {\"time\": 0.2, \"tool\": \"scalpel\", \"type\": \"cut\", \"from\": [0.035, 0.05, 0.05], \"direction\": [1, 0, 0], \"steps\": 2}]");
   const std::string cut = temp.write("cut.json", text);
-  REQUIRE(run("session " + scene + " --script " + cut + " --virtual-clock -o " + temp.file("o1"), &err, temp.path / "e1.txt") == 0);
+  REQUIRE(run_session_cli("session " + scene + " --script " + cut + " --virtual-clock -o " + temp.file("o1"), &err, temp.path / "e1.txt") ==
+          0);
   std::ifstream fj(temp.path / "o1" / "report.json");
   const nlohmann::json j = nlohmann::json::parse(fj);
   CHECK(j.at("cuts").get<long>() == 2);
@@ -126,11 +128,11 @@ TEST_CASE("bemsurg session cuts through the cutting module and writes each cut s
   // With a table cache that exists: a table read from a file keeps no factorisation for the cut
   // updates, so a cutting session computes it (and says so) instead of failing at the first cut.
   const std::string table = temp.file("table.bin");
-  REQUIRE(run("press " + scene + " --at 0.05,0.05,0.08 --direction 0,0,-1 --depth 0.001 --tool point -q --table " + table + " -o " +
-                  temp.file("p"),
-              &err, temp.path / "e2.txt") == 0);
-  REQUIRE(run("session " + scene + " --script " + cut + " --virtual-clock --table " + table + " -o " + temp.file("o2"), &err,
-              temp.path / "e3.txt") == 0);
+  REQUIRE(run_session_cli("press " + scene + " --at 0.05,0.05,0.08 --direction 0,0,-1 --depth 0.001 --tool point -q --table " + table +
+                              " -o " + temp.file("p"),
+                          &err, temp.path / "e2.txt") == 0);
+  REQUIRE(run_session_cli("session " + scene + " --script " + cut + " --virtual-clock --table " + table + " -o " + temp.file("o2"), &err,
+                          temp.path / "e3.txt") == 0);
   CHECK(err.find("cuts will update the table, so the table is computed rather than read from") != std::string::npos);
 }
 
@@ -144,22 +146,23 @@ TEST_CASE("bemsurg session computes its table on the scene's operating region an
   std::string err;
   // The grasper pinches at (0.08, 0.08): inside the whole top, outside the part (the punch, 0.02
   // around (0.05, 0.05), stays inside it): refused, naming the action.
-  CHECK(run("session " + temp.write("part.json", part_top) + " --script " + script + " -o " + temp.file("o1") + " --virtual-clock", &err,
+  CHECK(run_session_cli(
+            "session " + temp.write("part.json", part_top) + " --script " + script + " -o " + temp.file("o1") + " --virtual-clock", &err,
             temp.path / "e1.txt") == 1);
   CHECK(err.find("the pinch of tool 'grasper'") != std::string::npos);
   CHECK(err.find("outside the table's region") != std::string::npos);
   // A table file saved for every free element is stale for the whole top: recomputed with a
   // warning that names the reason, and saved again; the next run loads it silently.
-  REQUIRE(run("session " + temp.write("plain.json", kScene) + " --script " + script + " -o " + temp.file("o2") +
-                  " --virtual-clock --table " + table,
-              &err, temp.path / "e2.txt") == 0);
+  REQUIRE(run_session_cli("session " + temp.write("plain.json", kScene) + " --script " + script + " -o " + temp.file("o2") +
+                              " --virtual-clock --table " + table,
+                          &err, temp.path / "e2.txt") == 0);
   const std::string top_scene = temp.write("top.json", whole_top);
-  REQUIRE(run("session " + top_scene + " --script " + script + " -o " + temp.file("o3") + " --virtual-clock --table " + table, &err,
-              temp.path / "e3.txt") == 0);
+  REQUIRE(run_session_cli("session " + top_scene + " --script " + script + " -o " + temp.file("o3") + " --virtual-clock --table " + table,
+                          &err, temp.path / "e3.txt") == 0);
   CHECK(err.find("different table region") != std::string::npos);
   CHECK(err.find("recomputing") != std::string::npos);
-  REQUIRE(run("session " + top_scene + " --script " + script + " -o " + temp.file("o4") + " --virtual-clock --table " + table, &err,
-              temp.path / "e4.txt") == 0);
+  REQUIRE(run_session_cli("session " + top_scene + " --script " + script + " -o " + temp.file("o4") + " --virtual-clock --table " + table,
+                          &err, temp.path / "e4.txt") == 0);
   CHECK(err.find("recomputing") == std::string::npos);
   // The same forces as with the table computed in the run (the file holds the same columns).
   std::ifstream a(fs::path(temp.file("o3")) / "force_trace.csv"), b(fs::path(temp.file("o4")) / "force_trace.csv");
@@ -181,16 +184,16 @@ TEST_CASE("bemsurg session checks each press depth against the small-strain rang
     return temp.write("actions_" + depth + ".json", script);
   };
   std::string err;
-  CHECK(run("session " + scene + " --script " + with_depth("0.02") + " -o " + temp.file("o1") + " --virtual-clock", &err,
-            temp.path / "e1.txt") == 1);
+  CHECK(run_session_cli("session " + scene + " --script " + with_depth("0.02") + " -o " + temp.file("o1") + " --virtual-clock", &err,
+                        temp.path / "e1.txt") == 1);
   CHECK(err.find("the press of tool 'punch'") != std::string::npos);
   CHECK(err.find("% of the body's extent along the push") != std::string::npos);
-  REQUIRE(run("session " + scene + " --script " + with_depth("0.003") + " -o " + temp.file("o2") + " --virtual-clock", &err,
-              temp.path / "e2.txt") == 0);
+  REQUIRE(run_session_cli("session " + scene + " --script " + with_depth("0.003") + " -o " + temp.file("o2") + " --virtual-clock", &err,
+                          temp.path / "e2.txt") == 0);
   CHECK(err.find("warning: session:") != std::string::npos);
   CHECK(err.find("the press of tool 'punch'") != std::string::npos);
-  REQUIRE(run("session " + scene + " --script " + with_depth("0.001") + " -o " + temp.file("o3") + " --virtual-clock", &err,
-              temp.path / "e3.txt") == 0);
+  REQUIRE(run_session_cli("session " + scene + " --script " + with_depth("0.001") + " -o " + temp.file("o3") + " --virtual-clock", &err,
+                          temp.path / "e3.txt") == 0);
   CHECK(err.find("the tool pushes") == std::string::npos);  // inside the range: no warning
 }
 
@@ -201,9 +204,9 @@ TEST_CASE("bemsurg session refuses bad scripts, naming the fault", "[haptics][cl
   std::string bad = kScript;
   bad.replace(bad.find("\"depth\": 0.001"), 14, "\"depth\": \"deep\"");
   const std::string badf = temp.write("bad.json", bad);
-  CHECK(run("session " + scene + " --script " + badf + " -o " + temp.file("o2"), &err, temp.path / "e2.txt") == 1);
+  CHECK(run_session_cli("session " + scene + " --script " + badf + " -o " + temp.file("o2"), &err, temp.path / "e2.txt") == 1);
   CHECK(err.find("actions[0].depth: expected a number, got a string") != std::string::npos);
-  CHECK(run("session " + scene + " -o " + temp.file("o3"), &err, temp.path / "e3.txt") == 2);
+  CHECK(run_session_cli("session " + scene + " -o " + temp.file("o3"), &err, temp.path / "e3.txt") == 2);
   CHECK(err.find("missing --script") != std::string::npos);
-  CHECK(run("session " + scene + " --script " + badf + " --bogus", &err, temp.path / "e4.txt") == 2);
+  CHECK(run_session_cli("session " + scene + " --script " + badf + " --bogus", &err, temp.path / "e4.txt") == 2);
 }
