@@ -8,7 +8,7 @@
 #   scripts/run-sanitized-tests.sh [address]   AddressSanitizer + UndefinedBehaviorSanitizer over
 #       the suite, with assertions on (no NDEBUG: bemsurg's and Eigen's own checks, as a user's
 #       Debug build has them), less two things the Release run covers: mesh preparation's CGAL file
-#       (built without CGAL, the prepare cases skip) and 10 slow studies (listed below).
+#       (built without CGAL, the prepare cases skip) and 11 slow studies (listed below).
 #   scripts/run-sanitized-tests.sh thread      ThreadSanitizer over the tests that start threads:
 #       the haptic loop, the UDP bridge and the force limiter (all of test_haptics), the background
 #       refactorisation swapped in under a cut (test_cutting), the session command with its
@@ -53,6 +53,7 @@ if [ "$mode" = address ]; then
   heavy+='|test_bem:linear elements, hanging bar|test_kernels:fast assembly equals the reference on a hollow sphere'
   heavy+='|test_mesh:In the operating region a graded brain answers'
   heavy+='|test_kernels:fast assembly equals the reference on a graded box|test_bem:ruinous quadrature options are refused'
+  heavy+='|test_cli:linear elements fed at their nodes'
   ctest --output-on-failure -j"${JOBS:-2}" --timeout 900 -E "$heavy"
 else
   cmake --build "$BUILD_DIR" -j"${JOBS:-2}" --target test_haptics test_cutting test_cli test_viewer_core bemsurg_cli

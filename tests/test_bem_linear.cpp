@@ -246,8 +246,25 @@ TEST_CASE(
   CHECK_THAT(error(corner_header + "3,3,u,u,u,0,0,0\n"),
              Catch::Contains("boundary_conditions.file line 2: corner: expected a corner 0, 1 or 2"));
   CHECK_THAT(error("element,corner,kind_x\n"),
-             Catch::Contains("expected the header 'element,kind_x,kind_y,kind_z,value_x,value_y,value_z' or "
-                             "'element,corner,kind_x,kind_y,kind_z,value_x,value_y,value_z'"));
+             Catch::Contains("expected the header 'element,kind_x,kind_y,kind_z,value_x,value_y,value_z', "
+                             "'element,corner,kind_x,kind_y,kind_z,value_x,value_y,value_z' or "
+                             "'element,node,kind_x,kind_y,kind_z,value_x,value_y,value_z'"));
+  // The node variant (issue 37): the values at the linear elements' collocation nodes as given, their
+  // mean (the centroid's) for constant elements; its rows named by node.
+  const std::string node_header = "element,node,kind_x,kind_y,kind_z,value_x,value_y,value_z\n";
+  dir.write("bc.csv", node_header + "3,0,u,t,u,1,0,0\n3,1,u,t,u,2,0,0\n3,2,u,t,u,6,0,0\n");
+  const Scene fed = load_scene_from_string(head + R"(, "elements": "linear"})", dir.path.string(), "s.json");
+  CHECK(fed.problem.node_values(9, 0) == 1.0);
+  CHECK(fed.problem.node_values(10, 0) == 2.0);
+  CHECK(fed.problem.node_values(11, 0) == 6.0);
+  CHECK(fed.problem.boundary_conditions.kind(3 * 3 + 1) == BcKind::Traction);
+  CHECK(fed.problem.node_values(0, 0) == 0.0);
+  CHECK(load_scene_from_string(head + "}", dir.path.string(), "s.json").problem.boundary_conditions.value(9) == Approx(3.0));
+  CHECK_THAT(error(node_header + "3,0,u,u,u,0,0,0\n3,2,u,u,u,0,0,0\n"),
+             Catch::Contains("boundary_conditions.file line 3: element 3 lacks node 1: the node variant needs every listed element at all "
+                             "three nodes"));
+  CHECK_THAT(error(node_header + "3,3,u,u,u,0,0,0\n"),
+             Catch::Contains("boundary_conditions.file line 2: node: expected a node 0, 1 or 2 (the nodes of docs/elements.md)"));
   dir.write("bc.csv", corner_header);
   CHECK_THAT(
       [&] {

@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "bemsurg/elastostatics/elastostatic_solver.hpp"
@@ -41,27 +42,8 @@ using Run = bemsurg_test::CliRun;
 /// Runs the built program with `args` (already quoted), capturing stdout and stderr.
 Run run_cli(const std::string& args, const TempDir& dir) { return bemsurg_test::run_cli(args, dir); }
 
-/// A CSV as its header line and rows of numbers.
-struct Table {
-  std::string header;
-  std::vector<std::vector<double>> rows;
-};
-
-Table read_table(const std::string& path) {
-  std::ifstream in(path);
-  Table t;
-  std::getline(in, t.header);
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.empty()) continue;
-    std::vector<double> row;
-    std::stringstream fields(line);
-    std::string f;
-    while (std::getline(fields, f, ',')) row.push_back(std::stod(f));
-    t.rows.push_back(row);
-  }
-  return t;
-}
+using bemsurg_test::read_table;
+using Table = bemsurg_test::CsvTable;
 
 constexpr double kE = 3000.0, kNu = 0.3, kP = 100.0;
 using bemsurg_test::kEps;
@@ -197,6 +179,64 @@ TEST_CASE("solve: a cube under uniform pressure matches sigma = -p I, u = -p (1 
   CHECK(std::log2(coarse.support_traction / fine.support_traction) > 0.4);
   CHECK(std::log2(coarse.interior_displacement / fine.interior_displacement) > 1.78);
   CHECK(std::log2(coarse.interior_stress / fine.interior_stress) > 1.47);
+}
+
+TEST_CASE("slivers are warned about once by solve and by press, before their work", "[cli][errors]") {
+  // A 1 x 1 x 0.0105 slab in 2 x 2 x 1 divisions: its 16 side faces have aspect ratio 41.3, above
+  // kSliverWarningAspectRatio (40): the scene warns at load, and solve's own check does not repeat it.
+  TempDir dir;
+  const std::string scene = dir.write("slab.json", R"({
+    "mesh": {"generator": "box", "min": [0, 0, 0], "max": [1, 1, 0.0105], "divisions": [2, 2, 1]},
+    "material": {"young_modulus": 3000, "poisson_ratio": 0.45, "density": 0},
+    "boundary_conditions": {"rules": [{"select": {"plane": {"point": [0, 0, 0], "normal": [0, 0, 1]}}, "displacement": [0, 0, 0]}]}})");
+  const auto count = [](const std::string& text, const std::string& what) {
+    std::size_t n = 0;
+    for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+    return n;
+  };
+  const Run solve = run_cli("solve '" + scene + "' -o '" + dir.file("solve") + "' -q", dir);
+  INFO(solve.err);
+  REQUIRE(solve.exit_code == 0);
+  CHECK(count(solve.err, "has aspect ratio 41.3") == 1);
+  const auto report = nlohmann::json::parse(read_text(dir.file("solve/report.json")));
+  std::size_t in_report = 0;
+  for (const auto& w : report.at("warnings")) in_report += count(w.get<std::string>(), "has aspect ratio 41.3");
+  CHECK(in_report == 1);
+  const Run press = run_cli(
+      "press '" + scene + "' --tool point --at 0.25,0.25,0.0105 --direction 0,0,-1 --depth 0.0001 -o '" + dir.file("press") + "'", dir);
+  INFO(press.err);
+  REQUIRE(press.exit_code == 0);
+  CHECK(count(press.err, "has aspect ratio 41.3") == 1);
+}
+
+TEST_CASE("README's demo runs its command-line part without a warning", "[cli]") {
+  // The `"$BEMSURG" ...` commands of scripts/run-demo.sh (continuation lines joined), on the source
+  // tree's examples/ with out/demo/ redirected here: a newcomer's first run prints no warning (issue 37).
+  TempDir dir;
+  const fs::path root = fs::path(__FILE__).parent_path().parent_path();
+  std::ifstream script(root / "scripts" / "run-demo.sh");
+  REQUIRE(script);
+  std::vector<std::string> commands;
+  std::string line, command;
+  while (std::getline(script, line)) {
+    if (command.empty() && line.rfind("\"$BEMSURG\" ", 0) != 0) continue;
+    const bool continued = !line.empty() && line.back() == '\\';
+    command += continued ? line.substr(0, line.size() - 1) : line;
+    if (!continued) commands.push_back(std::exchange(command, std::string()));
+  }
+  REQUIRE(commands.size() == 2);  // solve, press
+  for (std::string c : commands) {
+    c = c.substr(std::string("\"$BEMSURG\" ").size());
+    const auto replace_all = [&c](const std::string& from, const std::string& to) {
+      for (std::size_t at = c.find(from); at != std::string::npos; at = c.find(from, at + to.size())) c.replace(at, from.size(), to);
+    };
+    replace_all("out/demo", dir.file("demo"));
+    replace_all("examples/", (root / "examples").string() + "/");
+    const Run r = run_cli(c, dir);
+    INFO(c << "\n" << r.err);
+    CHECK(r.exit_code == 0);
+    CHECK(r.err.find("warning") == std::string::npos);
+  }
 }
 
 TEST_CASE("solve writes surface.vtk and a complete report.json", "[cli]") {

@@ -118,7 +118,7 @@ TEST_CASE("a scene and its CSV files read the same numbers in a comma-decimal lo
     "boundary_conditions": {
       "rules": [{"select": {"plane": {"point": [0, 0, 0], "normal": [0, 0, 1]}}, "displacement": [0, 0, 0.0125]}],
       "file": "conditions.csv"},
-    "interior_points": {"file": "points.csv", "points": [[0.75, 0.5, 0.125]]}
+    "interior_points": {"file": "points.csv", "points": [[0.75, 0.5, 0.375]]}
   })");
   const CommaDecimalLocale locale;
   require_comma_decimal();
@@ -143,7 +143,7 @@ TEST_CASE("a scene and its CSV files read the same numbers in a comma-decimal lo
   CHECK(rule_value_seen);
   REQUIRE(s.interior_points.rows() == 2);
   CHECK(s.interior_points(0, 0) == 0.75);  // inline points come before the file's
-  CHECK(s.interior_points(0, 2) == 0.125);
+  CHECK(s.interior_points(0, 2) == 0.375);
   CHECK(s.interior_points(1, 0) == 0.5);
   CHECK(s.interior_points(1, 1) == 0.25);
   CHECK(s.interior_points(1, 2) == 0.75);

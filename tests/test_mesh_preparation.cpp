@@ -19,6 +19,7 @@
 #include "bemsurg/error.hpp"
 #include "bemsurg/mesh/geometry.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
+#include "bemsurg/mesh/mesh_quality.hpp"
 #include "bemsurg/mesh/mesh_topology.hpp"
 #include "bemsurg/mesh/mesh_validation.hpp"
 #include "bemsurg/mesh/self_intersection.hpp"
@@ -102,10 +103,16 @@ PreparedMesh prepare_checked(const TriangleMesh& input, const MeshPreparationOpt
 
 /// The counts of a defect kind that is not injected are zero; `except` names the ones that are.
 void check_only(const MeshDefectCounts& d, std::initializer_list<Index MeshDefectCounts::*> except) {
-  const std::initializer_list<Index MeshDefectCounts::*> all = {
-      &MeshDefectCounts::duplicate_vertices, &MeshDefectCounts::degenerate_faces,      &MeshDefectCounts::duplicate_faces,
-      &MeshDefectCounts::flipped_faces,      &MeshDefectCounts::boundary_edges,        &MeshDefectCounts::holes,
-      &MeshDefectCounts::non_manifold_edges, &MeshDefectCounts::non_manifold_vertices, &MeshDefectCounts::self_intersections};
+  const std::initializer_list<Index MeshDefectCounts::*> all = {&MeshDefectCounts::duplicate_vertices,
+                                                                &MeshDefectCounts::degenerate_faces,
+                                                                &MeshDefectCounts::slivers,
+                                                                &MeshDefectCounts::duplicate_faces,
+                                                                &MeshDefectCounts::flipped_faces,
+                                                                &MeshDefectCounts::boundary_edges,
+                                                                &MeshDefectCounts::holes,
+                                                                &MeshDefectCounts::non_manifold_edges,
+                                                                &MeshDefectCounts::non_manifold_vertices,
+                                                                &MeshDefectCounts::self_intersections};
   for (const auto member : all)
     if (std::find(except.begin(), except.end(), member) == except.end()) CHECK(d.*member == 0);
 }
@@ -309,6 +316,41 @@ TEST_CASE("prepare_mesh drops collinear zero-area faces and reports nothing else
   CHECK(p.report.defects.degenerate_faces == 6);
   CHECK_FALSE(p.report.rebuilt);  // nothing crosses: no reason to wrap
   CHECK(p.mesh.enclosed_volume() == Approx(ellipsoid_volume()).epsilon(0.02));
+}
+
+TEST_CASE("prepare_mesh remeshes slivers above the solver's aspect-ratio limit away, to a target and by default", "[prepare]") {
+  skip_without_preparation();
+  // add_slivers splits faces at a point near an edge's midpoint (mesh_defects.hpp): the surface
+  // stays closed, manifold and oriented with its volume, and each sliver of aspect ratio 3e4 is a
+  // DegenerateFace error (above kMaxAspectRatio = 1e4) and nothing else. A segmentation's
+  // decimated surface has such faces; prepare must remesh them away, never refuse them (issue 37).
+  const TriangleMesh coarse = ellipsoid_mesh(kCenter, kAxes, 3);  // 1,280 faces: fewer than the default target
+  const TriangleMesh input = add_slivers(coarse, 8, 3e4, 13);
+  const MeshValidationResult v = validate_mesh(input);
+  REQUIRE(v.count(MeshIssueKind::DegenerateFace) == 8);
+  REQUIRE(v.num_errors() == 8);
+  CHECK(input.num_elements() == coarse.num_elements() + 16);
+  CHECK(worst_aspect_ratio(input).ratio == Approx(3e4).epsilon(1e-9));
+  CHECK(input.enclosed_volume() == Approx(coarse.enclosed_volume()).epsilon(1e-12));
+  SECTION("to a target: remeshed to it, the slivers counted") {
+    const PreparedMesh p = prepare_checked(input, options());
+    check_only(p.report.defects, {&MeshDefectCounts::slivers});
+    CHECK(p.report.defects.slivers == 8);
+    CHECK(p.report.remesh == "uniform");
+    CHECK(worst_aspect_ratio(p.mesh).ratio < kSliverWarningAspectRatio);
+    CHECK(p.mesh.enclosed_volume() == Approx(ellipsoid_volume()).epsilon(0.03));
+  }
+  SECTION("by default: not kept as repaired, remeshed to its own face count") {
+    MeshPreparationOptions o = options();
+    o.target_elements = 0;
+    const PreparedMesh p = prepare_checked(input, o);
+    CHECK(p.report.defects.slivers == 8);
+    CHECK(p.report.remesh == "uniform");
+    CHECK(p.report.target_elements == input.num_elements());
+    CHECK(std::abs(double(p.mesh.num_elements()) / double(input.num_elements()) - 1.0) < 0.15);
+    CHECK(worst_aspect_ratio(p.mesh).ratio < kSliverWarningAspectRatio);
+    CHECK(p.mesh.enclosed_volume() == Approx(ellipsoid_volume()).epsilon(0.03));
+  }
 }
 
 TEST_CASE("prepare_mesh refuses a hole longer than the limit and an open sheet, naming the limit", "[prepare]") {

@@ -105,6 +105,7 @@ double traction_error(const TriangleMesh& mesh) {
 
 TEST_CASE("sliver triangles: warned about above kSliverWarningAspectRatio, refused above kMaxAspectRatio", "[stability][sliver]") {
   using bench::stability::needle_box;
+  REQUIRE(kSliverWarningAspectRatio == 40.0);  // issue 37: where study (c) measured the error doubling
   // The measure: 1 for an equilateral triangle; a right triangle of legs 1 and eps: (sqrt(3)/2)(1 + eps^2)/eps.
   CHECK(aspect_ratio(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0.5, std::sqrt(0.75), 0)) == Approx(1.0).epsilon(1e-14));
   CHECK(aspect_ratio(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1e-3, 0)) == Approx(0.5 * std::sqrt(3.0) * (1 + 1e-6) / 1e-3).epsilon(1e-12));
@@ -115,18 +116,19 @@ TEST_CASE("sliver triangles: warned about above kSliverWarningAspectRatio, refus
   CHECK(worst_aspect_ratio(above).ratio == Approx(1.05 * kSliverWarningAspectRatio).epsilon(1e-9));
   CHECK(sliver_warning(below).empty());
   const std::string w = sliver_warning(above);
-  CHECK_THAT(w, Catch::Contains("element " + std::to_string(worst_aspect_ratio(above).element) + " has aspect ratio 105") &&
-                    Catch::Contains("above 100") && Catch::Contains("16 elements"));
+  CHECK_THAT(w, Catch::Contains("element " + std::to_string(worst_aspect_ratio(above).element) + " has aspect ratio 42") &&
+                    Catch::Contains("above 40") && Catch::Contains("16 elements"));
 
-  // Why: the traction error of the Kelvin box (0.162 with the widest slab, measured) has more than
-  // doubled there (measured 0.456 at 105) while at 20, the cutter's walls, it is 0.251 (1.55x;
-  // bound 1.7x).
+  // Why: the traction error of the Kelvin box (0.162 with the widest slab, measured) has nearly
+  // doubled there (measured 0.316 at 42, 1.95x; 0.456 at 105) while at 20, the cutter's walls, it
+  // is 0.251 (1.55x; bound 1.7x).
   const double base = traction_error(needle_box(1, 0.25));
   const double at_20 = traction_error(needle_box(1, needle_eps(20.0)));
   const double at_warning = traction_error(above);
   INFO("traction error: " << base << " without slivers, " << at_20 << " at 20, " << at_warning << " above the warning");
   CHECK(at_20 < 1.7 * base);
-  CHECK(at_warning > 2.0 * base);
+  CHECK(at_warning > 1.8 * base);
+  CHECK(at_warning > 1.2 * at_20);
 
   // Both sides of the refusal: 0.9 and 1.1 x kMaxAspectRatio.
   CHECK_NOTHROW(require_valid_mesh(needle_box(1, needle_eps(0.9 * kMaxAspectRatio))));

@@ -112,17 +112,12 @@ nlohmann::json report_json(const bemsurg::MeshPreparationReport& r, const Prepar
                 {"vertices", r.input_vertices},
                 {"scale", r.scale},
                 {"size", {r.input_size(0), r.input_size(1), r.input_size(2)}}};
-  j["defects"] = {{"duplicate_vertices", d.duplicate_vertices},
-                  {"unreferenced_vertices", d.unreferenced_vertices},
-                  {"degenerate_faces", d.degenerate_faces},
-                  {"duplicate_faces", d.duplicate_faces},
-                  {"flipped_faces", d.flipped_faces},
-                  {"boundary_edges", d.boundary_edges},
-                  {"holes", d.holes},
-                  {"non_manifold_edges", d.non_manifold_edges},
-                  {"non_manifold_vertices", d.non_manifold_vertices},
-                  {"self_intersections", d.self_intersections},
-                  {"shells", d.shells}};
+  j["defects"] = {{"duplicate_vertices", d.duplicate_vertices}, {"unreferenced_vertices", d.unreferenced_vertices},
+                  {"degenerate_faces", d.degenerate_faces},     {"slivers", d.slivers},
+                  {"duplicate_faces", d.duplicate_faces},       {"flipped_faces", d.flipped_faces},
+                  {"boundary_edges", d.boundary_edges},         {"holes", d.holes},
+                  {"non_manifold_edges", d.non_manifold_edges}, {"non_manifold_vertices", d.non_manifold_vertices},
+                  {"self_intersections", d.self_intersections}, {"shells", d.shells}};
   j["repairs"] = {{"vertices_merged", d.duplicate_vertices},
                   {"faces_dropped", d.degenerate_faces + d.duplicate_faces},
                   {"faces_flipped", d.flipped_faces},

@@ -1,11 +1,13 @@
 // `bemsurg solve SCENE.json -o OUTDIR`: load a scene, solve the elastostatic boundary value
 // problem (Wang et al. 2007 eq. 6; docs/design.md §5), evaluate interior points (eqs. 7-9) and write
 // elements.csv, interior.csv, surface.vtk, solved_mesh.obj and report.json (docs/cli.md, docs/scene-format.md).
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
 #include <string>
+#include <vector>
 
 #include "bemsurg/elastostatics/elastostatic_solver.hpp"
 #include "bemsurg/io/results_io.hpp"
@@ -24,6 +26,8 @@ constexpr const char* kSolveUsage =
     "  elements.csv   element,cx,cy,cz,nx,ny,nz,area,ux,uy,uz,tx,ty,tz (every element)\n"
     "  interior.csv   x,y,z,ux,uy,uz,sxx,syy,szz,sxy,syz,sxz (when the scene has interior_points)\n"
     "  corners.csv    element,corner,x,y,z,ux,uy,uz,tx,ty,tz (linear elements: the field at each corner)\n"
+    "  nodes.csv      element,node,x,y,z,ux,uy,uz,tx,ty,tz (linear elements: the field at each collocation node,\n"
+    "                 where the node variant of bc.csv gives prescribed values; docs/elements.md)\n"
     "  surface.vtk    the surface with displacement and traction fields\n"
     "  solved_mesh.obj  the mesh solved (after refine and remesh): the elements warnings name\n"
     "  report.json    sizes, time per phase, peak memory, solver method, iterations and residual\n"
@@ -71,7 +75,11 @@ int run_solve(int argc, char** argv) {
               << scene.mesh_source << ", solver " << to_string(scene.solver.method) << std::endl;
 
   const ElastostaticSolution solution = solve_elastostatic(scene.problem, scene.solver);
-  for (const std::string& w : solution.report.warnings) std::cerr << "bemsurg: warning: " << options.scene << ": " << w << "\n";
+  // A warning the scene gave at load already (slivers: "mesh: " + the same text) is not repeated.
+  std::vector<std::string> solve_warnings;
+  for (const std::string& w : solution.report.warnings)
+    if (std::find(scene.warnings.begin(), scene.warnings.end(), "mesh: " + w) == scene.warnings.end()) solve_warnings.push_back(w);
+  for (const std::string& w : solve_warnings) std::cerr << "bemsurg: warning: " << options.scene << ": " << w << "\n";
   const SteadyClock::time_point solved = SteadyClock::now();
 
   const fs::path out(options.output);
@@ -86,6 +94,7 @@ int run_solve(int argc, char** argv) {
   write_elements_csv((out / "elements.csv").string(), scene.problem.mesh, solution.boundary);
   if (linear) {
     write_corners_csv((out / "corners.csv").string(), scene.problem.mesh, solution.nodes);
+    write_nodes_csv((out / "nodes.csv").string(), scene.problem.mesh, solution.nodes);
     write_linear_solution_vtk((out / "surface.vtk").string(), scene.problem.mesh, solution.boundary, solution.nodes);
   } else {
     write_solution_vtk((out / "surface.vtk").string(), scene.problem.mesh, solution.boundary);
@@ -108,7 +117,7 @@ int run_solve(int argc, char** argv) {
   report.peak_memory_mb = peak_memory_mb();
   report.solver = solution.report.solver;
   report.warnings = scene.warnings;
-  report.warnings.insert(report.warnings.end(), solution.report.warnings.begin(), solution.report.warnings.end());
+  report.warnings.insert(report.warnings.end(), solve_warnings.begin(), solve_warnings.end());
   write_report_json((out / "report.json").string(), report);
 
   if (!options.quiet) {
@@ -120,8 +129,8 @@ int run_solve(int argc, char** argv) {
               << report.timings.total << " s; peak memory " << report.peak_memory_mb << " MiB\n"
               << "  wrote " << (out / "elements.csv").string()
               << (scene.has_interior_points ? ", " + (out / "interior.csv").string() : std::string())
-              << (linear ? ", " + (out / "corners.csv").string() : std::string()) << ", " << (out / "surface.vtk").string() << ", "
-              << (out / "report.json").string() << "\n";
+              << (linear ? ", " + (out / "corners.csv").string() + ", " + (out / "nodes.csv").string() : std::string()) << ", "
+              << (out / "surface.vtk").string() << ", " << (out / "report.json").string() << "\n";
   }
   return 0;
 }

@@ -64,21 +64,28 @@ void write_elements_csv(const std::string& path, const TriangleMesh& mesh, const
   write_text(path, text);
 }
 
-void write_corners_csv(const std::string& path, const TriangleMesh& mesh, const BoundarySolution& nodes) {
+namespace {
+
+/// corners.csv and nodes.csv: three rows per element (point k = corner or collocation node k), the
+/// point's position and the linear field there.
+void write_linear_points_csv(const std::string& path, const char* header, const char* who, const TriangleMesh& mesh,
+                             const BoundarySolution& nodes, bool at_corners) {
   const Index n = mesh.num_elements();
   if (nodes.displacement.rows() != 3 * n || nodes.traction.rows() != 3 * n)
-    throw InvalidArgumentError("write_corners_csv: the per-node solution has " + std::to_string(nodes.displacement.rows()) +
+    throw InvalidArgumentError(std::string(who) + ": the per-node solution has " + std::to_string(nodes.displacement.rows()) +
                                " rows, linear elements on this mesh have " + std::to_string(3 * n) + " nodes");
-  std::string text = kCornersCsvHeader;
+  std::string text = header;
   text += '\n';
   for (Index e = 0; e < n; ++e) {
-    const Eigen::Matrix3d u = linear_nodes_to_corners(nodes.displacement.middleRows<3>(3 * e));
-    const Eigen::Matrix3d t = linear_nodes_to_corners(nodes.traction.middleRows<3>(3 * e));
+    const Eigen::Matrix3d node_u = nodes.displacement.middleRows<3>(3 * e), node_t = nodes.traction.middleRows<3>(3 * e);
+    const Eigen::Matrix3d u = at_corners ? linear_nodes_to_corners(node_u) : node_u;
+    const Eigen::Matrix3d t = at_corners ? linear_nodes_to_corners(node_t) : node_t;
     const auto corner = mesh.corners(e);
     for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d x = at_corners ? Eigen::Vector3d(corner[std::size_t(k)]) : collocation_node<LinearElement>(corner, k);
       double row[9];
       for (int c = 0; c < 3; ++c) {
-        row[c] = corner[std::size_t(k)](c);
+        row[c] = x(c);
         row[3 + c] = u(k, c);
         row[6 + c] = t(k, c);
       }
@@ -90,6 +97,16 @@ void write_corners_csv(const std::string& path, const TriangleMesh& mesh, const 
     }
   }
   write_text(path, text);
+}
+
+}  // namespace
+
+void write_corners_csv(const std::string& path, const TriangleMesh& mesh, const BoundarySolution& nodes) {
+  write_linear_points_csv(path, kCornersCsvHeader, "write_corners_csv", mesh, nodes, true);
+}
+
+void write_nodes_csv(const std::string& path, const TriangleMesh& mesh, const BoundarySolution& nodes) {
+  write_linear_points_csv(path, kNodesCsvHeader, "write_nodes_csv", mesh, nodes, false);
 }
 
 void write_interior_csv(const std::string& path, const RowMatrixX3d& points, const RowMatrixX3d& displacement, const StressRows& stress) {

@@ -11,11 +11,13 @@
 #include <fstream>
 #include <sstream>
 #include <utility>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "bemsurg/error.hpp"
 #include "bemsurg/memory_budget.hpp"
+#include "bemsurg/mesh/mesh_quality.hpp"
 #include "bemsurg/mesh/mesh_thickness.hpp"
 #include "bemsurg/meshing/mesh_preparation.hpp"
 #include "json_reader.hpp"
@@ -173,12 +175,20 @@ Scene build_scene(const io::JsonDocument& document, const std::string& directory
   scene.mesh_quality = measure_mesh_quality(problem.mesh);
   require_solvable_size(scene, root.required("mesh"), directory);
   warn_thin_elements(scene);
+  // Slivers at load, so that every command warns before its work (solve's own check_before_solve
+  // warning is then not repeated; docs/stability.md (c)).
+  if (std::string w = sliver_warning(problem.mesh); !w.empty()) scene.warnings.push_back("mesh: " + w);
   RowMatrixX3d corners;
-  problem.boundary_conditions = io::load_boundary_conditions(root.required("boundary_conditions"), directory, problem.mesh, &corners);
-  if (problem.elements == ElementType::Linear) {  // values at the nodes: linear interpolation of the corners' (docs/elements.md)
+  bool at_nodes = false;
+  problem.boundary_conditions =
+      io::load_boundary_conditions(root.required("boundary_conditions"), directory, problem.mesh, &corners, &at_nodes);
+  if (problem.elements == ElementType::Linear) {
+    // Values at the nodes: as given by the node variant of the file, else the linear interpolation
+    // of the corners' (docs/elements.md: a field sampled at the nodes is what the elements collocate).
     problem.node_values.resize(corners.rows(), 3);
     for (Index e = 0; e < problem.mesh.num_elements(); ++e)
-      problem.node_values.middleRows<3>(3 * e) = linear_corners_to_nodes(corners.middleRows<3>(3 * e));
+      problem.node_values.middleRows<3>(3 * e) =
+          at_nodes ? Eigen::Matrix3d(corners.middleRows<3>(3 * e)) : linear_corners_to_nodes(corners.middleRows<3>(3 * e));
   }
   if (scene.has_operating_region) collect_operating_elements(scene);
   warn_unsafe_grading(scene);

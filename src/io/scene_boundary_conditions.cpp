@@ -165,11 +165,12 @@ void apply_element_rows(const std::vector<CsvRow>& rows, const std::string& key,
   }
 }
 
-/// The corner variant (element,corner,kind_x..,value_x..; docs/scene-format.md): values at the
-/// corners of the listed elements, every one given at its three corners, a component's kind the
-/// same at the three; the element's own value becomes the mean (the value at the centroid).
+/// The corner and node variants (element,corner|node,kind_x..,value_x..; docs/scene-format.md):
+/// values at the corners, or at the linear elements' collocation nodes (docs/elements.md), of the
+/// listed elements, every one given at all three, a component's kind the same at the three; the
+/// element's own value becomes the mean (the value at the centroid, for corners and nodes alike).
 void apply_corner_rows(const std::vector<CsvRow>& rows, const std::string& key, const TriangleMesh& mesh, BoundaryConditions& bc,
-                       RowMatrixX3d& corners) {
+                       RowMatrixX3d& corners, const std::string& point = "corner") {
   static const char* kind_names[3] = {"kind_x", "kind_y", "kind_z"};
   static const char* value_names[3] = {"value_x", "value_y", "value_z"};
   const std::size_t E = static_cast<std::size_t>(mesh.num_elements());
@@ -179,8 +180,11 @@ void apply_corner_rows(const std::vector<CsvRow>& rows, const std::string& key, 
     const std::string where = csv_row_key(key, row);
     const long long e = parse_csv_integer(row.fields[0], where + ": element", "an integer element index");
     if (e < 0 || e >= mesh.num_elements()) fail_at(where, out_of_range(e, mesh));
-    const long long k = parse_csv_integer(row.fields[1], where + ": corner", "a corner 0, 1 or 2");
-    if (k < 0 || k > 2) fail_at(where + ": corner", "expected a corner 0, 1 or 2 (the face's vertex order), got " + std::to_string(k));
+    const long long k = parse_csv_integer(row.fields[1], where + ": " + point, "a " + point + " 0, 1 or 2");
+    if (k < 0 || k > 2)
+      fail_at(where + ": " + point, "expected a " + point + " 0, 1 or 2 (" +
+                                        (point == "corner" ? "the face's vertex order" : "the nodes of docs/elements.md") + "), got " +
+                                        std::to_string(k));
     const std::size_t slot = 3 * std::size_t(e) + std::size_t(k);
     line[slot] = row.line;
     for (int c = 0; c < 3; ++c) {
@@ -197,44 +201,50 @@ void apply_corner_rows(const std::vector<CsvRow>& rows, const std::string& key, 
       std::string missing;
       for (int k = 0; k < 3; ++k)
         if (!l[k]) missing += (missing.empty() ? "" : " and ") + std::to_string(k);
-      fail_at(key + " line " + std::to_string(first), "element " + std::to_string(e) + " lacks corner " + missing +
-                                                          ": the corner variant needs every listed element at all three corners");
+      fail_at(key + " line " + std::to_string(first), "element " + std::to_string(e) + " lacks " + point + " " + missing + ": the " +
+                                                          point + " variant needs every listed element at all three " + point + "s");
     }
     for (int c = 0; c < 3; ++c) {
       const BcKind k0 = kinds[9 * e + std::size_t(c)];
       for (int k = 1; k < 3; ++k)
         if (kinds[9 * e + 3 * std::size_t(k) + std::size_t(c)] != k0)
-          fail_at(key + " line " + std::to_string(l[k]), std::string("element ") + std::to_string(e) + ", " + kind_names[c] + ": kind '" +
-                                                             (k0 == BcKind::Displacement ? "u" : "t") + "' at corner 0 (line " +
-                                                             std::to_string(l[0]) + ") but '" + (k0 == BcKind::Displacement ? "t" : "u") +
-                                                             "' at corner " + std::to_string(k) +
-                                                             ": a component's kind must be the same at the three corners of an element");
+          fail_at(key + " line " + std::to_string(l[k]),
+                  std::string("element ") + std::to_string(e) + ", " + kind_names[c] + ": kind '" +
+                      (k0 == BcKind::Displacement ? "u" : "t") + "' at " + point + " 0 (line " + std::to_string(l[0]) + ") but '" +
+                      (k0 == BcKind::Displacement ? "t" : "u") + "' at " + point + " " + std::to_string(k) +
+                      ": a component's kind must be the same at the three " + point + "s of an element");
       const double mean = (corners(Index(3 * e), c) + corners(Index(3 * e + 1), c) + corners(Index(3 * e + 2), c)) / 3.0;
       bc.prescribe_component(Index(e), c, k0, mean);
     }
   }
 }
 
-void apply_bc_file(const std::string& path, const std::string& key, const TriangleMesh& mesh, BoundaryConditions& bc,
+/// Returns whether the values given are at the nodes (the node variant) rather than the corners.
+bool apply_bc_file(const std::string& path, const std::string& key, const TriangleMesh& mesh, BoundaryConditions& bc,
                    RowMatrixX3d& corners) {
   std::size_t variant = 0;
-  const auto rows = read_csv(
-      path, {"element,kind_x,kind_y,kind_z,value_x,value_y,value_z", "element,corner,kind_x,kind_y,kind_z,value_x,value_y,value_z"}, key,
-      variant);
+  const auto rows =
+      read_csv(path,
+               {"element,kind_x,kind_y,kind_z,value_x,value_y,value_z", "element,corner,kind_x,kind_y,kind_z,value_x,value_y,value_z",
+                "element,node,kind_x,kind_y,kind_z,value_x,value_y,value_z"},
+               key, variant);
   if (variant == 0) {
     apply_element_rows(rows, key, mesh, bc);
-    return;
+    return false;
   }
-  for (Index e = 0; e < mesh.num_elements(); ++e)  // the rules' values at every corner first
+  // The rules' values at every corner (or node) first: an element's constant value is the same at
+  // its corners and at its nodes.
+  for (Index e = 0; e < mesh.num_elements(); ++e)
     for (int k = 0; k < 3; ++k)
       for (int c = 0; c < 3; ++c) corners(3 * e + k, c) = bc.value(3 * e + c);
-  apply_corner_rows(rows, key, mesh, bc, corners);
+  apply_corner_rows(rows, key, mesh, bc, corners, variant == 1 ? "corner" : "node");
+  return variant == 2;
 }
 
 }  // namespace
 
 BoundaryConditions load_boundary_conditions(const JsonReader& b, const std::string& directory, const TriangleMesh& mesh,
-                                            RowMatrixX3d* corner_values) {
+                                            RowMatrixX3d* corner_values, bool* at_nodes) {
   b.object().warn_unknown_keys({"file", "rules"});
   // Everything starts traction-free; rules apply in order (later ones win on shared elements);
   // the file comes last, so a per-element file can refine what the rules set.
@@ -245,8 +255,10 @@ BoundaryConditions load_boundary_conditions(const JsonReader& b, const std::stri
   }
   // Values at the corners: the element's value at all three unless the corner variant gives them.
   RowMatrixX3d corners = RowMatrixX3d::Constant(3 * mesh.num_elements(), 3, std::numeric_limits<double>::quiet_NaN());
+  bool nodes = false;
   if (const std::optional<JsonReader> file = b.optional("file"))
-    apply_bc_file(resolve_existing(directory, *file), file->path(), mesh, bc, corners);
+    nodes = apply_bc_file(resolve_existing(directory, *file), file->path(), mesh, bc, corners);
+  if (at_nodes) *at_nodes = nodes;
   if (corner_values) {
     for (Index e = 0; e < mesh.num_elements(); ++e)
       for (int k = 0; k < 3; ++k)

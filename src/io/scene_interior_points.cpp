@@ -55,8 +55,10 @@ RowMatrixX3d load_interior_points(const JsonReader& ip, const std::string& direc
       fail_at(where[i], point_text(points[i]) + " is not inside the body" + (on_surface ? " (it lies on the surface)" : ""));
     out.row(static_cast<Index>(i)) = points[i].transpose();
   }
-  // Too close to the surface for the quadrature: refused here rather than after the solve.
-  const ClearanceViolation v = find_point_too_close(mesh, out, quadrature);
+  // Too close to the surface for the quadrature, or for the stress that `solve` writes with every
+  // interior point (kMinStressClearanceFraction, docs/stability.md (b)): refused here rather than
+  // after the solve (issue 37).
+  const ClearanceViolation v = find_point_too_close(mesh, out, quadrature, ClearanceQuantity::Stress);
   if (v.point >= 0) {
     const auto i = static_cast<std::size_t>(v.point);
     fail_at(where[i], point_text(points[i]) + " " + describe_clearance_violation(v, quadrature));

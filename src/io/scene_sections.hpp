@@ -35,12 +35,13 @@ Material load_material(const JsonReader& material, bool gravity_on);
 LinearSolverOptions load_solver(const JsonReader& solver);
 QuadratureOptions load_quadrature(const JsonReader& quadrature);
 
-/// "boundary_conditions": rules in order, then the CSV file, per element or per corner (docs/design.md §5,
-/// docs/elements.md; scene_boundary_conditions.cpp). The values are the elements' (at the centroids,
-/// the mean of the corners'); `corner_values`, when given, receives the value at every corner (3E x 3,
-/// row 3e + c for corner c in the face's vertex order).
+/// "boundary_conditions": rules in order, then the CSV file, per element, per corner or per linear
+/// node (docs/design.md §5, docs/elements.md; scene_boundary_conditions.cpp). The values are the
+/// elements' (at the centroids, the mean of the corners' or nodes'); `corner_values`, when given,
+/// receives the value at every corner (3E x 3, row 3e + c for corner c in the face's vertex order),
+/// or at every node when the file is the node variant, which `at_nodes` then says.
 BoundaryConditions load_boundary_conditions(const JsonReader& conditions, const std::string& directory, const TriangleMesh& mesh,
-                                            RowMatrixX3d* corner_values = nullptr);
+                                            RowMatrixX3d* corner_values = nullptr, bool* at_nodes = nullptr);
 
 /// "interior_points": inline points, then the CSV file's; each strictly inside the body and far
 /// enough from the surface for the quadrature (scene_interior_points.cpp).

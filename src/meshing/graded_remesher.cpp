@@ -221,7 +221,11 @@ bool graded_remesher_available() {
 GradedRemeshResult graded_remesh(const TriangleMesh& input, const OperatingRegion& region, const GradedRemeshOptions& options) {
   check_options(options);
   try {
-    require_valid_mesh(input);
+    // Slivers are what a remesh removes: the input must be a closed, oriented body, but its faces
+    // may be of any shape (a segmentation's marching cubes or decimation leaves slivers; issue 37).
+    MeshValidationOptions closed_body;
+    closed_body.max_aspect_ratio = std::numeric_limits<double>::infinity();
+    require_valid_mesh(input, closed_body);
   } catch (const InvalidMeshError& e) {
     throw InvalidMeshError(std::string("graded remesh: the input surface is not a closed, oriented mesh: ") + e.what());
   }

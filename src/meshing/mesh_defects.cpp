@@ -17,6 +17,7 @@
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/mesh/mesh_topology.hpp"
 #include "bemsurg/mesh/self_intersection.hpp"
+#include "bemsurg/number_text.hpp"
 
 namespace bemsurg {
 
@@ -133,6 +134,36 @@ TriangleMesh add_degenerate_faces(const TriangleMesh& mesh, int count, std::uint
       if (b < 0 || topo.find_edge(F(f, 0), b) >= 0 || !untouched({F(f, 0), b})) continue;
       s.f.push_back({F(f, 0), F(f, 0), static_cast<int>(b)});
     }
+    ++added;
+  }
+  return s.mesh();
+}
+
+TriangleMesh add_slivers(const TriangleMesh& mesh, int count, double aspect_ratio, std::uint64_t seed) {
+  if (count < 0) throw InvalidArgumentError("add_slivers: count must not be negative");
+  if (!(aspect_ratio >= 10.0 && std::isfinite(aspect_ratio)))
+    throw InvalidArgumentError("add_slivers: aspect_ratio must be a finite number of at least 10, got " + number_text(aspect_ratio));
+  detail::defects::require_faces(mesh, "add_slivers", 2 * std::max(count, 1));
+  std::mt19937_64 rng(seed);
+  detail::defects::Soup s(mesh);
+  std::vector<char> split(static_cast<std::size_t>(mesh.num_elements()), 0);
+  for (int added = 0, tries = 0; added < count; ++tries) {
+    if (tries > 100 * count + 100) throw InvalidArgumentError("add_slivers: found no face left to split");
+    const Index f = detail::defects::pick(rng, mesh.num_elements());
+    if (split[static_cast<std::size_t>(f)]) continue;
+    split[static_cast<std::size_t>(f)] = 1;
+    const auto [a, b, c] = s.f[static_cast<std::size_t>(f)];
+    const Vec3 A = s.v[static_cast<std::size_t>(a)], B = s.v[static_cast<std::size_t>(b)], C = s.v[static_cast<std::size_t>(c)];
+    const Vec3 m = 0.5 * (A + B);
+    // The altitude of p over ab is s times c's, h_c; ab is the sliver's longest edge, so its
+    // aspect ratio (sqrt(3)/2 longest edge / shortest altitude) is sqrt(3)/2 |ab| / (s h_c).
+    const double h_c = (B - A).cross(C - A).norm() / (B - A).norm();
+    const double fraction = 0.5 * std::sqrt(3.0) * (B - A).norm() / (aspect_ratio * h_c);
+    if (!(fraction > 0.0 && fraction <= 0.1)) continue;  // a face too flat already for this ratio
+    const int p = s.add_vertex(m + fraction * (C - m));
+    s.f[static_cast<std::size_t>(f)] = {a, b, p};
+    s.f.push_back({b, c, p});
+    s.f.push_back({c, a, p});
     ++added;
   }
   return s.mesh();

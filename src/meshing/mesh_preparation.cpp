@@ -250,14 +250,17 @@ TriangleMesh remesh(const TriangleMesh& repaired, const MeshPreparationOptions& 
     r.steps.push_back("graded remesh to " + o.region->describe() + ": " + std::to_string(m.num_elements()) + " elements");
     return m;
   }
-  if (o.target_elements == 0 && o.edge_length <= 0.0 && repaired.num_elements() <= kDefaultPreparedElements) {
-    // The default never asks for more elements than the repair left (docs/organs.md).
+  // The default never asks for more elements than the repair left (docs/organs.md). A surface that
+  // is still no valid body (slivers above kMaxAspectRatio: the repair keeps them) is remeshed to its
+  // own face count instead.
+  const bool few = o.target_elements == 0 && o.edge_length <= 0.0 && repaired.num_elements() <= kDefaultPreparedElements;
+  if (few && validate_mesh(repaired).valid()) {
     r.remesh = "none";
     r.steps.push_back("kept as repaired: " + std::to_string(repaired.num_elements()) + " faces, no more than the default target");
     return repaired;
   }
   r.remesh = "uniform";
-  const Index target = o.target_elements > 0 ? o.target_elements : kDefaultPreparedElements;
+  const Index target = o.target_elements > 0 ? o.target_elements : few ? repaired.num_elements() : kDefaultPreparedElements;
   r.target_elements = o.edge_length > 0.0 ? 0 : target;
   // An equilateral triangle of edge h has area (sqrt(3)/4) h^2; Gmsh's frontal mesher makes ~8 %
   // more triangles than area / that, and one correction pass follows when it misses by over 10 %.

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "temp_dir.hpp"
 
@@ -19,6 +20,29 @@ inline std::string read_text(const std::string& path) {
   std::ostringstream s;
   s << in.rdbuf();
   return s.str();
+}
+
+/// A CSV of numbers: its header line and rows.
+struct CsvTable {
+  std::string header;
+  std::vector<std::vector<double>> rows;
+};
+
+/// A CSV file of numbers as its header line and rows (blank lines skipped).
+inline CsvTable read_table(const std::string& path) {
+  std::ifstream in(path);
+  CsvTable t;
+  std::getline(in, t.header);
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty()) continue;
+    std::vector<double> row;
+    std::stringstream fields(line);
+    std::string f;
+    while (std::getline(fields, f, ',')) row.push_back(std::stod(f));
+    t.rows.push_back(row);
+  }
+  return t;
 }
 
 /// What a run of the program gave: its exit status (-1 when it did not exit normally) and output.

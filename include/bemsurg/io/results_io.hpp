@@ -23,6 +23,8 @@ namespace bemsurg {
 inline constexpr const char* kElementsCsvHeader = "element,cx,cy,cz,nx,ny,nz,area,ux,uy,uz,tx,ty,tz";
 /// Header of corners.csv (linear elements: the field at each corner of each element), exactly.
 inline constexpr const char* kCornersCsvHeader = "element,corner,x,y,z,ux,uy,uz,tx,ty,tz";
+/// Header of nodes.csv (linear elements: the field at each collocation node of each element), exactly.
+inline constexpr const char* kNodesCsvHeader = "element,node,x,y,z,ux,uy,uz,tx,ty,tz";
 /// Header of interior.csv, exactly.
 inline constexpr const char* kInteriorCsvHeader = "x,y,z,ux,uy,uz,sxx,syy,szz,sxy,syz,sxz";
 
@@ -34,6 +36,11 @@ void write_elements_csv(const std::string& path, const TriangleMesh& mesh, const
 /// the corner's position and the element's linear field there (extrapolated from the three nodes,
 /// linear_nodes_to_corners). `nodes` is the per-node solution (3E rows, ElastostaticSolution::nodes).
 void write_corners_csv(const std::string& path, const TriangleMesh& mesh, const BoundarySolution& nodes);
+
+/// Linear elements: one row per element and collocation node (0-2, docs/elements.md): the node's
+/// position and the solved field there, as collocated. A user samples prescribed data at these
+/// positions for the node variant of bc.csv (docs/scene-format.md).
+void write_nodes_csv(const std::string& path, const TriangleMesh& mesh, const BoundarySolution& nodes);
 
 /// One row per point: position, displacement, stress (sxx, syy, szz, sxy, syz, sxz).
 void write_interior_csv(const std::string& path, const RowMatrixX3d& points, const RowMatrixX3d& displacement, const StressRows& stress);

@@ -32,6 +32,14 @@ TriangleMesh unweld_mesh(const TriangleMesh& mesh);
 /// errors and nothing else (its self-intersection check is skipped on degenerate meshes).
 TriangleMesh add_degenerate_faces(const TriangleMesh& mesh, int count, std::uint64_t seed);
 
+/// Splits `count` distinct faces (a, b, c) at a point p inside each, near the midpoint m of its
+/// edge ab: p = m + s (c - m), with s chosen so that the face (a, b, p) has the given aspect ratio
+/// (longest edge / shortest altitude, mesh_quality.hpp); (b, c, p) and (c, a, p) are ordinary.
+/// The surface stays closed, manifold and oriented, and its volume is unchanged. validate_mesh:
+/// `count` DegenerateFace errors ("a sliver") when aspect_ratio is above kMaxAspectRatio, and
+/// nothing else. aspect_ratio must be at least 10 (p stays within the face's middle tenth).
+TriangleMesh add_slivers(const TriangleMesh& mesh, int count, double aspect_ratio, std::uint64_t seed);
+
 /// Reverses the vertex order of a connected patch of `faces` faces (grown breadth-first from a
 /// random face). validate_mesh: InconsistentOrientation on each edge of the patch's rim, nothing else.
 TriangleMesh flip_face_patch(const TriangleMesh& mesh, Index faces, std::uint64_t seed);

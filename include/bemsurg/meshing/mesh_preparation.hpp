@@ -97,6 +97,7 @@ struct MeshDefectCounts {
   Index duplicate_vertices = 0;     // vertices merged into an earlier coincident one
   Index unreferenced_vertices = 0;  // vertices no face uses
   Index degenerate_faces = 0;       // zero-area faces (a repeated corner or collinear corners)
+  Index slivers = 0;                // faces of non-zero area above kMaxAspectRatio (1e4): remeshed away, never kept
   Index duplicate_faces = 0;        // faces with the same three vertices as an earlier face
   Index flipped_faces = 0;          // faces whose orientation was reversed to agree with their neighbours
   Index boundary_edges = 0;         // edges with one face
@@ -106,7 +107,7 @@ struct MeshDefectCounts {
   Index self_intersections = 0;     // pairs of faces that cross (after cleaning)
   Index shells = 0;                 // connected parts (sharing edges)
   Index total() const {
-    return duplicate_vertices + degenerate_faces + duplicate_faces + flipped_faces + boundary_edges + non_manifold_edges +
+    return duplicate_vertices + degenerate_faces + slivers + duplicate_faces + flipped_faces + boundary_edges + non_manifold_edges +
            non_manifold_vertices + self_intersections;
   }
 };

@@ -78,7 +78,7 @@ BEMSURG_INLINE void check_nearly_incompressible(const TriangleMesh& mesh, const 
   if (nu >= kPoissonRatioLimit)
     throw InvalidMaterialError("material: poisson_ratio " + number_text(nu) + " is at or above " + number_text(kPoissonRatioLimit) +
                                ", the limit for this problem: " + where +
-                               "; lower poisson_ratio or prescribe the traction on part of that surface");
+                               "; lower poisson_ratio, or prescribe the traction on part of that surface (a mixed condition)");
   warnings.push_back("poisson_ratio " + number_text(nu) + " is at or above " + number_text(kPoissonRatioWarning) + ": " + where +
                      "; expect the tractions there to be less accurate (refused from " + number_text(kPoissonRatioLimit) + ")");
 }
