@@ -64,9 +64,20 @@ echo "run-benchmarks: finished in $(( $(date +%s) - start )) s (status $status)"
 [ "$status" = 0 ] || exit "$status"
 
 if [ "$publish" = 1 ]; then
-  rm -rf docs/images/report
-  mkdir -p docs/images/report
+  rm -rf docs/images/report docs/report-data
+  mkdir -p docs/images/report docs/report-data
   cp "$out"/images/*.png docs/images/report/
   sed 's#](images/#](images/report/#g' "$out/report.md" > docs/report.md
-  echo "run-benchmarks: published docs/report.md and docs/images/report/"
+  # The data behind every chart and table (docs/benchmarks.md, "Checking a figure"): each part's CSV
+  # and JSON, the parts' provenance (status.json) and the machine (machine.json). Not published: the
+  # logs, the CalculiX reference cache, and meshes (peer/surface.stl), which `--only peer` remakes.
+  (cd "$out" && find . \( -path ./cache -o -path ./logs -o -path ./images \) -prune -o -type f \( -name '*.csv' -o -name '*.json' \) -print) |
+    while read -r f; do
+      mkdir -p "docs/report-data/$(dirname "$f")"
+      cp "$out/$f" "docs/report-data/$f"
+    done
+  # Per-tick samples (60 s of haptic ticks) are large: files over 1 MB are kept gzipped, and the
+  # report reads FILE.csv.gz where FILE.csv is missing (report_lib.read_csv).
+  find docs/report-data -name '*.csv' -size +1M -exec gzip -9 -n {} +
+  echo "run-benchmarks: published docs/report.md, docs/images/report/ and docs/report-data/ ($(du -sh docs/report-data | cut -f1))"
 fi

@@ -55,14 +55,68 @@ def _package_version(pkg):
     return _cmd(["dpkg-query", "-W", "-f=${Version}", pkg])
 
 
+def cpu_model():
+    """The CPU as /proc/cpuinfo names it, with family, model and stepping: a VM's "AMD EPYC"
+    alone does not tell one generation from the next."""
+    try:
+        info = Path("/proc/cpuinfo").read_text()
+    except OSError:
+        return "unknown"
+    field = {k: (re.search(rf"^{k}\s*:\s*(.+)$", info, re.M) or [None, None])[1] for k in
+             ("model name", "cpu family", "model", "stepping", "cache size")}
+    name = (field["model name"] or "unknown").strip()
+    ids = ", ".join(f"{k} {field[k].strip()}" for k in ("cpu family", "model", "stepping") if field[k])
+    extra = "; ".join(x for x in (ids, f"cache {field['cache size'].strip()}" if field["cache size"] else "") if x)
+    return f"{name} ({extra})" if extra else name
+
+
+def compiler_text(build):
+    """The C++ compiler of the Release tree, its version and the flags a Release build compiles with."""
+    cache = Path(build) / "CMakeCache.txt"
+    if not cache.exists():
+        return "unknown (no CMakeCache.txt in the build tree)"
+    text = cache.read_text()
+    m = re.search(r"^CMAKE_CXX_COMPILER:\w+=(.+)$", text, re.M)
+    version = _cmd([m.group(1).strip(), "--version"]).splitlines()[0] if m else "unknown"
+    flags = " ".join(x for x in (re.search(rf"^{k}:\w+=(.*)$", text, re.M) for k in ("CMAKE_CXX_FLAGS", "CMAKE_CXX_FLAGS_RELEASE"))
+                     if x for x in [x.group(1).strip()] if x)
+    extra = " ".join(f"-D{k}={v}" for k, v in re.findall(r"^(BEMSURG_\w+):BOOL=(\w+)$", text, re.M) if k in
+                     ("BEMSURG_NATIVE", "BEMSURG_USE_BLAS"))
+    return f"{version}; flags {flags or '(none)'}" + (f"; {extra}" if extra else "")
+
+
+def tree_state(repo):
+    """(the commit's 12-digit hash, whether tracked files differ from it)."""
+    commit = _cmd(["git", "-C", str(repo), "rev-parse", "--short=12", "HEAD"])
+    dirty = _cmd(["git", "-C", str(repo), "status", "--porcelain", "--untracked-files=no"], default="")
+    return commit, bool(dirty)
+
+
+def load_average():
+    try:
+        return " / ".join(f"{x:.2f}" for x in os.getloadavg())
+    except OSError:
+        return "unknown"
+
+
+# What a part's data depend on: the library, the build, the benchmark programs and the report's
+# shared code. A part whose data ran at a commit before a change to any of these is stale; a change
+# to the part's own file is not enough (it may only change the drawing), so the part file is left out.
+DATA_SOURCES = ("include", "src", "benchmarks", "CMakeLists.txt", "cmake", "scripts/report/report_lib.py",
+                "scripts/report/calculix_peer.py")
+
+
+def stale_sources(repo, commit, head):
+    """The files under DATA_SOURCES that changed between `commit` and `head` (empty: not stale)."""
+    if not commit or commit == "unknown" or commit == head:
+        return []
+    out = _cmd(["git", "-C", str(repo), "diff", "--name-only", commit, head, "--", *DATA_SOURCES], default="")
+    return [line for line in out.splitlines() if line.strip()]
+
+
 def machine_header(ctx):
     """The facts a reader needs to compare this report with another one."""
-    cpu = "unknown"
-    try:
-        m = re.search(r"^model name\s*:\s*(.+)$", Path("/proc/cpuinfo").read_text(), re.M)
-        cpu = m.group(1).strip() if m else cpu
-    except OSError:
-        pass
+    cpu = cpu_model()
     mem = "unknown"
     try:
         kb = int(re.search(r"^MemTotal:\s*(\d+)", Path("/proc/meminfo").read_text(), re.M).group(1))
@@ -76,20 +130,15 @@ def machine_header(ctx):
         v = [re.search(rf"#define EIGEN_{k}_VERSION (\d+)", t) for k in ("WORLD", "MAJOR", "MINOR")]
         if all(v):
             eigen = ".".join(x.group(1) for x in v)
-    compiler = "unknown"
-    cache = ctx.build / "CMakeCache.txt"
-    if cache.exists():
-        m = re.search(r"^CMAKE_CXX_COMPILER:\w+=(.+)$", cache.read_text(), re.M)
-        if m:
-            compiler = _cmd([m.group(1), "--version"]).splitlines()[0]
+    compiler = compiler_text(ctx.build)
     blas = _cmd(["readlink", "-f", "/usr/lib/x86_64-linux-gnu/libblas.so.3"])
-    commit = _cmd(["git", "-C", str(ctx.repo), "rev-parse", "--short=12", "HEAD"])
-    dirty = _cmd(["git", "-C", str(ctx.repo), "status", "--porcelain", "--untracked-files=no"], default="")
+    commit, dirty = tree_state(ctx.repo)
     threads = os.environ.get("OMP_NUM_THREADS", f"{os.cpu_count()} (OpenMP default: one per core)")
     return {
         "date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
         "mode": ctx.mode,
         "commit": commit + (" (with uncommitted changes)" if dirty else ""),
+        "commit_hash": commit,
         "cpu": cpu,
         "cores": str(os.cpu_count()),
         "memory": mem,
@@ -106,13 +155,14 @@ def machine_header(ctx):
     }
 
 
-HEADER_ROWS = [("Date", "date"), ("Mode", "mode"), ("Commit", "commit"), ("CPU", "cpu"), ("Cores", "cores"),
+HEADER_ROWS = [("Date", "date"), ("Mode", "mode"), ("Commit (drawn at)", "commit"), ("CPU", "cpu"), ("Cores", "cores"),
                ("Memory", "memory"), ("System", "os"), ("Compiler", "compiler"), ("Eigen", "eigen"),
                ("OpenBLAS", "openblas"), ("SuiteSparse", "suitesparse"), ("BLAS back end (libblas.so.3)", "blas_backend"),
                ("Threads", "threads"), ("CalculiX (ccx)", "calculix"), ("Gmsh", "gmsh"), ("matplotlib", "matplotlib")]
 
 
 RENDER_FAILED = set()  # parts whose render() raised in this call (not kept in status.json)
+STALE = {}  # part -> the data sources changed since its run (filled by write_report)
 
 
 def write_report(ctx, parts, header, status):
@@ -124,6 +174,32 @@ def write_report(ctx, parts, header, status):
     lines += [f"| {label} | {header.get(key, 'unknown')} |" for label, key in HEADER_ROWS]
     timed = [(p.NAME, status[p.NAME]["seconds"]) for p in parts
              if isinstance(status.get(p.NAME), dict) and status[p.NAME].get("seconds") is not None]
+    lines += ["", "Where and when each part ran (a part is **stale** when the library, the build, its benchmark programs or "
+              "the report's shared code changed after it ran: rerun it with `--only PART`). Load average: 1 / 5 / 15 min "
+              "at the part's start (on 2 cores the report's own programs hold it near 1–2; more means another process shared the "
+              "machine).", "",
+              "| part | commit | ran | seconds | load average | state |", "|---|---|---|---|---|---|"]
+    head = header.get("commit_hash", "")
+    for p in parts:
+        st = status.get(p.NAME)
+        if not isinstance(st, dict):
+            lines.append(f"| {p.NAME} | | never ran | | | not run |")
+            continue
+        changed = stale_sources(ctx.repo, st.get("commit"), head) if "commit" in st else ["(no commit recorded)"]
+        if changed:
+            STALE[p.NAME] = changed
+        state = ("**stale**: " + ", ".join(changed[:3]) + (f" and {len(changed) - 3} more" if len(changed) > 3 else "")
+                 if changed else "current")
+        if st.get("dirty"):
+            state += "; ran with uncommitted changes"
+        if st.get("error"):
+            state += "; **failed**"
+        secs = f"{st['seconds']:.0f}" if st.get("seconds") is not None else ""
+        lines.append(f"| {p.NAME} | {st.get('commit', 'unknown')} | {st.get('date', '')} | {secs} | "
+                     f"{st.get('load_average_at_start', 'unknown')} | {state} |")
+    compilers = {st.get("compiler") for st in status.values() if isinstance(st, dict) and st.get("compiler")}
+    if len(compilers) > 1:
+        lines += ["", "**The parts were built by different compilers or flags**: " + "; ".join(sorted(compilers)) + "."]
     if timed:
         lines += ["", f"Time of the parts' runs (the CalculiX reference counts only when it was not cached): "
                   f"{sum(t for _, t in timed) / 60:.1f} min in all — " + ", ".join(f"{n} {t:.0f} s" for n, t in timed) + "."]
@@ -144,7 +220,7 @@ def write_report(ctx, parts, header, status):
             lines += ["**Rendering failed:**", "", "```", traceback.format_exc(limit=3).strip(), "```", ""]
             RENDER_FAILED.add(p.NAME)
         if st and st.get("seconds") is not None:
-            lines += [f"<sub>Part `{p.NAME}`: {st['seconds']:.0f} s in the run of {st['date']}.</sub>", ""]
+            lines += [f"<sub>Part `{p.NAME}`: {st['seconds']:.0f} s (one run) in the run of {st['date']}.</sub>", ""]
     (ctx.out / "report.md").write_text("\n".join(lines))
 
 
@@ -172,13 +248,19 @@ def main():
     if status.get("_mode") not in (None, ctx.mode):
         report_lib.warn(f"{ctx.out} holds a {status['_mode']} run; parts not run now keep their {status['_mode']} data")
     status["_mode"] = ctx.mode
+    if a.require_complete and not a.render_only and tree_state(ctx.repo)[1]:
+        raise SystemExit("run-benchmarks: --publish needs a clean tree (commit or stash the changes to tracked files first): "
+                         "every part records the commit it ran on, and a dirty tree's commit does not say what ran")
     failed = []
     for p in parts:
         if a.render_only or (a.only and p.NAME != a.only):
             continue
         print(f"run-benchmarks: part {p.NAME} ({p.TITLE})", flush=True)
         start = time.monotonic()
-        entry = {"date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"), "mode": ctx.mode}
+        commit, dirty = tree_state(ctx.repo)
+        entry = {"date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"), "mode": ctx.mode,
+                 "commit": commit, "dirty": dirty, "load_average_at_start": load_average(),
+                 "compiler": compiler_text(ctx.build), "cpu": cpu_model()}
         try:
             p.run(ctx)
         except Exception as e:  # noqa: BLE001: record, report, keep going with the other parts
@@ -198,7 +280,8 @@ def main():
     print(f"run-benchmarks: wrote {ctx.out / 'report.md'}")
     if a.require_complete:
         incomplete = [p.NAME for p in parts if not isinstance(status.get(p.NAME), dict)
-                      or status[p.NAME].get("mode") != "full" or status[p.NAME].get("error")]
+                      or status[p.NAME].get("mode") != "full" or status[p.NAME].get("error")
+                      or status[p.NAME].get("dirty", True) or STALE.get(p.NAME)]
         if ctx.quick or incomplete:
             report_lib.warn("not publishing: no full, successful run of " + ", ".join(incomplete or ["(quick mode)"]))
             return 1

@@ -12,6 +12,7 @@ errors as fractions, not per cent); an empty cell is "not measured".
 """
 
 import csv
+import gzip
 import hashlib
 import json
 import math
@@ -188,10 +189,20 @@ def write_csv(path, rows, columns):
             w.writerow(cells)
 
 
+def data_path(path):
+    """A data file's path, or its gzipped copy's (docs/report-data/ keeps files over 1 MB gzipped)."""
+    path = Path(path)
+    gz = path.with_name(path.name + ".gz")
+    return gz if not path.exists() and gz.exists() else path
+
+
 def read_csv(path):
-    """The rows of a report CSV as dicts: numbers as float (int when integral), empty as None."""
+    """The rows of a report CSV as dicts: numbers as float (int when integral), empty as None.
+    Reads PATH.gz when only that exists (the published data, docs/benchmarks.md)."""
     rows = []
-    with open(path, newline="") as f:
+    path = data_path(path)
+    opener = gzip.open if path.suffix == ".gz" else open
+    with opener(path, "rt", newline="") as f:
         for r in csv.DictReader(f):
             rows.append({k: _number(v) for k, v in r.items()})
     return rows
@@ -239,16 +250,26 @@ def pareto_front(points):
     return front
 
 
-def work_precision(ax, series, cost_label, error_label, annotate=None):
+def work_precision(ax, series, cost_label, error_label, annotate=None, cost_range=None, style=None):
     """A work-precision diagram on ax: log-log, error (y) against cost (x), one series per method
     (``series``: {label: [(cost, error, row), ...]}, in refinement order), the Pareto front over
-    all series drawn as a step line. Returns the front's points as (cost, error, label, row)."""
+    all series drawn as a step line. Returns the front's points as (cost, error, label, row).
+    ``cost_range(row)`` -> (low, high) or None draws the cost's spread (min-max over the runs) as a
+    horizontal bar; ``style(label)`` -> matplotlib keywords (colour, marker) fixes a family's look.
+    The legend goes outside the axes, right of the data."""
     everything = []
     for k, (label, pts) in enumerate(series.items()):
         pts = [p for p in pts if p[0] and p[1] and p[0] > 0 and p[1] > 0]
         if not pts:
             continue
-        ax.plot([p[0] for p in pts], [p[1] for p in pts], marker=MARKERS[k % len(MARKERS)], label=label, alpha=0.85)
+        kw = {"marker": MARKERS[k % len(MARKERS)], "alpha": 0.85}
+        kw.update(style(label) if style else {})
+        line = ax.plot([p[0] for p in pts], [p[1] for p in pts], label=label, **kw)[0]
+        if cost_range:
+            for p in pts:
+                rng = cost_range(p[2])
+                if rng and rng[0] and rng[1] and rng[1] > rng[0]:
+                    ax.plot([rng[0], rng[1]], [p[1], p[1]], color=line.get_color(), lw=1.0, alpha=0.7)
         if annotate:
             for p in pts:
                 ax.annotate(annotate(p[2]), (p[0], p[1]), fontsize=6, alpha=0.7, xytext=(3, 3), textcoords="offset points")
@@ -261,14 +282,30 @@ def work_precision(ax, series, cost_label, error_label, annotate=None):
     ax.set_yscale("log")
     ax.set_xlabel(cost_label)
     ax.set_ylabel(error_label)
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     return front
+
+
+def median(values):
+    """The median of a non-empty list of numbers."""
+    v = sorted(values)
+    n = len(v)
+    return v[n // 2] if n % 2 else 0.5 * (v[n // 2 - 1] + v[n // 2])
+
+
+def spread_text(med, low, high, runs, fmt=None):
+    """'12.3 ms (11.9–13.0 ms, 5 runs)', or '12.3 s (one run)': a timing with its spread (issue 37)."""
+    fmt = fmt or seconds_text
+    if not runs or runs <= 1 or low is None or high is None:
+        return f"{fmt(med)} (one run)"
+    return f"{fmt(med)} ({fmt(low)}–{fmt(high)}, {int(runs)} runs)"
 
 
 def cheapest_table(rows, error_key, cost_keys, describe, thresholds=THRESHOLDS):
     """Markdown: for each threshold, the configuration with the least cost_keys[0] whose
-    error_key is at or below it, with every cost in cost_keys ({key: (heading, formatter)})."""
-    heads = " | ".join(h for h, _ in cost_keys.values())
+    error_key is at or below it, with every cost in cost_keys ({key: (heading, formatter)}, or
+    (heading, formatter, True) for a formatter of the whole row)."""
+    heads = " | ".join(v[0] for v in cost_keys.values())
     lines = [f"| error ≤ | configuration | {heads} |", "|---|---|" + "---|" * len(cost_keys)]
     first = next(iter(cost_keys))
     for t in thresholds:
@@ -277,7 +314,9 @@ def cheapest_table(rows, error_key, cost_keys, describe, thresholds=THRESHOLDS):
             lines.append(f"| {t:.0%} | none of the configurations measured reaches it |" + " |" * len(cost_keys))
             continue
         best = min(ok, key=lambda r: r[first])
-        cells = " | ".join(fmt(best.get(k)) for k, (_, fmt) in cost_keys.items())
+        # (heading, formatter) formats the cost itself; (heading, formatter, row=True) formats the row
+        # (a timing shown with its spread).
+        cells = " | ".join(v[1](best) if len(v) > 2 and v[2] else v[1](best.get(k)) for k, v in cost_keys.items())
         lines.append(f"| {t:.0%} | {describe(best)} | {cells} |")
     return "\n".join(lines)
 
