@@ -9,7 +9,7 @@
 //     model blended into the new over HapticLoopOptions::blend_s, background work on cores - 1
 //     threads, SCHED_FIFO asked for (where the machine grants it);
 // each quiet and (full run) beside a load of one busy thread per core at normal priority, what a
-// compile on the trainee's laptop does; the full run repeats each configuration 3 times, interleaved
+// compile on the trainee's laptop does; the full run repeats each configuration 5 times, interleaved
 // (a VM's stalls come and go), and summarises medians of rate and overruns and the worst felt figures. The baseline, also in the same process: the empty loop (the
 // same machinery and script length, the probe in the air, no cut) quiet and loaded.
 // Reported per run: achieved rate, overruns per second, the smallest delivered / model force ratio
@@ -127,7 +127,7 @@ nlohmann::json run_json(const Run& r) {
 
 int main(int argc, char** argv) {
   bool quick = false;
-  int repeat = 3;
+  int repeat = 5;  // issue 37: a timing is a median of at least 5 runs
   std::string json_path, csv_dir;
   std::string scene_path = std::string(BEMSURG_EXAMPLES_DIR) + "/scenes/liver.json";
   std::string script_path = std::string(BEMSURG_EXAMPLES_DIR) + "/liver-cut-session.json";
@@ -135,7 +135,7 @@ int main(int argc, char** argv) {
       "bench_cut_continuity", "The force a hand feels while cut steps compute beside a held probe, before and after (docs/haptics.md).\n",
       quick, json_path);
   parser.value("--csv-dir", "DIR", csv_dir, "write the probe's force trace of each configuration's first run there");
-  parser.value("--repeat", "N", repeat, "runs of each configuration, interleaved (default 3; --quick: 1)").between(1, 20);
+  parser.value("--repeat", "N", repeat, "runs of each configuration, interleaved (default 5; --quick: 1)").between(1, 20);
   parser.value("--scene", "FILE", scene_path, "the organ scene (default examples/scenes/liver.json)");
   parser.value("--script", "FILE", script_path, "the session (default examples/liver-cut-session.json)");
   if (const std::optional<int> status = cli::parse_command_line(parser, argc, argv)) return *status;
@@ -223,7 +223,10 @@ int main(int argc, char** argv) {
                          {"overruns_per_s_median", bench::median(overruns)},
                          {"min_delivered_force_ratio", *std::min_element(ratio.begin(), ratio.end())},
                          {"max_tick_change_fraction", *std::max_element(change.begin(), change.end())},
-                         {"cut_step_seconds_median", steps.empty() ? 0.0 : bench::median(steps)}});
+                         {"cut_step_seconds_median", steps.empty() ? 0.0 : bench::median(steps)},
+                         {"cut_step_seconds_min", steps.empty() ? 0.0 : *std::min_element(steps.begin(), steps.end())},
+                         {"cut_step_seconds_max", steps.empty() ? 0.0 : *std::max_element(steps.begin(), steps.end())},
+                         {"cut_steps", steps.size()}});
       std::printf("summary %-7s %-7s %d runs: rate median %s Hz (min %s), overruns/s median %s, min D/M %s %%, max dD %s %%\n",
                   configuration.c_str(), load.c_str(), static_cast<int>(rate.size()), fixed_text(bench::median(rate), 1).c_str(),
                   fixed_text(*std::min_element(rate.begin(), rate.end()), 1).c_str(), fixed_text(bench::median(overruns), 2).c_str(),

@@ -102,7 +102,8 @@ System make_system(int nx, int ny, int nz, double push, int lu_repeats) {
 struct Result {
   std::string scenario, library, method, preconditioner, status;
   int restart = 0, iterations = 0;
-  double median_seconds = 0, min_seconds = 0, setup_seconds = 0, true_residual = 0, error_vs_lu = 0;
+  double median_seconds = 0, min_seconds = 0, max_seconds = 0, setup_seconds = 0, true_residual = 0, error_vs_lu = 0;
+  int repeats = 0;
   double ratio_vs_eigen = 0;  // 0 when there is no Eigen counterpart
 };
 
@@ -116,6 +117,8 @@ json to_json(const Result& r) {
           {"iterations", r.iterations},
           {"median_seconds", r.median_seconds},
           {"min_seconds", r.min_seconds},
+          {"max_seconds", r.max_seconds},
+          {"repeats", r.repeats},
           {"setup_seconds", r.setup_seconds},
           {"true_residual", r.true_residual},
           {"error_vs_lu", r.error_vs_lu},
@@ -141,6 +144,8 @@ void time_runs(Result& r, const System& s, const Eigen::VectorXd& x0, int repeat
   }
   r.median_seconds = median(times);
   r.min_seconds = *std::min_element(times.begin(), times.end());
+  r.max_seconds = *std::max_element(times.begin(), times.end());
+  r.repeats = repeats;
   r.true_residual = (s.b - s.A * x).norm() / s.b.norm();
   r.error_vs_lu = (x - s.x_lu).norm() / s.x_lu.norm();
 }
@@ -301,7 +306,7 @@ int main(int argc, char** argv) {
     csv.open(csv_path);
     use_classic_locale(csv);
     csv << "system,n,scenario,library,method,preconditioner,restart,status,iterations,median_seconds,setup_seconds,true_residual,"
-           "error_vs_lu,ratio_vs_eigen\n";
+           "error_vs_lu,ratio_vs_eigen,min_seconds,max_seconds,repeats\n";
   }
   try {
     for (const auto& c : sizes) {
@@ -332,7 +337,8 @@ int main(int argc, char** argv) {
         if (csv.is_open())
           csv << '"' << before.name << "\"," << before.A.rows() << ',' << r.scenario << ',' << r.library << ',' << r.method << ','
               << r.preconditioner << ',' << r.restart << ',' << r.status << ',' << r.iterations << ',' << r.median_seconds << ','
-              << r.setup_seconds << ',' << r.true_residual << ',' << r.error_vs_lu << ',' << r.ratio_vs_eigen << '\n';
+              << r.setup_seconds << ',' << r.true_residual << ',' << r.error_vs_lu << ',' << r.ratio_vs_eigen << ',' << r.min_seconds << ','
+              << r.max_seconds << ',' << r.repeats << '\n';
       }
       report["systems"].push_back(sys);
     }

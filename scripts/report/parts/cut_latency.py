@@ -127,7 +127,9 @@ def render(ctx):
              "3 × (modified + added elements), the rows and columns of A* the step changes. *Flop floor*: 2 n² d flops, "
              "the least an exact step does (the inverse applied to the d changed columns), at the rate of a bare dgemm "
              "(n × n times n × d) measured in the same run. *Refactorisation*: re-assembly, LU and table after the last "
-             f"step. {run.get('threads', '?')} threads, {run.get('dense_backend', '?')}"
+             "step. Times: the step figures are medians over the 6 steps of one cut (not repeated runs: each step changes the "
+             "body, and issue 39 profiles them), the refactorisation and the precompute one run each, the dgemm rate a "
+             f"median of 5. {run.get('threads', '?')} threads, {run.get('dense_backend', '?')}"
              + (f", load average {load:.2f} at the start." if isinstance(load, (int, float)) and load >= 0 else "."))
     fit_text = ", ".join(f"{name} ∝ n^{fits[k]:.2f}" for k, name in
                          (("exact_seconds", "exact"), ("flop_floor_seconds", "floor"), ("refactor_seconds", "refactorisation"))

@@ -73,11 +73,13 @@ def _table(j):
     rows = j["summary"]
     empty = {r["load"]: r for r in rows if r["configuration"] == "empty"}
     lines = ["| configuration | load | runs | rate, median (min) Hz | overruns / s, median | delivered / model, min | "
-             "largest tick change | cut step, median (s) | targets |",
+             "largest tick change | cut step, median (min–max over the runs' steps) | targets |",
              "|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         target = "baseline" if r["configuration"] == "empty" else _verdict(r, empty.get(r["load"]))
-        step = f"{r['cut_step_seconds_median']:.2f}" if r["configuration"] != "empty" else "–"
+        step = (rl.spread_text(r["cut_step_seconds_median"], r.get("cut_step_seconds_min"), r.get("cut_step_seconds_max"),
+                               r.get("cut_steps")).replace(" runs)", " steps)")
+                if r["configuration"] != "empty" else "–")
         lines.append(f"| {r['configuration']} | {r['load']} | {r['runs']} | {r['rate_hz_median']:.1f} ({r['rate_hz_min']:.1f}) | "
                      f"{r['overruns_per_s_median']:.2f} | {100 * r['min_delivered_force_ratio']:.1f} % | "
                      f"{100 * r['max_tick_change_fraction']:.2f} % | {step} | {target} |")

@@ -117,7 +117,7 @@ def run(ctx):
                                        "--patch-radius", PATCH_RADIUS, "--points-out", pts, "--json", js],
                                       NAME, timeout=900)
         j = json.loads(js.read_text())
-        p = np.loadtxt(pts, delimiter=",", skiprows=1)
+        p = np.loadtxt(rl.data_path(pts), delimiter=",", skiprows=1)
         ref = fe.evaluate(finest, u_ref, p[:, :3])
         bem_rows.append({"edge_length_m": h, "elements": j["elements"], "equations": j["equations"],
                          "clamped_elements": j["clamped_elements"], "assembly_s": j["assembly_s"], "solve_s": j["solve_s"],
@@ -164,7 +164,8 @@ def render(ctx):
              "(images/peer_work_precision.png)", "",
              "**The CalculiX levels** (what each finite-element size costs; the reaction on the patch against the weight ρ g V "
              "with V the volume ccx integrates; ccx's RF is the internal force at the clamped nodes, so the gravity load "
-             "that lands on those nodes themselves is added to it):", "",
+             "that lands on those nodes themselves is added to it). Times: one run each (a level of CalculiX takes up to minutes "
+             "and its answer is cached; not repeated):", "",
              "| level | h (mm) | h at patch edge (mm) | nodes | C3D10 | Gmsh (s) | ccx (s) | ccx peak memory | reaction / weight "
              "| difference to next level |", "|---|---|---|---|---|---|---|---|---|---|"]
     for r in fem:
@@ -172,7 +173,8 @@ def render(ctx):
                      f"{rl.seconds_text(r['mesh_s'])} | {rl.seconds_text(r['ccx_s'])} | {rl.bytes_text(r['ccx_peak_rss_bytes'])} | "
                      f"{r['reaction_over_weight']:.4f} | {_pct(r.get('difference_to_next'))} |")
     lines += ["", "**bemsurg** (the same fine surface remeshed by Gmsh with edges of about h, the rim kept; error against the "
-              "finest CalculiX level at the element centroids, area-weighted; the process's time includes the remeshing):", "",
+              "finest CalculiX level at the element centroids, area-weighted; the process's time includes the remeshing; times "
+              "from one run of each size):", "",
               "| h (mm) | elements | equations | assembly (s) | solve (s) | process (s) | peak memory | reaction / weight | error |",
               "|---|---|---|---|---|---|---|---|---|"]
     for r in bem:

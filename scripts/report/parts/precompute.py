@@ -83,7 +83,9 @@ def render(ctx):
         "right-hand sides), on bench_contact's boxes of N × N × (N − 1) cells, beside the bare `dgetrf` and `dgetrs` of "
         "the same n and right-hand sides measured in the same process (`bench_contact --no-updates`). The legend gives "
         "each series' exponent fitted by least squares over all sizes (expected ≈ 2 for the assembly, O(E²) element "
-        "pairs, and ≈ 3 for the LU; at small n the LU's exponent is below 3 because BLAS runs below its peak there).",
+        "pairs, and ≈ 3 for the LU; at small n the LU's exponent is below 3 because BLAS runs below its peak there). "
+        "Times: one run of each size (bench_contact does not repeat them; the bare baselines ran in the same process, "
+        "so the ratios compare like with like).",
         "", "![precompute time against n](images/precompute_vs_n.png)", "",
         "| n | elements | assembly | factorisation | table | precompute | bare dgetrf | bare dgetrs | "
         "precompute / bare | assembly / bare dgetrf | factorisation + table / bare |",

@@ -62,6 +62,10 @@ def render(ctx):
         f"**Behaviour.** {s['behaviour']}", "",
         "| gap / edge | equations | condition estimate | displacement difference | GMRES | BiCGStab | BiCG |",
         "|---|---|---|---|---|---|---|"]
+    # The uncut body first: the baseline the threshold text compares the cut ones with.
+    its = s.get("uncut_iterations", ["", "", ""])
+    lines.append(f"| uncut (baseline) | {s.get('uncut_equations', '–')} | {s['uncut_condition']:.2e} | {s['uncut_error']:.2e} | "
+                 f"{its[0]} | {its[1]} | {its[2]} |")
     for r in sorted(rows, key=lambda r: -r["gap_ratio"]):
         if r["refused"]:
             lines.append(f"| {r['gap_ratio']:g} | – | – | refused by the cutter: {r['refused']} | | | |")

@@ -56,6 +56,7 @@ def render(ctx):
         "![drift and solve time against the accumulated rank](images/stability_f_updates.png)", "",
         f"**Threshold.** {s['threshold_text']}", "",
         f"**Behaviour.** {s['behaviour']}", "",
+        "Times: the solves are medians of 5 runs; the refactorisation in the chart is one run per step.", "",
         "| scenario | steps | largest rank | largest drift | updated solve at the largest rank (s) | fresh LU solve (s) |",
         "|---|---|---|---|---|---|"]
     for key, label in SCENARIOS.items():
