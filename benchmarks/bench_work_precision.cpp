@@ -91,18 +91,34 @@ nlohmann::json run_config(const Config& c, int max_repeats) {
   // Exact values at each type's collocation points (docs/elements.md); errors measured there.
   const BoundarySolution exact = linear ? verification::exact_node_traces(s.mesh, s.field) : verification::exact_traces(s.mesh, s.field);
   if (linear) {
+    if (c.feed != "nodes" && c.feed != "corners") throw InvalidArgumentError("--feed: expected nodes or corners, got '" + c.feed + "'");
     p.node_values.resize(exact.displacement.rows(), 3);
-    for (Index r = 0; r < exact.displacement.rows(); ++r)
-      for (int k = 0; k < 3; ++k)
-        p.node_values(r, k) =
-            p.boundary_conditions.kind(3 * (r / 3) + k) == BcKind::Displacement ? exact.displacement(r, k) : exact.traction(r, k);
+    for (Index e = 0; e < s.mesh.num_elements(); ++e) {
+      // The prescribed rows of element e: the exact field at its nodes, or at its corners (the
+      // traction with the element's own normal) interpolated to the nodes as the solver does with
+      // bc.csv's corner form.
+      Eigen::Matrix3d given;
+      for (int k = 0; k < 3; ++k) {
+        const Eigen::Vector3d x = c.feed == "nodes" ? Eigen::Vector3d(collocation_node<LinearElement>(s.mesh.corners(e), k))
+                                                    : Eigen::Vector3d(s.mesh.vertex(s.mesh.faces()(e, k)));
+        const Eigen::Vector3d u = s.field.displacement(x), t = s.field.stress(x) * s.mesh.normal(e);
+        for (int d = 0; d < 3; ++d) given(k, d) = p.boundary_conditions.kind(3 * e + d) == BcKind::Displacement ? u(d) : t(d);
+      }
+      p.node_values.middleRows<3>(3 * e) = c.feed == "nodes" ? given : linear_corners_to_nodes(given);
+    }
   }
   const LinearSolverOptions options = solver_options(c);
-  nlohmann::json j = {{"problem", c.problem},  {"study", c.study},
-                      {"level", c.level},      {"quadrature", c.quadrature},
-                      {"solver", c.solver},    {"tolerance", c.tolerance},
-                      {"mesh", c.mesh},        {"element_type", c.element_type},
-                      {"baseline", kBaseline}, {"preconditioner", c.solver == "lu" ? "none" : "block_jacobi"}};
+  nlohmann::json j = {{"problem", c.problem},
+                      {"study", c.study},
+                      {"level", c.level},
+                      {"quadrature", c.quadrature},
+                      {"solver", c.solver},
+                      {"tolerance", c.tolerance},
+                      {"mesh", c.mesh},
+                      {"element_type", c.element_type},
+                      {"baseline", kBaseline},
+                      {"preconditioner", c.solver == "lu" ? "none" : "block_jacobi"},
+                      {"feed", linear ? c.feed : std::string()}};
   j["elements"] = s.mesh.num_elements();
   j["equations"] = 3 * nodes_per_element(p.elements) * s.mesh.num_elements();
   j["mean_h"] = s.mesh.diameters().mean();
@@ -163,6 +179,7 @@ int main(int argc, char** argv) {
   parser.value("--tolerance", "T", c.tolerance, "Krylov relative residual (0 for lu)");
   parser.value("--mesh", "KIND", c.mesh, "uniform");
   parser.value("--element_type", "TYPE", c.element_type, "constant or linear (docs/elements.md)");
+  parser.value("--feed", "WHERE", c.feed, "linear elements: the data given at the nodes or at the corners");
   parser.value("--repeats", "N", repeats, "solve up to N times (stopping after 10 s) and report median times");
   if (const std::optional<int> status = cli::parse_command_line(parser, argc, argv)) return *status;
   if (repeats < 1) {

@@ -102,21 +102,34 @@ nlohmann::json study_depth(const StudyContext& ctx) {
                {"tool", "depth_over_radius", "force", "hertz_force", "sneddon_force", "linear_force", "contact_elements",
                 "contact_radius_over_radius", "sneddon_contact_radius_over_radius", "checked"});
   const ContactDepthLimits limits;
+  // The element under the tools' axis: where press and the session check the tool's resolution.
+  Index under = -1;
+  for (Index e = 0; e < b.mesh->num_elements(); ++e)
+    if (b.mesh->normal(e).z() > 0.9 && (under < 0 || b.mesh->centroid(e).head<2>().norm() < b.mesh->centroid(under).head<2>().norm()))
+      under = e;
   for (double dr : depths) {
     const double d = dr * R;
-    // Study option: nothing refused, so every depth is pressed; "checked" says what the CLI and the session would do.
+    // Study option: nothing refused, so every depth is pressed; "checked" says what the CLI and the
+    // session would do: both checks they run, the depth range and the tool's resolution (a sphere's
+    // footprint sqrt(R d) spans too few elements at small depths; its force is then far off).
     const ContactDepthCheck check = check_contact_depth(*b.mesh, Eigen::Vector3d(0, 0, -1), d, R, ContactDepthLimits::for_studies());
-    const std::string verdict = check.tool_strain > limits.max_tool_strain ? "refused" : check.warning.empty() ? "ok" : "warned";
+    const auto verdict = [&](bool sphere) -> std::string {
+      if (check.tool_strain > limits.max_tool_strain) return "refused";
+      const bool coarse = !check_tool_resolution(*b.mesh, under, sphere, R, d).warning.empty();
+      if (coarse && !check.warning.empty()) return "warned (depth and resolution)";
+      if (coarse) return "warned (resolution)";
+      return check.warning.empty() ? "ok" : "warned (depth)";
+    };
     double a_sneddon = 0.0;
     const double sneddon = sneddon_sphere_force(E_star, R, d, &a_sneddon), hertz = 4.0 / 3.0 * E_star * std::sqrt(R) * std::pow(d, 1.5);
     const PressResult s = press_block(b, ToolSpec::sphere(R), d);
     double reach = 0.0;
     for (Index e : s.elements) reach = std::max(reach, b.mesh->centroid(e).head<2>().norm());
-    csv.row(
-        {std::string("sphere"), dr, s.force, hertz, sneddon, std::nan(""), double(s.contact_elements), reach / R, a_sneddon / R, verdict});
+    csv.row({std::string("sphere"), dr, s.force, hertz, sneddon, std::nan(""), double(s.contact_elements), reach / R, a_sneddon / R,
+             verdict(true)});
     const PressResult p = press_block(b, ToolSpec::flat(R), d);
     csv.row({std::string("punch"), dr, p.force, std::nan(""), std::nan(""), 2.0 * R * E_star * d, double(p.contact_elements), 1.0,
-             std::nan(""), verdict});
+             std::nan(""), verdict(false)});
   }
   // Where Hertz's small-depth force departs 5 % from the exact sphere's linear-elastic force
   // (bisection on Sneddon's closed form: no mesh in it).
@@ -141,8 +154,11 @@ nlohmann::json study_depth(const StudyContext& ctx) {
       "check_contact_depth (presolution/contact_validity.hpp), called by bemsurg press and the session for every press, warns "
       "above depth / radius " +
       general_text(limits.warn_tool_strain, 3) + " and refuses with ContactError above " + general_text(limits.max_tool_strain, 3) +
-      " (confirmed); ToolContactSolver itself does not check, and "
-      "ContactDepthLimits::for_studies() switches the refusal off for studies.";
+      " (confirmed); check_tool_resolution, called by both as well, warns when the contact radius (the punch's, or the sphere's "
+      "footprint sqrt(R d)) spans fewer than " +
+      general_text(kMinPunchRadiusPerElement, 3) + " (punch) or " + general_text(kMinSphereContactRadiusPerElement, 3) +
+      " (sphere) element sizes under the tool, which is what makes the shallow sphere presses far off here. ToolContactSolver "
+      "itself does not check, and ContactDepthLimits::for_studies() switches the refusal off for studies.";
   j["csv"] = {"depth.csv"};
   return j;
 }

@@ -24,6 +24,7 @@ def render(ctx):
     gm = [r for r in rows if r["method"] == "gmres"]
     m_max = max(r["restart"] for r in gm)
     full_at = 2 * m_max  # full GMRES drawn at the right of the swept restart lengths
+    bi_at = {"bicgstab": 4 * m_max, "bicg": 8 * m_max}  # then BiCGStab (x) and BiCG (+)
 
     def x_of(r):
         return r["restart"] if r["restart"] > 0 else full_at
@@ -37,19 +38,26 @@ def render(ctx):
                          if r["preconditioner"] == pk and r["n"] == n and r["poisson_ratio"] == nu)
             ax.plot([p[0] for p in pts], [p[1] for p in pts], marker=rl.MARKERS[i % len(rl.MARKERS)], color=f"C{i}",
                     label=f"n = {n}, ν = {nu:g}")
+            # BiCGStab and BiCG on the same system, at their own places right of full GMRES.
+            for x_bi, method, mk in ((bi_at["bicgstab"], "bicgstab", "x"), (bi_at["bicg"], "bicg", "+")):
+                for r in rows:
+                    if r["method"] == method and r["preconditioner"] == pk and r["n"] == n and r["poisson_ratio"] == nu:
+                        ax.scatter([x_bi], [r["iterations"]], marker=mk, color=f"C{i}", s=40, zorder=4)
+                        pts.append((x_bi, r["iterations"], r["status"]))
             bad = [p for p in pts if p[2] != "converged"]
             if bad:
                 ax.scatter([p[0] for p in bad], [p[1] for p in bad], s=120, facecolors="none", edgecolors="red", zorder=5)
         ax.axvline(s["threshold"], color="red", ls="--", label="converges everywhere (block-Jacobi) from m = %d" % s["threshold"])
         ax.set_xscale("log")
         ax.set_yscale("log")
-        ax.set_xlabel("GMRES restart length m (rightmost: full GMRES)")
+        ax.set_xlabel("GMRES restart length m, full GMRES; BiCGStab (x) and BiCG (+)")
         ax.set_title("preconditioner: " + pk.replace("_", "-"))
         if pk == "none":
             ax.legend(fontsize=6, loc="upper left", bbox_to_anchor=(1.02, 1.0))
-        ticks = sorted({x_of(r) for r in gm})
+        ticks = sorted({x_of(r) for r in gm}) + [bi_at["bicgstab"], bi_at["bicg"]]
+        names = {full_at: "full", bi_at["bicgstab"]: "BiCGStab", bi_at["bicg"]: "BiCG"}
         ax.set_xticks(ticks)
-        ax.set_xticklabels([str(t) if t != full_at else "full" for t in ticks])
+        ax.set_xticklabels([names.get(t, str(t)) for t in ticks], rotation=30, fontsize=7)
         ax.minorticks_off()
     axes[0].set_ylabel("iterations (red circle: not converged)")
     rl.save(fig, ctx.image("stability_e_krylov"))
