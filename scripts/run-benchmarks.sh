@@ -33,6 +33,11 @@ if [ "$publish" = 1 ] && { [ "$quick" = 1 ] || [ -n "$only" ]; }; then
   exit 2
 fi
 
+if [ "$publish" = 1 ] && [ -n "$(git status --porcelain --untracked-files=no)" ]; then
+  # Checked again by the driver; here so that nothing is built or run first (docs/benchmarks.md).
+  echo "run-benchmarks: --publish needs a clean tree: commit or stash the changes to tracked files first" >&2
+  exit 2
+fi
 bash scripts/setup-deps.sh > /dev/null
 start=$(date +%s)
 if [ "$render_only" = 1 ]; then

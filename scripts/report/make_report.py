@@ -102,14 +102,21 @@ def load_average():
 # What a part's data depend on: the library, the build, the benchmark programs and the report's
 # shared code. A part whose data ran at a commit before a change to any of these is stale; a change
 # to the part's own file is not enough (it may only change the drawing), so the part file is left out.
-DATA_SOURCES = ("include", "src", "benchmarks", "CMakeLists.txt", "cmake", "scripts/report/report_lib.py",
-                "scripts/report/calculix_peer.py")
+DATA_SOURCES = ("include", "src", "benchmarks", "tests/support", "examples", "CMakeLists.txt", "cmake",
+                "scripts/report/report_lib.py", "scripts/report/calculix_peer.py")
 
 
 def stale_sources(repo, commit, head):
     """The files under DATA_SOURCES that changed between `commit` and `head` (empty: not stale)."""
     if not commit or commit == "unknown" or commit == head:
         return []
+    try:  # a commit this repository does not hold (a shallow clone, rewritten history): not known current
+        known = subprocess.run(["git", "-C", str(repo), "cat-file", "-e", commit + "^{commit}"], capture_output=True,
+                               timeout=20).returncode == 0
+    except (OSError, subprocess.SubprocessError):
+        known = False
+    if not known:
+        return [f"(commit {commit} is not in this repository)"]
     out = _cmd(["git", "-C", str(repo), "diff", "--name-only", commit, head, "--", *DATA_SOURCES], default="")
     return [line for line in out.splitlines() if line.strip()]
 
@@ -200,6 +207,9 @@ def write_report(ctx, parts, header, status):
     compilers = {st.get("compiler") for st in status.values() if isinstance(st, dict) and st.get("compiler")}
     if len(compilers) > 1:
         lines += ["", "**The parts were built by different compilers or flags**: " + "; ".join(sorted(compilers)) + "."]
+    cpus = {st.get("cpu") for st in status.values() if isinstance(st, dict) and st.get("cpu")}
+    if len(cpus) > 1:
+        lines += ["", "**The parts ran on different CPUs**: " + "; ".join(sorted(cpus)) + "."]
     if timed:
         lines += ["", f"Time of the parts' runs (the CalculiX reference counts only when it was not cached): "
                   f"{sum(t for _, t in timed) / 60:.1f} min in all — " + ", ".join(f"{n} {t:.0f} s" for n, t in timed) + "."]
@@ -248,7 +258,7 @@ def main():
     if status.get("_mode") not in (None, ctx.mode):
         report_lib.warn(f"{ctx.out} holds a {status['_mode']} run; parts not run now keep their {status['_mode']} data")
     status["_mode"] = ctx.mode
-    if a.require_complete and not a.render_only and tree_state(ctx.repo)[1]:
+    if a.require_complete and tree_state(ctx.repo)[1]:
         raise SystemExit("run-benchmarks: --publish needs a clean tree (commit or stash the changes to tracked files first): "
                          "every part records the commit it ran on, and a dirty tree's commit does not say what ran")
     failed = []
@@ -273,7 +283,13 @@ def main():
         status[p.NAME] = entry
         status_path.write_text(json.dumps(status, indent=1))
     header = machine_header(ctx)
-    (ctx.out / "machine.json").write_text(json.dumps(header, indent=1))
+    kept = ctx.out / "machine.json"
+    if a.render_only and kept.exists():
+        # Redrawing elsewhere (from docs/report-data, say) must not relabel the data with this
+        # machine: keep the machine the parts ran on, refresh only when and at which commit it is drawn.
+        header = dict(json.loads(kept.read_text()), date=header["date"], commit=header["commit"],
+                      commit_hash=header["commit_hash"])
+    kept.write_text(json.dumps(header, indent=1))
     write_report(ctx, parts, header, status)
     status_path.write_text(json.dumps(status, indent=1))
     broken = failed + sorted(RENDER_FAILED)

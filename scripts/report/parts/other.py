@@ -116,8 +116,8 @@ def _graded_section(ctx, d):
     diff = rl.read_csv(d / "graded_differences.csv")[0]
     ratio = lambda k: graded[k] / fine[k] if fine[k] else float("nan")  # noqa: E731
     out += ["The brain scene graded around its operating region (docs/graded.md) against the same remesher's uniformly "
-            "fine mesh, in the same process. Precompute: the median of 5 runs for the graded mesh, of fewer for the fine one "
-            "(bench_graded runs the larger mesh a third as often).", "",
+            "fine mesh, in the same process. Precompute: the median of the runs for the graded mesh (5; 1 in quick mode), "
+            "one run for the fine one (bench_graded runs the larger mesh a third as often, at least once).", "",
             "| mesh | elements | precompute (median s) | peak memory | table memory | force z (N) | min angle (°) |",
             "|---|---|---|---|---|---|---|"]
     for r in (fine, graded):
@@ -134,7 +134,7 @@ def _topology_section(ctx, d):
     rows = rl.read_csv(d / "cut_topology.csv")
     out = ["### Cut topology (bench_cut_topology)", "",
            "The topology half of a cut step beside one full surface check (validation and self-intersection search) "
-           "of the same mesh, in the same run (medians of 9 runs).", "",
+           "of the same mesh, in the same run (medians of 9 runs; 3 in quick mode).", "",
            "| elements | full check | open | extend | deepen | extend / full check |", "|---|---|---|---|---|---|"]
     for r in rows:
         out.append(f"| {r['elements']} | {rl.seconds_text(r['validate_seconds'])} | {rl.seconds_text(r['open_seconds'])} | "
@@ -148,7 +148,7 @@ def _assembly_section(ctx, d):
     out = ["### Assembly (bench_assembly)", "",
            "H, G and gravity in one pass plus A* and the right-hand sides, beside the bare LAPACK `dgetrf` of the same n in "
            "the same process. Targets (docs/assembly.md): assembly ≤ 0.5× dgetrf, precompute ≤ 1.5× bare, a 30-element "
-           "cut update ≤ 10 ms. Medians of 5 runs.", "",
+           "cut update ≤ 10 ms. Medians of 5 runs (quick mode: fewer).", "",
            "| n | elements | assembly | factorisation | bare dgetrf | assembly / dgetrf | precompute / bare | ns per pair per thread |",
            "|---|---|---|---|---|---|---|---|"]
     notes = []
