@@ -13,6 +13,7 @@
 #include "bemsurg/io/results_io.hpp"
 #include "bemsurg/io/scene.hpp"
 #include "bemsurg/meshing/mesh_io.hpp"
+#include "bemsurg/number_text.hpp"
 #include "bemsurg/post/interior_evaluator.hpp"
 #include "bemsurg/timing.hpp"
 #include "commands.hpp"
@@ -39,6 +40,18 @@ struct SolveOptions {
   std::string output;
   bool quiet = false;
 };
+
+/// What each displacement rule holds (docs/scene-format.md, "boundary_rules").
+void print_held_areas(const bemsurg::Scene& scene) {
+  for (const bemsurg::BoundaryRuleArea& r : scene.boundary_rules)
+    if (r.displacement)
+      std::cout << "  " << r.key << " holds " << bemsurg::general_text(r.area, 4) << " m^2"
+                << (r.has_region && r.region_area > 0.0
+                        ? " of the " + bemsurg::general_text(r.region_area, 4) + " m^2 inside its region (" +
+                              bemsurg::general_text(100.0 * r.area / r.region_area, 3) + " %)"
+                        : std::string())
+                << "\n";
+}
 
 }  // namespace
 
@@ -73,6 +86,7 @@ int run_solve(int argc, char** argv) {
     std::cout << "bemsurg solve: " << scene.problem.mesh.num_elements() << " " << to_string(scene.problem.elements) << " elements, "
               << 3 * nodes_per_element(scene.problem.elements) * scene.problem.mesh.num_elements() << " equations, mesh "
               << scene.mesh_source << ", solver " << to_string(scene.solver.method) << std::endl;
+  if (!options.quiet) print_held_areas(scene);
 
   const ElastostaticSolution solution = solve_elastostatic(scene.problem, scene.solver);
   // A warning the scene gave at load already (slivers: "mesh: " + the same text) is not repeated.
@@ -116,6 +130,7 @@ int run_solve(int argc, char** argv) {
   report.timings.total = seconds_between(start, finished);
   report.peak_memory_mb = peak_memory_mb();
   report.solver = solution.report.solver;
+  report.boundary_rules = scene.boundary_rules;
   report.warnings = scene.warnings;
   report.warnings.insert(report.warnings.end(), solve_warnings.begin(), solve_warnings.end());
   write_report_json((out / "report.json").string(), report);

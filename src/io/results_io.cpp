@@ -201,6 +201,16 @@ void write_report_json(const std::string& path, const RunResult& report) {
                  {"relative_residual", number(report.solver.relative_residual)},
                  {"setup_seconds", number(report.solver.setup_seconds)},
                  {"solve_seconds", number(report.solver.solve_seconds)}};
+  j["boundary_rules"] = nlohmann::ordered_json::array();
+  for (const BoundaryRuleArea& r : report.boundary_rules) {
+    nlohmann::ordered_json rule;
+    rule["rule"] = r.key;
+    rule["area"] = number(r.area);
+    if (r.has_region) rule["region_area"] = number(r.region_area);
+    rule["conform"] = r.conform;
+    rule["refine_rim"] = r.refine_rim;
+    j["boundary_rules"].push_back(std::move(rule));
+  }
   j["warnings"] = report.warnings;
   j["scene"] = report.scene;
   j["mesh"] = report.mesh_source;

@@ -20,6 +20,7 @@
 #include "bemsurg/mesh/mesh_quality.hpp"
 #include "bemsurg/mesh/mesh_thickness.hpp"
 #include "bemsurg/meshing/mesh_preparation.hpp"
+#include "bemsurg/number_text.hpp"
 #include "json_reader.hpp"
 #include "scene_sections.hpp"
 
@@ -74,10 +75,23 @@ void warn_unsafe_grading(Scene& scene) {
   if (!w.empty()) scene.warnings.push_back("mesh: " + w);
 }
 
+/// A displacement rule whose region the solved surface holds less than 90 % of (docs/scene-format.md,
+/// "boundary_rules"): elements whose centroid lies outside the region are free, so the support is
+/// smaller than the scene says; "conform" splits them along a sphere's or box's boundary.
+void warn_partial_supports(Scene& scene) {
+  for (const BoundaryRuleArea& r : scene.boundary_rules) {
+    if (!r.displacement || !r.has_region || !(r.region_area > 0.0) || r.area >= 0.9 * r.region_area) continue;
+    scene.warnings.push_back(r.key + ": holds " + general_text(r.area, 4) + " m^2 of the " + general_text(r.region_area, 4) +
+                             " m^2 of surface inside its region (" + general_text(100.0 * r.area / r.region_area, 3) +
+                             " %): elements whose centroid lies outside it are not held; add \"conform\": true to the rule to split "
+                             "them along a sphere's or box's boundary (docs/scene-format.md, \"conform\")");
+  }
+}
+
 /// Whether the mesh solved is not the one read or generated (a graded remesh, a red-green
 /// refinement): its element numbers are then its own, and messages must say so.
 bool mesh_rebuilt(const Scene& scene) {
-  return scene.graded || scene.mesh_source.find("red-green") != std::string::npos ||
+  return scene.graded || !scene.element_origin.empty() || scene.mesh_source.find("red-green") != std::string::npos ||
          scene.mesh_source.find("prepared") != std::string::npos;
 }
 
@@ -164,6 +178,7 @@ Scene build_scene(const io::JsonDocument& document, const std::string& directory
     if (const std::optional<io::JsonReader> h = r->optional("inside_edge_length")) graded_inside_edge = h->positive();
   problem.mesh = io::load_mesh(root.required("mesh"), directory, scene.mesh_source, graded_inside_edge);
   scene.input_elements = problem.mesh.num_elements();
+  const TriangleMesh as_read = problem.mesh;  // where the rules' regions are measured ("region_area")
   // The operating region comes before the boundary conditions: it may remesh, and the rules then
   // select on the mesh that is solved.
   if (const std::optional<io::JsonReader> r = root.optional("operating_region")) {
@@ -172,23 +187,27 @@ Scene build_scene(const io::JsonDocument& document, const std::string& directory
     scene.has_operating_region = true;
     io::remesh_for_operating_region(request, scene);
   }
-  scene.mesh_quality = measure_mesh_quality(problem.mesh);
   require_solvable_size(scene, root.required("mesh"), directory);
+  io::LoadedBoundaryConditions bcs = io::load_boundary_conditions(root.required("boundary_conditions"), directory, problem.mesh, as_read);
+  problem.boundary_conditions = std::move(bcs.conditions);
+  scene.boundary_rules = std::move(bcs.rules);
+  scene.element_origin = std::move(bcs.origin);
+  for (const std::string& change : bcs.mesh_changes) scene.mesh_source += ", " + change;
+  if (!scene.element_origin.empty()) require_solvable_size(scene, root.required("mesh"), directory);  // the rules' splits added elements
+  scene.mesh_quality = measure_mesh_quality(problem.mesh);
   warn_thin_elements(scene);
   // Slivers at load, so that every command warns before its work (solve's own check_before_solve
   // warning is then not repeated; docs/stability.md (c)).
   if (std::string w = sliver_warning(problem.mesh); !w.empty()) scene.warnings.push_back("mesh: " + w);
-  RowMatrixX3d corners;
-  bool at_nodes = false;
-  problem.boundary_conditions =
-      io::load_boundary_conditions(root.required("boundary_conditions"), directory, problem.mesh, &corners, &at_nodes);
+  warn_partial_supports(scene);
   if (problem.elements == ElementType::Linear) {
     // Values at the nodes: as given by the node variant of the file, else the linear interpolation
     // of the corners' (docs/elements.md: a field sampled at the nodes is what the elements collocate).
+    const RowMatrixX3d& corners = bcs.corner_values;
     problem.node_values.resize(corners.rows(), 3);
     for (Index e = 0; e < problem.mesh.num_elements(); ++e)
       problem.node_values.middleRows<3>(3 * e) =
-          at_nodes ? Eigen::Matrix3d(corners.middleRows<3>(3 * e)) : linear_corners_to_nodes(corners.middleRows<3>(3 * e));
+          bcs.at_nodes ? Eigen::Matrix3d(corners.middleRows<3>(3 * e)) : linear_corners_to_nodes(corners.middleRows<3>(3 * e));
   }
   if (scene.has_operating_region) collect_operating_elements(scene);
   warn_unsafe_grading(scene);
@@ -251,6 +270,14 @@ Scene load_scene_with_mesh(const std::string& path, const std::string& mesh_file
   if (root.contains("operating_region") && root["operating_region"].is_object())
     for (const char* key : {"inside_edge_length", "outside_edge_length", "growth", "feature_angle", "supported"})
       root["operating_region"].erase(key);
+  // Nor split again by the rules: their "conform" and "refine_rim" made the mesh given.
+  if (root.contains("boundary_conditions") && root["boundary_conditions"].is_object() && root["boundary_conditions"].contains("rules") &&
+      root["boundary_conditions"]["rules"].is_array())
+    for (nlohmann::json& rule : root["boundary_conditions"]["rules"])
+      if (rule.is_object()) {
+        rule.erase("conform");
+        rule.erase("refine_rim");
+      }
   return build_scene(io::JsonDocument(root.dump(), path), scene_directory(path), path);
 }
 

@@ -2,11 +2,17 @@
 // docs/design.md §5): per element and component u or t prescribed; pressure p means t = -p n.
 // Rules select elements geometrically and apply in order; the per-element CSV file comes last.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <iterator>
 #include <limits>
 
 #include "bemsurg/io/element_selector.hpp"
+#include "bemsurg/mesh/conforming_split.hpp"
+#include "bemsurg/mesh/mesh_quality.hpp"
+#include "bemsurg/mesh/mesh_topology.hpp"
+#include "bemsurg/mesh/red_green_refinement.hpp"
+#include "bemsurg/mesh/space_region.hpp"
 #include "csv_reader.hpp"
 #include "scene_sections.hpp"
 
@@ -83,12 +89,40 @@ std::optional<ElementSelector> read_selector(const JsonReader& v, const std::str
   return std::nullopt;
 }
 
-std::vector<Index> evaluate_select(const JsonReader& sel, const TriangleMesh& mesh) {
+/// The region of space a selector describes, for the three that describe one.
+std::optional<SpaceRegion> region_of(const ElementSelector& s) {
+  switch (s.kind) {
+    case ElementSelector::Kind::Plane: return SpaceRegion::slab(s.point, s.direction, s.tolerance);
+    case ElementSelector::Kind::Box: return SpaceRegion::box(s.box_min, s.box_max);
+    case ElementSelector::Kind::Sphere: return SpaceRegion::ball(s.point, s.tolerance);
+    default: return std::nullopt;
+  }
+}
+
+std::vector<Index> intersect(const std::vector<Index>& a, const std::vector<Index>& b) {
+  std::vector<Index> both;
+  std::set_intersection(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(both));
+  return both;
+}
+
+/// What a "select" object picks: the elements (centroids and normals, element_selector.hpp), the
+/// region of space when every selector describes one (for "region_area"), and, apart, the sphere
+/// and box selectors' region (what "conform" splits along) and the other selectors' elements.
+struct Selection {
+  std::vector<Index> elements;
+  std::optional<SpaceRegion> region;
+  std::optional<SpaceRegion> shape;  // the sphere and box selectors, intersected
+  std::optional<std::vector<Index>> others;
+  int spheres = 0;
+};
+
+Selection evaluate_select(const JsonReader& sel, const TriangleMesh& mesh) {
   sel.object();
   if (sel.empty()) sel.fail("expected at least one of plane, box, sphere, normal, shell, elements, all");
   sel.warn_unknown_keys({"plane", "box", "sphere", "normal", "shell", "elements", "all"});
-  std::vector<Index> result;
-  bool first = true;
+  Selection out;
+  bool first = true, all_regions = true;
+  SpaceRegion region;
   // Several selectors in one "select" must all hold (intersection), e.g. plane and normal.
   for (const std::string& name : sel.keys()) {
     const std::optional<ElementSelector> s = read_selector(sel.required(name), name, mesh);
@@ -99,24 +133,69 @@ std::vector<Index> evaluate_select(const JsonReader& sel, const TriangleMesh& me
     } catch (const SceneError& e) {
       sel.fail(e.what());  // e.what() starts with the selector name: "shell: index 3 out of range"
     }
-    if (first) {
-      result = std::move(picked);
-      first = false;
-    } else {
-      std::vector<Index> both;
-      std::set_intersection(result.begin(), result.end(), picked.begin(), picked.end(), std::back_inserter(both));
-      result = std::move(both);
-    }
+    out.elements = first ? picked : intersect(out.elements, picked);
+    first = false;
+    const std::optional<SpaceRegion> r = region_of(*s);
+    out.spheres += s->kind == ElementSelector::Kind::Sphere;
+    all_regions = all_regions && r.has_value();
+    if (r) region = region.intersected(*r);
+    if (s->kind == ElementSelector::Kind::Sphere || s->kind == ElementSelector::Kind::Box)
+      out.shape = out.shape ? out.shape->intersected(*r) : *r;
+    else
+      out.others = out.others ? intersect(*out.others, picked) : picked;
   }
   if (first) sel.fail("expected at least one of plane, box, sphere, normal, shell, elements, all");
-  return result;
+  if (all_regions && out.spheres <= 1) out.region = region;
+  return out;
 }
 
-void apply_rule(const JsonReader& rule, const TriangleMesh& mesh, BoundaryConditions& bc) {
-  rule.object().warn_unknown_keys({"select", "displacement", "traction", "pressure", "kind", "value"});
+/// One rule as read (docs/scene-format.md#boundary_conditions): what it selects on the mesh the
+/// rules are given on (then carried through the rules' splits), and what it prescribes.
+struct Rule {
+  std::string key;
+  std::vector<char> selected;  // on the current mesh
+  std::vector<char> others;    // conform: the elements the selectors other than sphere and box pick
+  std::optional<SpaceRegion> region;
+  std::optional<SpaceRegion> conform;
+  int refine_rim = 0;
+  enum class Action { Displacement, Traction, Pressure, Kinds } action = Action::Traction;
+  std::array<BcKind, 3> kinds{BcKind::Traction, BcKind::Traction, BcKind::Traction};
+  Vec3 value = Vec3::Zero();
+  double region_area = 0.0;
+
+  bool holds_displacement() const {
+    return action == Action::Displacement ||
+           (action == Action::Kinds && std::find(kinds.begin(), kinds.end(), BcKind::Displacement) != kinds.end());
+  }
+};
+
+std::vector<char> flags_of(const std::vector<Index>& elements, Index n) {
+  std::vector<char> f(static_cast<std::size_t>(n), 0);
+  for (Index e : elements) f[static_cast<std::size_t>(e)] = 1;
+  return f;
+}
+
+Rule read_rule(const JsonReader& rule, const TriangleMesh& mesh, const TriangleMesh& as_read) {
+  rule.object().warn_unknown_keys({"select", "displacement", "traction", "pressure", "kind", "value", "conform", "refine_rim"});
+  Rule r;
+  r.key = rule.path();
   const JsonReader select = rule.required("select");
-  const std::vector<Index> elements = evaluate_select(select, mesh);
-  if (elements.empty()) select.fail("selects no elements (check the coordinates and the tolerance against the mesh's bounding box)");
+  const Selection s = evaluate_select(select, mesh);
+  r.selected = flags_of(s.elements, mesh.num_elements());
+  r.region = s.region;
+  if (s.region) r.region_area = area_inside(as_read, *s.region);
+  if (const std::optional<JsonReader> c = rule.optional("conform"); c && c->boolean()) {
+    if (!s.shape)
+      c->fail(
+          "needs a sphere or box selector in \"select\" to split the elements along (the rim of a flat face is kept by the "
+          "remesher instead; docs/graded.md)");
+    if (s.spheres > 1) c->fail("conforms to one sphere at a time; give one sphere selector per rule");
+    r.conform = s.shape;
+    r.others = s.others ? flags_of(*s.others, mesh.num_elements()) : std::vector<char>(std::size_t(mesh.num_elements()), 1);
+  } else if (s.elements.empty()) {
+    select.fail("selects no elements (check the coordinates and the tolerance against the mesh's bounding box)");
+  }
+  if (const std::optional<JsonReader> k = rule.optional("refine_rim")) r.refine_rim = k->integer_in(0, 4);
 
   int given = 0;
   for (const char* k : {"displacement", "traction", "pressure", "kind"}) given += rule.has(k) ? 1 : 0;
@@ -124,39 +203,50 @@ void apply_rule(const JsonReader& rule, const TriangleMesh& mesh, BoundaryCondit
     rule.fail(given == 0 ? "expected one of displacement, traction, pressure, or kind with value"
                          : "give only one of displacement, traction, pressure, or kind with value");
   if (rule.has("value") && !rule.has("kind")) rule.required("value").fail("needs \"kind\" beside it");
-
   if (const std::optional<JsonReader> v = rule.optional("displacement")) {
-    const Vec3 u = v->vec3();
-    for (Index e : elements) bc.prescribe_displacement(e, u);
+    r.action = Rule::Action::Displacement;
+    r.value = v->vec3();
   } else if (const std::optional<JsonReader> v = rule.optional("traction")) {
-    const Vec3 t = v->vec3();
-    for (Index e : elements) bc.prescribe_traction(e, t);
+    r.action = Rule::Action::Traction;
+    r.value = v->vec3();
   } else if (const std::optional<JsonReader> v = rule.optional("pressure")) {
-    const double p = v->number();
-    for (Index e : elements) bc.prescribe_pressure(e, p, mesh.normal(e));
+    r.action = Rule::Action::Pressure;
+    r.value = Vec3(v->number(), 0.0, 0.0);
   } else {
+    r.action = Rule::Action::Kinds;
     const JsonReader kinds = rule.required("kind");
-    BcKind k3[3];
     if (kinds.is_string()) {
-      k3[0] = k3[1] = k3[2] = parse_kind(kinds.string(), kinds.path());
+      r.kinds.fill(parse_kind(kinds.string(), kinds.path()));
     } else if (kinds.is_array() && kinds.size() == 3) {
-      for (std::size_t c = 0; c < 3; ++c) k3[c] = parse_kind(kinds[c].string(), kinds[c].path());
+      for (std::size_t c = 0; c < 3; ++c) r.kinds[c] = parse_kind(kinds[c].string(), kinds[c].path());
     } else {
       kinds.fail("expected \"u\", \"t\" or an array of 3 of them, got " + kinds.type_name());
     }
-    const Vec3 value = rule.required("value").vec3();
-    for (Index e : elements)
-      for (int c = 0; c < 3; ++c) bc.prescribe_component(e, c, k3[c], value(c));
+    r.value = rule.required("value").vec3();
+  }
+  return r;
+}
+
+void apply_rule(const Rule& r, Index e, const TriangleMesh& mesh, BoundaryConditions& bc) {
+  switch (r.action) {
+    case Rule::Action::Displacement: bc.prescribe_displacement(e, r.value); break;
+    case Rule::Action::Traction: bc.prescribe_traction(e, r.value); break;
+    case Rule::Action::Pressure: bc.prescribe_pressure(e, r.value.x(), mesh.normal(e)); break;
+    case Rule::Action::Kinds:
+      for (int c = 0; c < 3; ++c) bc.prescribe_component(e, c, r.kinds[std::size_t(c)], r.value(c));
+      break;
   }
 }
 
-void apply_element_rows(const std::vector<CsvRow>& rows, const std::string& key, const TriangleMesh& mesh, BoundaryConditions& bc) {
+void apply_element_rows(const std::vector<CsvRow>& rows, const std::string& key, const TriangleMesh& mesh, BoundaryConditions& bc,
+                        std::vector<char>& listed) {
   static const char* kind_names[3] = {"kind_x", "kind_y", "kind_z"};
   static const char* value_names[3] = {"value_x", "value_y", "value_z"};
   for (const CsvRow& row : rows) {
     const std::string where = csv_row_key(key, row);
     const long long e = parse_csv_integer(row.fields[0], where + ": element", "an integer element index");
     if (e < 0 || e >= mesh.num_elements()) fail_at(where, out_of_range(e, mesh));
+    listed[static_cast<std::size_t>(e)] = 1;
     for (int c = 0; c < 3; ++c) {
       const BcKind kind = parse_kind(row.fields[static_cast<std::size_t>(1 + c)], where + ": " + kind_names[c]);
       const double value = parse_csv_number(row.fields[static_cast<std::size_t>(4 + c)], where + ": " + value_names[c]);
@@ -170,7 +260,7 @@ void apply_element_rows(const std::vector<CsvRow>& rows, const std::string& key,
 /// listed elements, every one given at all three, a component's kind the same at the three; the
 /// element's own value becomes the mean (the value at the centroid, for corners and nodes alike).
 void apply_corner_rows(const std::vector<CsvRow>& rows, const std::string& key, const TriangleMesh& mesh, BoundaryConditions& bc,
-                       RowMatrixX3d& corners, const std::string& point = "corner") {
+                       RowMatrixX3d& corners, std::vector<char>& listed, const std::string& point) {
   static const char* kind_names[3] = {"kind_x", "kind_y", "kind_z"};
   static const char* value_names[3] = {"value_x", "value_y", "value_z"};
   const std::size_t E = static_cast<std::size_t>(mesh.num_elements());
@@ -196,6 +286,7 @@ void apply_corner_rows(const std::vector<CsvRow>& rows, const std::string& key, 
     const std::size_t* l = &line[3 * e];
     const int given = (l[0] ? 1 : 0) + (l[1] ? 1 : 0) + (l[2] ? 1 : 0);
     if (given == 0) continue;
+    listed[e] = 1;
     const std::size_t first = std::max({l[0], l[1], l[2]});
     if (given < 3) {
       std::string missing;
@@ -219,54 +310,199 @@ void apply_corner_rows(const std::vector<CsvRow>& rows, const std::string& key, 
   }
 }
 
-/// Returns whether the values given are at the nodes (the node variant) rather than the corners.
-bool apply_bc_file(const std::string& path, const std::string& key, const TriangleMesh& mesh, BoundaryConditions& bc,
-                   RowMatrixX3d& corners) {
+/// The barycentric coordinates of p in the triangle `t` (p in its plane).
+Vec3 barycentric(const std::array<Vec3, 3>& t, const Vec3& p) {
+  const Vec3 u = t[1] - t[0], v = t[2] - t[0], w = p - t[0];
+  const double uu = u.dot(u), uv = u.dot(v), vv = v.dot(v), wu = w.dot(u), wv = w.dot(v), d = uu * vv - uv * uv;
+  const double b = (vv * wu - uv * wv) / d, c = (uu * wv - uv * wu) / d;
+  return Vec3(1.0 - b - c, b, c);
+}
+
+/// The CSV file (docs/scene-format.md#boundary_conditions), whose rows name elements of `given`
+/// (the mesh the rules are given on), applied to the solved `mesh`, where `origin` (empty when
+/// the two are one) maps every solved element to its element of `given`. Returns whether the
+/// values are at the nodes; a split element takes the linear interpolation of its origin's corner
+/// values at its own corners (the corners then, never the nodes). `from_file` marks the elements set.
+bool apply_bc_file(const std::string& path, const std::string& key, const TriangleMesh& given, const TriangleMesh& mesh,
+                   const std::vector<Index>& origin, BoundaryConditions& bc, RowMatrixX3d& corners, std::vector<char>& from_file) {
   std::size_t variant = 0;
   const auto rows =
       read_csv(path,
                {"element,kind_x,kind_y,kind_z,value_x,value_y,value_z", "element,corner,kind_x,kind_y,kind_z,value_x,value_y,value_z",
                 "element,node,kind_x,kind_y,kind_z,value_x,value_y,value_z"},
                key, variant);
-  if (variant == 0) {
-    apply_element_rows(rows, key, mesh, bc);
-    return false;
+  const Index E0 = given.num_elements();
+  BoundaryConditions on_given(E0);
+  RowMatrixX3d given_corners = RowMatrixX3d::Constant(3 * E0, 3, std::numeric_limits<double>::quiet_NaN());
+  std::vector<char> listed(static_cast<std::size_t>(E0), 0);
+  if (variant == 0)
+    apply_element_rows(rows, key, given, on_given, listed);
+  else
+    apply_corner_rows(rows, key, given, on_given, given_corners, listed, variant == 1 ? "corner" : "node");
+  for (Index f = 0; f < mesh.num_elements(); ++f) {
+    const Index o = origin.empty() ? f : origin[static_cast<std::size_t>(f)];
+    if (!listed[static_cast<std::size_t>(o)]) continue;
+    from_file[static_cast<std::size_t>(f)] = 1;
+    for (int c = 0; c < 3; ++c) bc.prescribe_component(f, c, on_given.kind(3 * o + c), on_given.value(3 * o + c));
+    if (variant == 0) continue;
+    Eigen::Matrix3d values = given_corners.middleRows<3>(3 * o);
+    if (origin.empty()) {
+      corners.middleRows<3>(3 * f) = values;
+      continue;
+    }
+    if (variant == 2) values = linear_nodes_to_corners(values);
+    const std::array<Vec3, 3> parent = given.corners(o), own = mesh.corners(f);
+    for (int k = 0; k < 3; ++k) corners.row(3 * f + k) = barycentric(parent, own[std::size_t(k)]).transpose() * values;
+    for (int c = 0; c < 3; ++c) bc.prescribe_component(f, c, on_given.kind(3 * o + c), corners.middleRows<3>(3 * f).col(c).mean());
   }
-  // The rules' values at every corner (or node) first: an element's constant value is the same at
-  // its corners and at its nodes.
-  for (Index e = 0; e < mesh.num_elements(); ++e)
-    for (int k = 0; k < 3; ++k)
-      for (int c = 0; c < 3; ++c) corners(3 * e + k, c) = bc.value(3 * e + c);
-  apply_corner_rows(rows, key, mesh, bc, corners, variant == 1 ? "corner" : "node");
-  return variant == 2;
+  return variant == 2 && origin.empty();
+}
+
+template <class Map>
+void remap_rules(std::vector<Rule>& rules, std::vector<Index>& origin, const Map& parent) {
+  const auto remap = [&](std::vector<char>& f) {
+    if (f.empty()) return;
+    std::vector<char> g(parent.size());
+    for (std::size_t e = 0; e < parent.size(); ++e) g[e] = f[static_cast<std::size_t>(parent[e])];
+    f.swap(g);
+  };
+  for (Rule& r : rules) {
+    remap(r.selected);
+    remap(r.others);
+  }
+  std::vector<Index> o(parent.size());
+  for (std::size_t e = 0; e < parent.size(); ++e) o[e] = origin[static_cast<std::size_t>(parent[e])];
+  origin.swap(o);
+}
+
+/// "conform": the mesh split along the rule's sphere or box (mesh/conforming_split.hpp); the rule
+/// then holds the pieces inside (and picked by its other selectors). Returns what was done, for
+/// the mesh's source line.
+std::string conform_rule(const JsonReader& rule, std::size_t index, std::vector<Rule>& rules, TriangleMesh& mesh,
+                         std::vector<Index>& origin) {
+  Rule& r = rules[index];
+  const ElementSplit split = conform_to_region(mesh, *r.conform);
+  remap_rules(rules, origin, split.parent);
+  for (std::size_t e = 0; e < r.selected.size(); ++e) r.selected[e] = split.inside[e] && r.others[e];
+  mesh = split.mesh;
+  if (std::find(r.selected.begin(), r.selected.end(), 1) == r.selected.end())
+    rule.required("select").fail("holds no part of the surface: its region does not meet the mesh");
+  return "rules[" + std::to_string(index) + "] conformed (" + std::to_string(split.split_elements) + " elements split" +
+         (split.refinement_levels > 0 ? ", " + std::to_string(split.refinement_levels) + " red-green levels along the boundary" : "") + ")";
+}
+
+/// "refine_rim": k red-green levels on the elements either side of the rule's rim (the edges
+/// between its elements and the rest). For a displacement rule the refinement then spreads over
+/// the held side, a ring at a time, until the safe-grading ratio (docs/graded.md, "Safe
+/// gradings": held elements against the finest) is no worse than before the refinement (or within
+/// the rule's limit of 1.2), or the whole held side is refined: refining only a band would leave
+/// the held elements 2^k times coarser than the finest, which with constant elements made the
+/// error of a hung organ 2.2 times worse (issue 38).
+std::string refine_rule_rim(std::size_t index, std::vector<Rule>& rules, TriangleMesh& mesh, std::vector<Index>& origin) {
+  const Rule& r = rules[index];
+  const MeshTopology topology(mesh);
+  const Index E = mesh.num_elements();
+  std::vector<char> marked(static_cast<std::size_t>(E), 0), held(static_cast<std::size_t>(E), 0);
+  for (Index e = 0; e < E; ++e)
+    for (Index g : topology.neighbours(e))
+      if (g >= 0 && r.selected[std::size_t(g)] != r.selected[std::size_t(e)]) marked[std::size_t(e)] = 1;
+  for (const Rule& other : rules)
+    if (other.holds_displacement())
+      for (Index e = 0; e < E; ++e) held[std::size_t(e)] = held[std::size_t(e)] || other.selected[std::size_t(e)];
+  const double allowed = std::max(kMaxSupportSizeRatio, 1.05 * support_size_ratio(mesh, held));
+  int rings = 0;
+  for (;;) {
+    std::vector<Index> list;
+    for (Index e = 0; e < E; ++e)
+      if (marked[std::size_t(e)]) list.push_back(e);
+    const RedGreenRefinement refined = refine_red_green(mesh, list, r.refine_rim);
+    const ElementSplit kept = keep_parent_ids(refined.mesh, refined.parent, E);
+    std::vector<char> held_now(kept.parent.size());
+    for (std::size_t e = 0; e < kept.parent.size(); ++e) held_now[e] = held[std::size_t(kept.parent[e])];
+    bool grown = false;
+    if (r.holds_displacement() && support_size_ratio(kept.mesh, held_now) > allowed) {
+      std::vector<char> next = marked;
+      for (Index e = 0; e < E; ++e)
+        if (marked[std::size_t(e)])
+          for (Index g : topology.neighbours(e))
+            if (g >= 0 && r.selected[std::size_t(g)] && !next[std::size_t(g)]) next[std::size_t(g)] = grown = true;
+      marked.swap(next);
+      rings += grown;
+    }
+    if (grown) continue;
+    remap_rules(rules, origin, kept.parent);
+    mesh = kept.mesh;
+    return "rules[" + std::to_string(index) + "] rim refined (" + std::to_string(list.size()) + " elements, " +
+           std::to_string(r.refine_rim) + " level" + (r.refine_rim > 1 ? "s" : "") +
+           (rings > 0 ? ", spread " + std::to_string(rings) + " rings into the held side for the safe grading" : "") + ")";
+  }
 }
 
 }  // namespace
 
-BoundaryConditions load_boundary_conditions(const JsonReader& b, const std::string& directory, const TriangleMesh& mesh,
-                                            RowMatrixX3d* corner_values, bool* at_nodes) {
+LoadedBoundaryConditions load_boundary_conditions(const JsonReader& b, const std::string& directory, TriangleMesh& mesh,
+                                                  const TriangleMesh& as_read) {
   b.object().warn_unknown_keys({"file", "rules"});
+  // Rules select on the mesh given (after any remesh); "conform" and "refine_rim" may then split
+  // it, carrying every rule's selection and the file's element numbers over to the pieces.
+  const TriangleMesh given = mesh;
+  std::vector<Rule> rules;
+  std::vector<JsonReader> rule_keys;
+  if (const std::optional<JsonReader> list = b.optional("rules")) {
+    if (!list->is_array()) list->fail("expected an array of rules, got " + list->type_name());
+    for (std::size_t i = 0; i < list->size(); ++i) {
+      rule_keys.push_back((*list)[i]);
+      rules.push_back(read_rule(rule_keys.back(), mesh, as_read));
+    }
+  }
+  LoadedBoundaryConditions out;
+  std::vector<Index> origin(static_cast<std::size_t>(mesh.num_elements()));
+  for (std::size_t e = 0; e < origin.size(); ++e) origin[e] = static_cast<Index>(e);
+  for (std::size_t i = 0; i < rules.size(); ++i)
+    if (rules[i].conform) out.mesh_changes.push_back(conform_rule(rule_keys[i], i, rules, mesh, origin));
+  for (std::size_t i = 0; i < rules.size(); ++i)
+    if (rules[i].refine_rim > 0) out.mesh_changes.push_back(refine_rule_rim(i, rules, mesh, origin));
+  if (!out.mesh_changes.empty()) out.origin = origin;
+
   // Everything starts traction-free; rules apply in order (later ones win on shared elements);
-  // the file comes last, so a per-element file can refine what the rules set.
-  BoundaryConditions bc(mesh.num_elements());
-  if (const std::optional<JsonReader> rules = b.optional("rules")) {
-    if (!rules->is_array()) rules->fail("expected an array of rules, got " + rules->type_name());
-    for (std::size_t i = 0; i < rules->size(); ++i) apply_rule((*rules)[i], mesh, bc);
-  }
+  // the file comes last, so a per-element file can refine what the rules set. Every rule and
+  // every row sets all three components, so one writer per element says who set it.
+  const Index E = mesh.num_elements();
+  BoundaryConditions bc(E);
+  std::vector<int> writer(static_cast<std::size_t>(E), -1);
+  for (std::size_t i = 0; i < rules.size(); ++i)
+    for (Index e = 0; e < E; ++e)
+      if (rules[i].selected[std::size_t(e)]) {
+        apply_rule(rules[i], e, mesh, bc);
+        writer[std::size_t(e)] = static_cast<int>(i);
+      }
   // Values at the corners: the element's value at all three unless the corner variant gives them.
-  RowMatrixX3d corners = RowMatrixX3d::Constant(3 * mesh.num_elements(), 3, std::numeric_limits<double>::quiet_NaN());
-  bool nodes = false;
-  if (const std::optional<JsonReader> file = b.optional("file"))
-    nodes = apply_bc_file(resolve_existing(directory, *file), file->path(), mesh, bc, corners);
-  if (at_nodes) *at_nodes = nodes;
-  if (corner_values) {
-    for (Index e = 0; e < mesh.num_elements(); ++e)
-      for (int k = 0; k < 3; ++k)
-        for (int c = 0; c < 3; ++c)
-          if (std::isnan(corners(3 * e + k, c))) corners(3 * e + k, c) = bc.value(3 * e + c);
-    *corner_values = std::move(corners);
+  RowMatrixX3d corners = RowMatrixX3d::Constant(3 * E, 3, std::numeric_limits<double>::quiet_NaN());
+  if (const std::optional<JsonReader> file = b.optional("file")) {
+    std::vector<char> from_file(static_cast<std::size_t>(E), 0);
+    out.at_nodes = apply_bc_file(resolve_existing(directory, *file), file->path(), given, mesh, out.origin, bc, corners, from_file);
+    for (Index e = 0; e < E; ++e)
+      if (from_file[std::size_t(e)]) writer[std::size_t(e)] = -2;
   }
-  return bc;
+  for (Index e = 0; e < E; ++e)
+    for (int k = 0; k < 3; ++k)
+      for (int c = 0; c < 3; ++c)
+        if (std::isnan(corners(3 * e + k, c))) corners(3 * e + k, c) = bc.value(3 * e + c);
+  out.corner_values = std::move(corners);
+  for (std::size_t i = 0; i < rules.size(); ++i) {
+    BoundaryRuleArea a;
+    a.key = rules[i].key;
+    a.displacement = rules[i].holds_displacement();
+    for (Index e = 0; e < E; ++e)
+      if (writer[std::size_t(e)] == static_cast<int>(i)) a.area += mesh.area(e);
+    a.has_region = rules[i].region.has_value();
+    a.region_area = rules[i].region_area;
+    a.conform = rules[i].conform.has_value();
+    a.refine_rim = rules[i].refine_rim;
+    out.rules.push_back(std::move(a));
+  }
+  out.conditions = std::move(bc);
+  return out;
 }
 
 }  // namespace bemsurg::io

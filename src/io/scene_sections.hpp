@@ -35,13 +35,29 @@ Material load_material(const JsonReader& material, bool gravity_on);
 LinearSolverOptions load_solver(const JsonReader& solver);
 QuadratureOptions load_quadrature(const JsonReader& quadrature);
 
+/// What load_boundary_conditions returns.
+struct LoadedBoundaryConditions {
+  BoundaryConditions conditions;
+  /// The value at every corner (3E x 3, row 3e + c for corner c in the face's vertex order), or
+  /// at every linear node when the file is the node variant, which `at_nodes` then says.
+  RowMatrixX3d corner_values;
+  bool at_nodes = false;
+  /// report.json's "boundary_rules", one per rule in scene order.
+  std::vector<BoundaryRuleArea> rules;
+  /// When "conform" or "refine_rim" split the mesh: each solved element's element of the mesh given.
+  std::vector<Index> origin;
+  /// What the rules did to the mesh, one phrase each (for the mesh's source line).
+  std::vector<std::string> mesh_changes;
+};
+
 /// "boundary_conditions": rules in order, then the CSV file, per element, per corner or per linear
-/// node (docs/design.md §5, docs/elements.md; scene_boundary_conditions.cpp). The values are the
-/// elements' (at the centroids, the mean of the corners' or nodes'); `corner_values`, when given,
-/// receives the value at every corner (3E x 3, row 3e + c for corner c in the face's vertex order),
-/// or at every node when the file is the node variant, which `at_nodes` then says.
-BoundaryConditions load_boundary_conditions(const JsonReader& conditions, const std::string& directory, const TriangleMesh& mesh,
-                                            RowMatrixX3d* corner_values = nullptr, bool* at_nodes = nullptr);
+/// node (docs/design.md §5, docs/elements.md; scene_boundary_conditions.cpp). Rules and rows name
+/// elements of `mesh` as given; a rule's "conform" and "refine_rim" split `mesh` (replaced by the
+/// mesh solved; the rules' and rows' elements carry over to the pieces). The values are the
+/// elements' (at the centroids, the mean of the corners' or nodes'). `as_read` is the mesh before
+/// any remesh, on which the rules' regions are measured ("region_area").
+LoadedBoundaryConditions load_boundary_conditions(const JsonReader& conditions, const std::string& directory, TriangleMesh& mesh,
+                                                  const TriangleMesh& as_read);
 
 /// "interior_points": inline points, then the CSV file's; each strictly inside the body and far
 /// enough from the surface for the quadrature (scene_interior_points.cpp).

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "bemsurg/assembly/linear_system.hpp"
+#include "bemsurg/io/boundary_rule_area.hpp"
 #include "bemsurg/mesh/triangle_mesh.hpp"
 #include "bemsurg/post/interior_evaluator.hpp"
 #include "bemsurg/solvers/linear_solve.hpp"
@@ -79,7 +80,8 @@ struct RunResult {
   PhaseTimings timings;
   double peak_memory_mb = 0.0;
   LinearSolveResult solver;
-  std::vector<std::string> warnings;  // the scene's and the solve's (docs/stability.md), in that order
+  std::vector<std::string> warnings;             // the scene's and the solve's (docs/stability.md), in that order
+  std::vector<BoundaryRuleArea> boundary_rules;  // what each rule held (Scene::boundary_rules)
 };
 /// Deprecated name (before 0.2), kept one minor version: use RunResult.
 using RunReport [[deprecated("renamed to RunResult in bemsurg 0.2")]] = RunResult;
@@ -90,7 +92,8 @@ double peak_memory_mb();
 
 /// report.json: {"element_type", "elements", "equations", "interior_points", "timings": {load, assembly, system,
 /// solve, post, total}, "peak_memory_mb", "solver": {method, preconditioner, iterations, status,
-/// relative_residual, setup_seconds, solve_seconds}, "warnings": [text, ...], "scene", "mesh", "bemsurg_version"}.
+/// relative_residual, setup_seconds, solve_seconds}, "boundary_rules": [{"rule", "area", "region_area" (where the
+/// selectors describe a region), "conform", "refine_rim"}, ...], "warnings": [text, ...], "scene", "mesh", "bemsurg_version"}.
 void write_report_json(const std::string& path, const RunResult& report);
 
 }  // namespace bemsurg

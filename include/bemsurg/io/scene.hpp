@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "bemsurg/elastostatics/elastostatic_solver.hpp"
+#include "bemsurg/io/boundary_rule_area.hpp"
 #include "bemsurg/mesh/mesh_quality.hpp"
 #include "bemsurg/mesh/operating_region.hpp"
 #include "bemsurg/solvers/linear_solve.hpp"
@@ -50,6 +51,12 @@ struct Scene {
   double remesh_seconds = 0.0;
   /// Elements of the mesh before remeshing (equal to the mesh's count when not graded).
   Index input_elements = 0;
+  /// One entry per boundary rule, in scene order.
+  std::vector<BoundaryRuleArea> boundary_rules;
+  /// Where rules split or refined the mesh ("conform", "refine_rim"): for every solved element,
+  /// the element of the mesh the rules and the CSV file refer to (the mesh after any remesh, before
+  /// the rules' splits). Empty when no rule changed the mesh.
+  std::vector<Index> element_origin;
 
   /// The scene file as given and the directory relative paths in it are resolved against.
   std::string path;

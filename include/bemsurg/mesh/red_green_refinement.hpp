@@ -165,4 +165,25 @@ inline RedGreenRefinement refine_red_green(const TriangleMesh& mesh, const std::
   return refiner.finish();
 }
 
+/// The same with a number of levels per element (levels[e] in [0, 8], one per element of `mesh`):
+/// level l splits the leaves of red level l - 1 descended from elements asking for at least l, so
+/// elements of different sizes can be refined to one target size in one conforming hierarchy.
+inline RedGreenRefinement refine_red_green_levels(const TriangleMesh& mesh, const std::vector<int>& levels) {
+  if (static_cast<Index>(levels.size()) != mesh.num_elements())
+    throw InvalidArgumentError("red-green refinement: " + std::to_string(levels.size()) + " levels given for " +
+                               std::to_string(mesh.num_elements()) + " elements");
+  int deepest = 0;
+  for (int l : levels) {
+    if (l < 0 || l > 8) throw InvalidArgumentError("red-green refinement: levels must lie in [0, 8], got " + std::to_string(l));
+    deepest = std::max(deepest, l);
+  }
+  detail::red_green::Refiner refiner(mesh);
+  for (int l = 1; l <= deepest; ++l) {
+    std::vector<char> mark(levels.size());
+    for (std::size_t e = 0; e < levels.size(); ++e) mark[e] = levels[e] >= l;
+    refiner.level(mark, l);
+  }
+  return refiner.finish();
+}
+
 }  // namespace bemsurg
