@@ -18,6 +18,7 @@
 #include "bemsurg/mesh/geometry.hpp"
 #include "bemsurg/mesh/mesh_topology.hpp"
 #include "bemsurg/mesh/mesh_validation.hpp"
+#include "bemsurg/mesh/vertex_welding.hpp"
 #include "bemsurg/number_text.hpp"
 
 #ifdef BEMSURG_HAVE_GMSH
@@ -41,6 +42,8 @@ void check_options(const GradedRemeshOptions& o) {
     throw InvalidArgumentError("graded remesh: growth must lie in (1, 2], got " + number_text(o.growth));
   if (!(o.feature_angle_degrees > 0.0 && o.feature_angle_degrees < 180.0))
     throw InvalidArgumentError("graded remesh: feature_angle_degrees must lie in (0, 180)");
+  if (!(o.planar_rim_area_loss >= 0.0 && o.planar_rim_area_loss < 1.0))
+    throw InvalidArgumentError("graded remesh: planar_rim_area_loss must lie in [0, 1), got " + number_text(o.planar_rim_area_loss));
 }
 
 #ifdef BEMSURG_HAVE_GMSH
@@ -105,46 +108,138 @@ void orient_like_input(const TriangleMesh& input, RowMatrixX3d& V, RowMatrixX3i&
   }
 }
 
-TriangleMesh remesh_with_gmsh(const TriangleMesh& input, const OperatingRegion& region, const GradedRemeshOptions& o) {
-  std::lock_guard<std::mutex> lock(gmsh_mutex());
-  gmsh::initialize(0, nullptr, false);
-  struct Finalize {
-    ~Finalize() { gmsh::finalize(); }
-  } finalize;
-  gmsh::option::setNumber("General.Terminal", 0);
-  gmsh::option::setNumber("General.Verbosity", 0);
-  gmsh::model::add("bemsurg_graded");
+/// The surface of each face when the input has flat faces: planar region i is surface i, and the
+/// rest is split into parts bounded by creases sharper than the feature angle (flood fill across
+/// the smoother edges). Done here rather than by Gmsh's classifySurfaces because the triangles
+/// along a flat face's rim zigzag (a faceted round body cut by a plane): edges between them meet
+/// at 40-60 degrees, and Gmsh, asked to keep them, cut the sides into slivers along the rim (min
+/// angle 4 degrees, neighbouring sizes 8:1 on the brain). An edge with a corner on a rim is
+/// therefore never a crease: the rim itself is kept as the border of the flat face.
+std::vector<int> surface_of_faces(const TriangleMesh& input, const std::vector<PlanarRegion>& planes, double feature_angle_degrees) {
+  const auto n = static_cast<std::size_t>(input.num_elements());
+  std::vector<int> surface(n, -1);
+  for (std::size_t i = 0; i < planes.size(); ++i)
+    for (const Index f : planes[i].faces) surface[static_cast<std::size_t>(f)] = static_cast<int>(i);
+  const MeshTopology topo(input);
+  std::vector<char> on_rim(static_cast<std::size_t>(input.num_vertices()), 0);
+  for (Index f = 0; f < input.num_elements(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const Index g = topo.neighbour(f, k);
+      if (g >= 0 && surface[static_cast<std::size_t>(f)] != surface[static_cast<std::size_t>(g)])
+        on_rim[static_cast<std::size_t>(input.faces()(f, k))] = on_rim[static_cast<std::size_t>(input.faces()(f, (k + 1) % 3))] = 1;
+    }
+  const double crease_cos = std::cos(feature_angle_degrees * numbers::pi / 180.0);
+  int next = static_cast<int>(planes.size());
+  std::vector<Index> stack;
+  for (Index seed = 0; seed < input.num_elements(); ++seed) {
+    if (surface[static_cast<std::size_t>(seed)] >= 0) continue;
+    surface[static_cast<std::size_t>(seed)] = next;
+    stack.push_back(seed);
+    while (!stack.empty()) {
+      const Index f = stack.back();
+      stack.pop_back();
+      for (int k = 0; k < 3; ++k) {
+        const Index g = topo.neighbour(f, k);
+        if (g < 0 || surface[static_cast<std::size_t>(g)] >= 0) continue;
+        const bool rim =
+            on_rim[static_cast<std::size_t>(input.faces()(f, k))] || on_rim[static_cast<std::size_t>(input.faces()(f, (k + 1) % 3))];
+        if (!rim && input.normal(f).dot(input.normal(g)) < crease_cos) continue;  // a crease: the border of a part
+        surface[static_cast<std::size_t>(g)] = next;
+        stack.push_back(g);
+      }
+    }
+    ++next;
+  }
+  return surface;
+}
 
-  const int surface = gmsh::model::addDiscreteEntity(2);
+/// The target size near the rims of flat faces. Gmsh resamples a rim with chords, and a chord
+/// leaves the sliver between itself and the rim to the sides: for a convex rim of total turning 2 pi
+/// meshed at h the flat face loses about pi h^2 / (6 A) of its area A (the polygon inscribed in a
+/// circle). Meshing the rim at h_rim = sqrt(6 loss A / pi) keeps that loss near `loss`
+/// (GradedRemeshOptions::planar_rim_area_loss); the size grows away from the rim by the grading's
+/// factor, as it does away from an operating region.
+class RimSizes {
+ public:
+  RimSizes(const TriangleMesh& input, const std::vector<PlanarRegion>& planes, const GradedRemeshOptions& o) : growth_(o.growth) {
+    if (planes.empty() || !(o.planar_rim_area_loss > 0.0)) return;
+    const MeshTopology topo(input);
+    std::vector<int> region_of(static_cast<std::size_t>(input.num_elements()), -1);
+    for (std::size_t i = 0; i < planes.size(); ++i)
+      for (const Index f : planes[i].faces) region_of[static_cast<std::size_t>(f)] = static_cast<int>(i);
+    for (std::size_t i = 0; i < planes.size(); ++i) {
+      const double h = std::sqrt(6.0 * o.planar_rim_area_loss * planes[i].area / numbers::pi);
+      if (h >= o.outside_edge_length) continue;
+      for (const Index f : planes[i].faces)
+        for (int k = 0; k < 3; ++k) {
+          const Index g = topo.neighbour(f, k);
+          if (g >= 0 && region_of[static_cast<std::size_t>(g)] == static_cast<int>(i)) continue;
+          segments_.push_back({input.vertex(input.faces()(f, k)), input.vertex(input.faces()(f, (k + 1) % 3)), h});
+        }
+    }
+  }
+
+  /// min over rim segments of h_rim + (growth - 1) * distance; infinite without rims.
+  double at(const Vec3& x) const {
+    double h = std::numeric_limits<double>::infinity();
+    for (const Segment& s : segments_) {
+      const Vec3 d = s.b - s.a;
+      const double t = std::clamp((x - s.a).dot(d) / d.squaredNorm(), 0.0, 1.0);
+      h = std::min(h, s.size + (growth_ - 1.0) * (x - s.a - t * d).norm());
+    }
+    return h;
+  }
+
+ private:
+  struct Segment {
+    Vec3 a, b;
+    double size;
+  };
+  double growth_;
+  std::vector<Segment> segments_;
+};
+
+/// Hands the input to Gmsh as discrete surfaces and makes them geometry Gmsh can parametrise.
+/// Without flat faces, one surface that Gmsh's classifySurfaces splits at creases sharper than
+/// the feature angle. With them, the parts of surface_of_faces: createTopology makes their common
+/// borders discrete curves, and classifySurfaces (no angle of its own) keeps existing curves as
+/// borders, so the rim of a flat face survives however shallow the angle at which the input's
+/// triangles meet it there.
+void add_input_surfaces(const TriangleMesh& input, const std::vector<PlanarRegion>& planes, double feature_angle_degrees) {
+  const std::vector<int> entity_of_face = planes.empty() ? std::vector<int>(static_cast<std::size_t>(input.num_elements()), 0)
+                                                         : surface_of_faces(input, planes, feature_angle_degrees);
+  const auto surfaces_count = static_cast<std::size_t>(*std::max_element(entity_of_face.begin(), entity_of_face.end()) + 1);
+  std::vector<std::vector<std::size_t>> element_tags(surfaces_count), element_nodes(surfaces_count);
+  for (Index e = 0; e < input.num_elements(); ++e) {
+    const auto k = static_cast<std::size_t>(entity_of_face[static_cast<std::size_t>(e)]);
+    element_tags[k].push_back(static_cast<std::size_t>(e) + 1);
+    for (int c = 0; c < 3; ++c) element_nodes[k].push_back(static_cast<std::size_t>(input.faces()(e, c)) + 1);
+  }
+  std::vector<int> surfaces;
+  for (std::size_t k = 0; k < element_tags.size(); ++k)
+    if (!element_tags[k].empty()) surfaces.push_back(gmsh::model::addDiscreteEntity(2, static_cast<int>(k) + 1));
+  // All nodes go to the first surface; reclassifyNodes moves them to where their elements are.
   std::vector<std::size_t> node_tags(static_cast<std::size_t>(input.num_vertices()));
   std::vector<double> coords(3 * node_tags.size());
   for (Index v = 0; v < input.num_vertices(); ++v) {
     node_tags[static_cast<std::size_t>(v)] = static_cast<std::size_t>(v) + 1;
     for (int k = 0; k < 3; ++k) coords[static_cast<std::size_t>(3 * v + k)] = input.vertices()(v, k);
   }
-  gmsh::model::mesh::addNodes(2, surface, node_tags, coords);
-  std::vector<std::size_t> element_tags(static_cast<std::size_t>(input.num_elements()));
-  std::vector<std::size_t> element_nodes(3 * element_tags.size());
-  for (Index e = 0; e < input.num_elements(); ++e) {
-    element_tags[static_cast<std::size_t>(e)] = static_cast<std::size_t>(e) + 1;
-    for (int k = 0; k < 3; ++k) element_nodes[static_cast<std::size_t>(3 * e + k)] = static_cast<std::size_t>(input.faces()(e, k)) + 1;
+  gmsh::model::mesh::addNodes(2, surfaces.front(), node_tags, coords);
+  for (std::size_t k = 0; k < element_tags.size(); ++k)
+    if (!element_tags[k].empty())
+      gmsh::model::mesh::addElementsByType(static_cast<int>(k) + 1, 2, element_tags[k], element_nodes[k]);  // 2 = 3-node triangle
+  if (surfaces.size() > 1) {
+    gmsh::model::mesh::reclassifyNodes();
+    gmsh::model::mesh::createTopology();
   }
-  gmsh::model::mesh::addElementsByType(surface, 2, element_tags, element_nodes);  // 2 = 3-node triangle
-
-  // Split the surface at creases and into patches Gmsh can parametrise, then make them geometry.
-  gmsh::model::mesh::classifySurfaces(o.feature_angle_degrees * numbers::pi / 180.0, true, true, numbers::pi);
+  const double angle = planes.empty() ? feature_angle_degrees * numbers::pi / 180.0 : numbers::pi;
+  gmsh::model::mesh::classifySurfaces(angle, true, true, numbers::pi);
   gmsh::model::mesh::createGeometry();
+}
 
-  gmsh::option::setNumber("Mesh.MeshSizeFromPoints", 0);
-  gmsh::option::setNumber("Mesh.MeshSizeFromCurvature", 0);
-  gmsh::option::setNumber("Mesh.MeshSizeExtendFromBoundary", 0);
-  gmsh::option::setNumber("Mesh.Algorithm", 6);  // Frontal-Delaunay: the best-shaped triangles
-  gmsh::option::setNumber("Mesh.MeshSizeMin", o.inside_edge_length);
-  gmsh::option::setNumber("Mesh.MeshSizeMax", o.outside_edge_length);
-  gmsh::model::mesh::setSizeCallback(
-      [&region, &o](int, int, double x, double y, double z) { return graded_target_size(region, o, Vec3(x, y, z)); });
-  gmsh::model::mesh::generate(2);
-
+/// Gmsh's triangles as a mesh of the nodes they use.
+void read_gmsh_triangles(RowMatrixX3d& V, RowMatrixX3i& F) {
   std::vector<std::size_t> tags, tri_tags, tri_nodes;
   std::vector<double> xyz, param;
   gmsh::model::mesh::getNodes(tags, xyz, param, -1, -1, true, false);
@@ -154,7 +249,7 @@ TriangleMesh remesh_with_gmsh(const TriangleMesh& input, const OperatingRegion& 
   for (std::size_t i = 0; i < tags.size(); ++i) position.emplace(tags[i], i);
   std::unordered_map<std::size_t, int> index;  // Gmsh node tag -> our vertex index (used nodes only)
   std::vector<Vec3> points;
-  RowMatrixX3i F(static_cast<Index>(tri_tags.size()), 3);
+  F.resize(static_cast<Index>(tri_tags.size()), 3);
   for (std::size_t t = 0; t < tri_tags.size(); ++t)
     for (int k = 0; k < 3; ++k) {
       const std::size_t tag = tri_nodes[3 * t + static_cast<std::size_t>(k)];
@@ -168,8 +263,43 @@ TriangleMesh remesh_with_gmsh(const TriangleMesh& input, const OperatingRegion& 
       }
       F(static_cast<Index>(t), k) = it->second;
     }
-  RowMatrixX3d V(static_cast<Index>(points.size()), 3);
+  V.resize(static_cast<Index>(points.size()), 3);
   for (std::size_t i = 0; i < points.size(); ++i) V.row(static_cast<Index>(i)) = points[i].transpose();
+}
+
+TriangleMesh remesh_with_gmsh(const TriangleMesh& input, const OperatingRegion& region, const GradedRemeshOptions& o) {
+  const std::vector<PlanarRegion> planes =
+      o.keep_planar_regions ? find_planar_regions(input, o.planar_regions) : std::vector<PlanarRegion>();
+  std::lock_guard<std::mutex> lock(gmsh_mutex());
+  gmsh::initialize(0, nullptr, false);
+  struct Finalize {
+    ~Finalize() { gmsh::finalize(); }
+  } finalize;
+  gmsh::option::setNumber("General.Terminal", 0);
+  gmsh::option::setNumber("General.Verbosity", 0);
+  gmsh::model::add("bemsurg_graded");
+  add_input_surfaces(input, planes, o.feature_angle_degrees);
+
+  gmsh::option::setNumber("Mesh.MeshSizeFromPoints", 0);
+  gmsh::option::setNumber("Mesh.MeshSizeFromCurvature", 0);
+  gmsh::option::setNumber("Mesh.MeshSizeExtendFromBoundary", 0);
+  gmsh::option::setNumber("Mesh.Algorithm", 6);  // Frontal-Delaunay: the best-shaped triangles
+  gmsh::option::setNumber("Mesh.MeshSizeMin", o.inside_edge_length);
+  gmsh::option::setNumber("Mesh.MeshSizeMax", o.outside_edge_length);
+  const RimSizes rims(input, planes, o);
+  gmsh::model::mesh::setSizeCallback([&region, &o, &rims](int, int, double x, double y, double z) {
+    const Vec3 p(x, y, z);
+    const double h = graded_target_size(region, o, p);
+    return h > o.inside_edge_length ? std::min(h, std::max(o.inside_edge_length, rims.at(p))) : h;
+  });
+  gmsh::model::mesh::generate(2);
+
+  RowMatrixX3d V;
+  RowMatrixX3i F;
+  read_gmsh_triangles(V, F);
+  // Gmsh's points on a flat surface lie on the input's triangles up to rounding; put them (and the
+  // rim's) exactly onto the fitted plane, so the face is flat to the last digit.
+  snap_to_planar_regions(V, F, input, planes, o.planar_regions.distance_tolerance * bounding_box_diagonal(input.vertices()));
   orient_like_input(input, V, F);
   return TriangleMesh(std::move(V), std::move(F));
 }

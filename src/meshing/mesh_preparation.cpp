@@ -19,6 +19,7 @@
 #include "bemsurg/mesh/red_green_refinement.hpp"
 #include "bemsurg/mesh/self_intersection.hpp"
 #include "bemsurg/mesh/vertex_welding.hpp"
+#include "bemsurg/meshing/planar_regions.hpp"
 #include "bemsurg/number_text.hpp"
 #include "cgal_repair.hpp"
 #include "mesh_preparation_steps.hpp"
@@ -166,13 +167,29 @@ TriangleMesh remesh_with_fewer_creases(const TriangleMesh& surface, const Operat
 
 double repaired_diagonal(const TriangleMesh& mesh) { return bounding_box_diagonal(mesh.vertices()); }
 
+/// The wrap's vertices within twice the wrap offset of a flat face of the body go back onto the
+/// face's plane, where their faces all face the face's way within 60 degrees (a face turned further,
+/// on the wrap's rounded rim, would be flattened over its neighbours): the remesh then finds the
+/// face as a planar region again and keeps it flat up to its rim.
+void snap_wrap_to_planes(const TriangleMesh& body, const std::vector<PlanarRegion>& planes, double offset, RowMatrixX3d& v,
+                         const RowMatrixX3i& f, MeshPreparationReport& r) {
+  if (planes.empty()) return;
+  const Index moved = snap_to_planar_regions(v, f, body, planes, 2.0 * offset, 0.5);
+  r.steps.push_back("put " + std::to_string(moved) + " vertices of the wrap back onto the body's " + std::to_string(planes.size()) +
+                    " flat face" + (planes.size() > 1 ? "s" : ""));
+}
+
 /// Gmsh's reparametrisation costs grow with its input (measured: 44 s for a 327,680-face surface,
 /// 2.4 s for a 41,000-face one of the same body), so a body much finer than the remesh needs is
 /// first coarsened: each shell wrapped at `alpha` (the wrap of a cavity turned back inward). Only
 /// when the wraps will have under half the faces (they have ~area / (0.433 alpha^2): 41,000 estimated 52,000).
+/// The wrap lies its offset (alpha / 20) outside the body and rounds every rim off, so a flat face
+/// of the body (a resection plane) would come out as a slightly domed one that the remesh cannot
+/// find; the wrap's vertices over a flat face are put back onto its plane (snap_wrap_to_planes).
 TriangleMesh coarsen_for_remesh(const TriangleMesh& body, double alpha, MeshPreparationReport& r) {
   const double wrap_faces = body.total_area() / (0.433 * alpha * alpha);
   if (body.num_elements() < 50000 || wrap_faces > 0.5 * double(body.num_elements())) return body;
+  const std::vector<PlanarRegion> planes = find_planar_regions(body);
   const MeshTopology topo(body);
   std::vector<TriangleMesh> parts;
   Index faces = 0, vertices = 0;
@@ -197,6 +214,7 @@ TriangleMesh coarsen_for_remesh(const TriangleMesh& body, double alpha, MeshPrep
   }
   r.steps.push_back("coarsened for the remesh by wrapping at " + general_text(alpha, 3) + " m: " + std::to_string(body.num_elements()) +
                     " -> " + std::to_string(faces) + " faces");
+  snap_wrap_to_planes(body, planes, alpha / 20.0, v, f, r);
   return TriangleMesh(std::move(v), std::move(f));
 }
 
