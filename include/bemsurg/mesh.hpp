@@ -7,6 +7,7 @@
 /// Headers (each can be included on its own for faster builds):
 /// - brain_model.hpp
 /// - bvh.hpp
+/// - conforming_split.hpp
 /// - geometry.hpp
 /// - liver_model.hpp
 /// - mesh_delta.hpp
@@ -18,11 +19,13 @@
 /// - operating_region.hpp
 /// - red_green_refinement.hpp
 /// - self_intersection.hpp
+/// - space_region.hpp
 /// - triangle_mesh.hpp
 /// - vertex_welding.hpp
 
 #include "bemsurg/mesh/brain_model.hpp"
 #include "bemsurg/mesh/bvh.hpp"
+#include "bemsurg/mesh/conforming_split.hpp"
 #include "bemsurg/mesh/geometry.hpp"
 #include "bemsurg/mesh/liver_model.hpp"
 #include "bemsurg/mesh/mesh_delta.hpp"
@@ -34,5 +37,6 @@
 #include "bemsurg/mesh/operating_region.hpp"
 #include "bemsurg/mesh/red_green_refinement.hpp"
 #include "bemsurg/mesh/self_intersection.hpp"
+#include "bemsurg/mesh/space_region.hpp"
 #include "bemsurg/mesh/triangle_mesh.hpp"
 #include "bemsurg/mesh/vertex_welding.hpp"

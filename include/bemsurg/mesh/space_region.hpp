@@ -20,7 +20,7 @@
 
 namespace bemsurg {
 
-/// The points x with n . x <= offset.
+/// The points x with n . x <= offset. \ingroup mesh
 struct HalfSpace {
   Vec3 normal = Vec3::UnitZ();
   double offset = 0.0;
