@@ -170,7 +170,7 @@ TEST_CASE("Corner values in the file are interpolated linearly onto the pieces o
   CHECK(checked > Index(touched.size()));
 }
 
-TEST_CASE("A displacement rule holding under 90 % of its region warns and names conform; rules without a region report no region area",
+TEST_CASE("A displacement rule holding under 90 % of its region warns and names conform, and rules without a region report no region area",
           "[rules][scene]") {
   bemsurg_test::TempDir dir("bemsurg_test_rules_");
   // On a coarse ball (80 faces) a small ligament sphere holds the few elements whose centroid it

@@ -83,8 +83,11 @@ void warn_partial_supports(Scene& scene) {
     if (!r.displacement || !r.has_region || !(r.region_area > 0.0) || r.area >= 0.9 * r.region_area) continue;
     scene.warnings.push_back(r.key + ": holds " + general_text(r.area, 4) + " m^2 of the " + general_text(r.region_area, 4) +
                              " m^2 of surface inside its region (" + general_text(100.0 * r.area / r.region_area, 3) +
-                             " %): elements whose centroid lies outside it are not held; add \"conform\": true to the rule to split "
-                             "them along a sphere's or box's boundary (docs/scene-format.md, \"conform\")");
+                             " %): elements whose centroid lies outside it are not held; " +
+                             (r.can_conform ? "add \"conform\": true to the rule to split them along its sphere's or box's boundary "
+                                              "(docs/scene-format.md, \"conform\")"
+                                            : "where a remesh rounded off the rim of a flat face, set operating_region.keep_flat_faces "
+                                              "(docs/graded.md, \"What a remesh keeps\")"));
   }
 }
 

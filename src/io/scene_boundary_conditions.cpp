@@ -157,6 +157,7 @@ struct Rule {
   std::vector<char> others;    // conform: the elements the selectors other than sphere and box pick
   std::optional<SpaceRegion> region;
   std::optional<SpaceRegion> conform;
+  bool can_conform = false;  // a sphere or box selector
   int refine_rim = 0;
   enum class Action { Displacement, Traction, Pressure, Kinds } action = Action::Traction;
   std::array<BcKind, 3> kinds{BcKind::Traction, BcKind::Traction, BcKind::Traction};
@@ -183,6 +184,7 @@ Rule read_rule(const JsonReader& rule, const TriangleMesh& mesh, const TriangleM
   const Selection s = evaluate_select(select, mesh);
   r.selected = flags_of(s.elements, mesh.num_elements());
   r.region = s.region;
+  r.can_conform = s.shape.has_value();
   if (s.region) r.region_area = area_inside(as_read, *s.region);
   if (const std::optional<JsonReader> c = rule.optional("conform"); c && c->boolean()) {
     if (!s.shape)
@@ -498,6 +500,7 @@ LoadedBoundaryConditions load_boundary_conditions(const JsonReader& b, const std
     a.has_region = rules[i].region.has_value();
     a.region_area = rules[i].region_area;
     a.conform = rules[i].conform.has_value();
+    a.can_conform = rules[i].can_conform;
     a.refine_rim = rules[i].refine_rim;
     out.rules.push_back(std::move(a));
   }

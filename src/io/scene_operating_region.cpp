@@ -46,7 +46,7 @@ GradedRemeshOptions read_remesh_options(const JsonReader& r, const TriangleMesh&
   graded = has_inside;
   GradedRemeshOptions options;
   if (!graded) {
-    for (const char* k : {"growth", "feature_angle", "supported"})
+    for (const char* k : {"growth", "feature_angle", "supported", "keep_flat_faces", "flat_rim_area_loss"})
       if (const std::optional<JsonReader> v = r.optional(k)) v->warn("ignored without inside_edge_length and outside_edge_length");
     return options;
   }
@@ -65,6 +65,13 @@ GradedRemeshOptions read_remesh_options(const JsonReader& r, const TriangleMesh&
     if (!(options.feature_angle_degrees > 0.0 && options.feature_angle_degrees < 180.0))
       a->fail("must lie in (0, 180) degrees, got " + a->dump());
   }
+  // Flat faces kept up to their rims (docs/graded.md, "What a remesh keeps"; opt-in for now).
+  if (const std::optional<JsonReader> k = r.optional("keep_flat_faces")) options.keep_planar_regions = k->boolean();
+  if (const std::optional<JsonReader> l = r.optional("flat_rim_area_loss")) {
+    options.planar_rim_area_loss = l->number();
+    if (!(options.planar_rim_area_loss >= 0.0 && options.planar_rim_area_loss < 0.1)) l->fail("must lie in [0, 0.1), got " + l->dump());
+    if (!options.keep_planar_regions) l->warn("ignored without \"keep_flat_faces\": true");
+  }
   // The safe-grading rule (docs/graded.md#safe-gradings): the held part meshed as finely as the region.
   if (const std::optional<JsonReader> s = r.optional("supported")) {
     s->object().warn_unknown_keys({"sphere", "box", "elements"});
@@ -78,8 +85,8 @@ GradedRemeshOptions read_remesh_options(const JsonReader& r, const TriangleMesh&
 }  // namespace
 
 OperatingRegionRequest parse_operating_region(const JsonReader& r, const TriangleMesh& mesh) {
-  r.object().warn_unknown_keys(
-      {"sphere", "box", "elements", "inside_edge_length", "outside_edge_length", "growth", "feature_angle", "supported"});
+  r.object().warn_unknown_keys({"sphere", "box", "elements", "inside_edge_length", "outside_edge_length", "growth", "feature_angle",
+                                "supported", "keep_flat_faces", "flat_rim_area_loss"});
   const int shapes = int(r.has("sphere")) + int(r.has("box")) + int(r.has("elements"));
   if (shapes != 1) r.fail("expected exactly one of \"sphere\", \"box\" or \"elements\", got " + std::to_string(shapes));
   OperatingRegionRequest request;

@@ -18,6 +18,7 @@ struct BoundaryRuleArea {
   bool has_region = false;
   double region_area = 0.0;  ///< m^2 of the mesh as read (before any remesh) inside the region
   bool conform = false;      ///< "conform": true (the mesh was split along the region's boundary)
+  bool can_conform = false;  ///< the selectors hold a sphere or a box ("conform" applies)
   int refine_rim = 0;        ///< "refine_rim": red-green levels along the rule's rim
 };
 
