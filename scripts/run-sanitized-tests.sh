@@ -54,6 +54,11 @@ if [ "$mode" = address ]; then
   heavy+='|test_mesh:In the operating region a graded brain answers'
   heavy+='|test_kernels:fast assembly equals the reference on a graded box|test_bem:ruinous quadrature options are refused'
   heavy+='|test_cli:linear elements fed at their nodes'
+  # Issue 38's dense solves of a hung liver and the cut ball's and brain's remeshes for the area
+  # figures: the conforming split, the rule pipeline and the planar regions run here in the
+  # lighter cases beside them.
+  heavy+='|test_io:A conform rule holds its region|test_io:refine_rim refines along'
+  heavy+='|test_mesh:A graded remesh keeps the flat face of a cut ball|test_mesh:A graded remesh of the brain keeps its underside'
   ctest --output-on-failure -j"${JOBS:-2}" --timeout 900 -E "$heavy"
 else
   cmake --build "$BUILD_DIR" -j"${JOBS:-2}" --target test_haptics test_cutting test_cli test_viewer_core bemsurg_cli

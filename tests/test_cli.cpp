@@ -245,7 +245,8 @@ TEST_CASE("solve writes surface.vtk and a complete report.json", "[cli]") {
     "mesh": {"generator": "box", "min": [0, 0, 0], "max": [0.1, 0.1, 0.05], "divisions": [2, 2, 2]},
     "material": {"young_modulus": 3000, "poisson_ratio": 0.45, "density": 1000},
     "gravity": [0, 0, -9.81],
-    "boundary_conditions": {"rules": [{"select": {"normal": {"direction": [0, 0, -1]}}, "displacement": [0, 0, 0]}]},
+    "boundary_conditions": {"rules": [{"select": {"normal": {"direction": [0, 0, -1]}}, "displacement": [0, 0, 0]},
+                                      {"select": {"box": {"min": [-1, -1, 0.0499], "max": [1, 1, 1]}}, "traction": [0, 0, 0]}]},
     "solver": {"method": "gmres", "tolerance": 1e-10, "preconditioner": "block_jacobi"}})");
   const auto started = std::chrono::steady_clock::now();
   const Run r = run_cli("solve '" + scene + "' -o '" + dir.file("out") + "'", dir);
@@ -281,6 +282,18 @@ TEST_CASE("solve writes surface.vtk and a complete report.json", "[cli]") {
   // Converged means a true residual at most the scene's tolerance 1e-10 (measured 6.2e-11).
   CHECK(solver.at("relative_residual").get<double>() <= 1e-10);
   CHECK(report.at("bemsurg_version").is_string());
+  // What each rule held (issue 38): the bottom face (a normal selector: no region), the top face
+  // (a box region, which also holds 0.1 mm of each side: 0.01 + 4 x 0.1 x 1e-4 m^2 of surface).
+  const auto& rules = report.at("boundary_rules");
+  REQUIRE(rules.size() == 2);
+  CHECK(rules[0].at("rule") == "boundary_conditions.rules[0]");
+  CHECK(rules[0].at("area").get<double>() == Approx(0.01).epsilon(1e-12));
+  CHECK_FALSE(rules[0].contains("region_area"));
+  CHECK(rules[1].at("area").get<double>() == Approx(0.01).epsilon(1e-12));
+  CHECK(rules[1].at("region_area").get<double>() == Approx(0.01004).epsilon(1e-9));
+  CHECK(rules[1].at("conform") == false);
+  CHECK(rules[1].at("refine_rim") == 0);
+  CHECK_THAT(r.out, Catch::Contains("boundary_conditions.rules[0] holds 0.01 m^2"));  // a displacement rule's held area is printed
 
   // Gravity pulls the free top down; the fixed bottom stays put.
   const Table elements = read_table(dir.file("out/elements.csv"));

@@ -329,9 +329,12 @@ TEST_CASE("In the operating region a graded brain answers a sphere tool like a u
   const TriangleMesh input = brain_mesh(bo);
   const graded::PressCase c = graded::brain_press_case(bo);
   const OperatingRegion region = OperatingRegion::sphere(c.region_center, c.region_radius);
-  const TriangleMesh fine = graded_remesh(input, region, lengths(0.009, 0.009)).mesh;
-  const TriangleMesh grad = graded_remesh(input, region, lengths(0.009, 0.027)).mesh;
-  REQUIRE(grad.num_elements() < fine.num_elements() / 2);
+  // The reference is uniformly finer than the graded mesh's finest (6.5 against 9 mm): at 9 mm the
+  // tool touches a handful of elements and a uniform 9 mm reference was itself 25 % off the 6.5 mm
+  // one once the held underside kept its rim (issue 38).
+  const TriangleMesh fine = graded_remesh(input, region, lengths(0.0065, 0.0065)).mesh;
+  const TriangleMesh grad = graded_remesh(input, region, lengths(0.009, 0.018)).mesh;
+  REQUIRE(grad.num_elements() < fine.num_elements() / 4);
   CHECK(find_self_intersections(fine).empty());
   CHECK(find_self_intersections(grad).empty());
   const graded::PressResult rf = graded::press(fine, c);
@@ -341,10 +344,10 @@ TEST_CASE("In the operating region a graded brain answers a sphere tool like a u
   INFO("force fine " << rf.force.transpose() << " graded " << rg.force.transpose() << ", force difference " << force
                      << ", displacement difference " << disp);
   CHECK(rf.force.z() > 0.0);
-  // At 9 mm the tool touches a handful of elements, placed differently on the two meshes: the
-  // differences are mostly that discretisation noise (at 7 mm, bench_graded: force 2-3 %).
-  CHECK(force < 0.09);  // measured 0.065
-  CHECK(disp < 0.16);   // measured 0.115 (relative L2 over the region)
+  // The differences are mostly discretisation noise of a tool touching few elements (at 7 mm,
+  // bench_graded: force 2-3 %).
+  CHECK(force < 0.10);  // measured 0.071
+  CHECK(disp < 0.12);   // measured 0.084 (relative L2 over the region)
 }
 
 TEST_CASE("The remesher refuses bad input with messages that name the problem", "[graded][errors]") {

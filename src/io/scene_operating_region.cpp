@@ -65,7 +65,7 @@ GradedRemeshOptions read_remesh_options(const JsonReader& r, const TriangleMesh&
     if (!(options.feature_angle_degrees > 0.0 && options.feature_angle_degrees < 180.0))
       a->fail("must lie in (0, 180) degrees, got " + a->dump());
   }
-  // Flat faces kept up to their rims (docs/graded.md, "What a remesh keeps"; opt-in for now).
+  // Flat faces kept up to their rims (docs/graded.md, "What a remesh keeps"; on by default).
   if (const std::optional<JsonReader> k = r.optional("keep_flat_faces")) options.keep_planar_regions = k->boolean();
   if (const std::optional<JsonReader> l = r.optional("flat_rim_area_loss")) {
     options.planar_rim_area_loss = l->number();
