@@ -82,12 +82,13 @@ void warn_partial_supports(Scene& scene) {
   for (const BoundaryRuleArea& r : scene.boundary_rules) {
     if (!r.displacement || !r.has_region || !(r.region_area > 0.0) || r.area >= 0.9 * r.region_area) continue;
     scene.warnings.push_back(r.key + ": holds " + general_text(r.area, 4) + " m^2 of the " + general_text(r.region_area, 4) +
-                             " m^2 of surface inside its region (" + general_text(100.0 * r.area / r.region_area, 3) +
-                             " %): elements whose centroid lies outside it are not held; " +
-                             (r.can_conform ? "add \"conform\": true to the rule to split them along its sphere's or box's boundary "
-                                              "(docs/scene-format.md, \"conform\")"
-                                            : "where a remesh rounded off the rim of a flat face, set operating_region.keep_flat_faces "
-                                              "(docs/graded.md, \"What a remesh keeps\")"));
+                             " m^2 of surface inside its region (" + general_text(100.0 * r.area / r.region_area, 3) + " %): " +
+                             (r.conform       ? std::string("later rules or the boundary-condition file override part of it")
+                              : r.can_conform ? "elements whose centroid lies outside it are not held; add \"conform\": true to the rule "
+                                                "to split them along its sphere's or box's boundary (docs/scene-format.md, \"conform\")"
+                                              : "elements whose centroid lies outside it are not held; where a remesh rounded off the rim "
+                                                "of a flat face, keep operating_region.keep_flat_faces on (docs/graded.md, \"What a remesh "
+                                                "keeps\")"));
   }
 }
 
@@ -196,6 +197,7 @@ Scene build_scene(const io::JsonDocument& document, const std::string& directory
   scene.boundary_rules = std::move(bcs.rules);
   scene.element_origin = std::move(bcs.origin);
   for (const std::string& change : bcs.mesh_changes) scene.mesh_source += ", " + change;
+  scene.warnings.insert(scene.warnings.end(), bcs.warnings.begin(), bcs.warnings.end());
   if (!scene.element_origin.empty()) require_solvable_size(scene, root.required("mesh"), directory);  // the rules' splits added elements
   scene.mesh_quality = measure_mesh_quality(problem.mesh);
   warn_thin_elements(scene);

@@ -13,6 +13,7 @@
 #include "bemsurg/mesh/mesh_topology.hpp"
 #include "bemsurg/mesh/red_green_refinement.hpp"
 #include "bemsurg/mesh/space_region.hpp"
+#include "bemsurg/number_text.hpp"
 #include "csv_reader.hpp"
 #include "scene_sections.hpp"
 
@@ -379,16 +380,29 @@ void remap_rules(std::vector<Rule>& rules, std::vector<Index>& origin, const Map
 
 /// "conform": the mesh split along the rule's sphere or box (mesh/conforming_split.hpp); the rule
 /// then holds the pieces inside (and picked by its other selectors). Returns what was done, for
-/// the mesh's source line.
+/// the mesh's source line (empty when the boundary crosses no element: nothing changed).
 std::string conform_rule(const JsonReader& rule, std::size_t index, std::vector<Rule>& rules, TriangleMesh& mesh,
-                         std::vector<Index>& origin) {
+                         std::vector<Index>& origin, std::vector<std::string>& warnings) {
   Rule& r = rules[index];
   const ElementSplit split = conform_to_region(mesh, *r.conform);
+  if (!(split.held_area > 0.0))
+    rule.required("select").fail(split.region_area > 0.0 ? "its region covers " + general_text(split.region_area, 3) +
+                                                               " m^2 of the surface but lies between the mesh's vertices even after " +
+                                                               std::to_string(split.refinement_levels) +
+                                                               " levels of refinement: enlarge it or refine the mesh there (mesh.refine)"
+                                                         : "holds no part of the surface: its region does not meet the mesh");
+  if (std::abs(split.held_area - split.region_area) > 0.01 * split.region_area)
+    warnings.push_back(r.key + ": conformed, it holds " + general_text(split.held_area, 4) + " m^2 of the " +
+                       general_text(split.region_area, 4) + " m^2 inside its region (" +
+                       general_text(100.0 * split.held_area / split.region_area, 3) +
+                       " %): the region is small against the elements; refine the mesh there (mesh.refine)");
+  if (split.split_elements == 0 && split.refinement_levels == 0) {  // the pieces are the elements
+    for (std::size_t e = 0; e < r.selected.size(); ++e) r.selected[e] = split.inside[e] && r.others[e];
+    return {};
+  }
   remap_rules(rules, origin, split.parent);
   for (std::size_t e = 0; e < r.selected.size(); ++e) r.selected[e] = split.inside[e] && r.others[e];
   mesh = split.mesh;
-  if (std::find(r.selected.begin(), r.selected.end(), 1) == r.selected.end())
-    rule.required("select").fail("holds no part of the surface: its region does not meet the mesh");
   return "rules[" + std::to_string(index) + "] conformed (" + std::to_string(split.split_elements) + " elements split" +
          (split.refinement_levels > 0 ? ", " + std::to_string(split.refinement_levels) + " red-green levels along the boundary" : "") + ")";
 }
@@ -411,6 +425,7 @@ std::string refine_rule_rim(std::size_t index, std::vector<Rule>& rules, Triangl
   for (const Rule& other : rules)
     if (other.holds_displacement())
       for (Index e = 0; e < E; ++e) held[std::size_t(e)] = held[std::size_t(e)] || other.selected[std::size_t(e)];
+  if (std::find(marked.begin(), marked.end(), 1) == marked.end()) return {};  // no rim: nothing to refine
   const double allowed = std::max(kMaxSupportSizeRatio, 1.05 * support_size_ratio(mesh, held));
   int rings = 0;
   for (;;) {
@@ -461,9 +476,12 @@ LoadedBoundaryConditions load_boundary_conditions(const JsonReader& b, const std
   std::vector<Index> origin(static_cast<std::size_t>(mesh.num_elements()));
   for (std::size_t e = 0; e < origin.size(); ++e) origin[e] = static_cast<Index>(e);
   for (std::size_t i = 0; i < rules.size(); ++i)
-    if (rules[i].conform) out.mesh_changes.push_back(conform_rule(rule_keys[i], i, rules, mesh, origin));
+    if (rules[i].conform)
+      if (std::string change = conform_rule(rule_keys[i], i, rules, mesh, origin, out.warnings); !change.empty())
+        out.mesh_changes.push_back(std::move(change));
   for (std::size_t i = 0; i < rules.size(); ++i)
-    if (rules[i].refine_rim > 0) out.mesh_changes.push_back(refine_rule_rim(i, rules, mesh, origin));
+    if (rules[i].refine_rim > 0)
+      if (std::string change = refine_rule_rim(i, rules, mesh, origin); !change.empty()) out.mesh_changes.push_back(std::move(change));
   if (!out.mesh_changes.empty()) out.origin = origin;
 
   // Everything starts traction-free; rules apply in order (later ones win on shared elements);

@@ -48,6 +48,8 @@ struct LoadedBoundaryConditions {
   std::vector<Index> origin;
   /// What the rules did to the mesh, one phrase each (for the mesh's source line).
   std::vector<std::string> mesh_changes;
+  /// Things allowed but probably unintended (a conformed rule still more than 1 % off its region).
+  std::vector<std::string> warnings;
 };
 
 /// "boundary_conditions": rules in order, then the CSV file, per element, per corner or per linear

@@ -26,6 +26,7 @@
 #include <algorithm>
 #include <array>
 #include <map>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -112,11 +113,14 @@ inline int sign_of(double f) { return f < 0.0 ? -1 : (f > 0.0 ? 1 : 0); }
 // long: snapping, cutting and classifying share the crossings' table; apart they would pass it around
 inline ElementSplit split_along_region(const TriangleMesh& mesh, const SpaceRegion& region, double snap = 0.2) {
   using detail::conforming::sign_of;
+  if (!(snap > 0.0 && snap < 0.5))
+    throw InvalidArgumentError("conforming split: snap must lie in (0, 0.5) (a fraction of an edge), got " + std::to_string(snap));
   const Index V = mesh.num_vertices(), E = mesh.num_elements();
   std::vector<double> level(static_cast<std::size_t>(V));
   for (Index v = 0; v < V; ++v) level[static_cast<std::size_t>(v)] = region.level(mesh.vertex(v));
   ElementSplit out;
-  // Snapping first, over every edge, so that both triangles of an edge see the same corners.
+  // Snapping first, over every edge, so that both triangles of an edge see the same corners (each
+  // edge of a closed surface is met once in each direction; the a < b one is taken).
   std::vector<char> on_boundary(static_cast<std::size_t>(V), 0);
   const auto edge_crossing = [&](int a, int b) { return detail::conforming::crossing(region, mesh.vertex(a), mesh.vertex(b)); };
   for (Index e = 0; e < E; ++e)
@@ -203,9 +207,9 @@ inline ElementSplit split_along_region(const TriangleMesh& mesh, const SpaceRegi
   std::vector<char> inside(faces.size());
   for (std::size_t f = 0; f < faces.size(); ++f) {
     F.row(static_cast<Index>(f)) << faces[f][0], faces[f][1], faces[f][2];
-    double worst = -std::numeric_limits<double>::infinity();
-    for (int c : faces[f]) worst = std::max(worst, level[std::size_t(c)]);
-    if (worst == 0.0)  // every corner on the boundary: the piece's centre decides
+    double worst = -std::numeric_limits<double>::infinity(), best = std::numeric_limits<double>::infinity();
+    for (int c : faces[f]) worst = std::max(worst, level[std::size_t(c)]), best = std::min(best, level[std::size_t(c)]);
+    if (worst == 0.0 && best == 0.0)  // every corner on the boundary: the piece's centre decides
       worst = region.level((points[std::size_t(faces[f][0])] + points[std::size_t(faces[f][1])] + points[std::size_t(faces[f][2])]) / 3.0);
     inside[f] = worst <= 0.0;
   }
@@ -217,7 +221,9 @@ inline ElementSplit split_along_region(const TriangleMesh& mesh, const SpaceRegi
 
 /// split_along_region, refined first where needed: the elements the boundary crosses are refined
 /// red-green one level more (up to `max_levels`) until the elements inside hold the region's exact
-/// area (area_inside) within `area_tolerance` (relative). `parent` maps to `mesh`'s elements.
+/// area (area_inside) within `area_tolerance` (relative). `parent` maps to `mesh`'s elements;
+/// `held_area` against `region_area` says how close the last level came (a region smaller than
+/// an element's 2^-max_levels may hold nothing).
 inline ElementSplit conform_to_region(const TriangleMesh& mesh, const SpaceRegion& region, double area_tolerance = 0.005,
                                       int max_levels = 3, double snap = 0.2) {
   const Index E = mesh.num_elements();

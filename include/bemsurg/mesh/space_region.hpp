@@ -105,6 +105,9 @@ inline double center_triangle_in_disc(const Eigen::Vector2d& a, const Eigen::Vec
   std::array<double, 4> t{0.0, 1.0, 1.0, 1.0};
   int count = 1;
   const double disc = B * B - 4.0 * A * C;
+  // A line that misses or only touches the circle leaves the segment outside it: one sector (a
+  // midpoint test on a tangent segment would count it as a straight triangle).
+  if (A > 0.0 && !(disc > 0.0)) return 0.5 * r * r * std::atan2(cross(a, b), a.dot(b));
   if (A > 0.0 && disc > 0.0) {
     const double s = std::sqrt(disc);
     for (const double root : {(-B - s) / (2.0 * A), (-B + s) / (2.0 * A)})
@@ -115,7 +118,7 @@ inline double center_triangle_in_disc(const Eigen::Vector2d& a, const Eigen::Vec
   for (int i = 0; i + 1 < count; ++i) {
     const Eigen::Vector2d p = a + t[static_cast<std::size_t>(i)] * d, q = a + t[static_cast<std::size_t>(i + 1)] * d;
     const Eigen::Vector2d mid = 0.5 * (p + q);
-    if (mid.squaredNorm() <= r * r)
+    if (mid.squaredNorm() < r * r)
       area += 0.5 * cross(p, q);
     else
       area += 0.5 * r * r * std::atan2(cross(p, q), p.dot(q));
