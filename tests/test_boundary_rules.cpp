@@ -3,6 +3,7 @@
 // reports, each against an independently computed answer (closed-form areas, the body's weight).
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <string>
@@ -15,6 +16,7 @@
 #include "bemsurg/mesh/mesh_quality.hpp"
 #include "bemsurg/mesh/mesh_validation.hpp"
 #include "bemsurg/mesh/space_region.hpp"
+#include "bemsurg/meshing/graded_remesher.hpp"
 #include "support/temp_dir.hpp"
 
 using namespace bemsurg;
@@ -225,29 +227,44 @@ TEST_CASE("A displacement rule holding under 90 % of its region warns and names 
 TEST_CASE("refine_rim refines along the support's rim on both element types and the support still carries the weight",
           "[rules][refine_rim][scene]") {
   bemsurg_test::TempDir dir("bemsurg_test_rules_");
+  const Scene plain = load_scene_from_string(hung_liver_scene(false, 0, "constant", "", 2), dir.path.string());
   const Scene base = load_scene_from_string(hung_liver_scene(true, 0, "constant", "", 2), dir.path.string());
-  Index last = base.problem.mesh.num_elements();
+  const auto held_of = [](const Scene& x) {
+    std::vector<char> h(std::size_t(x.problem.mesh.num_elements()));
+    for (Index e = 0; e < x.problem.mesh.num_elements(); ++e) h[std::size_t(e)] = !x.problem.boundary_conditions.is_free(e);
+    return h;
+  };
+  const double plain_ratio = support_size_ratio(plain.problem.mesh, held_of(plain));
+  // A conforming split alone leaves the grading as it was: its pieces count with their parent's
+  // size (the split makes the boundary true, not the mesh finer), where their own sizes would
+  // read as a grading several times steeper.
+  REQUIRE(base.element_grading_size.size() == std::size_t(base.problem.mesh.num_elements()));
+  const double base_ratio = support_size_ratio(base.element_grading_size, held_of(base));
+  CHECK(base_ratio <= 1.1 * plain_ratio);  // the held set itself changed a little: pieces of elements it held only in part
+  CHECK(support_size_ratio(base.problem.mesh, held_of(base)) > 1.2 * base_ratio);
   for (int k = 1; k <= 2; ++k) {
     CAPTURE(k);
     const Scene s = load_scene_from_string(hung_liver_scene(true, k, "constant", "", 2), dir.path.string());
-    CHECK(s.problem.mesh.num_elements() > last);
-    last = s.problem.mesh.num_elements();
     require_valid_mesh(s.problem.mesh);
     CHECK(s.problem.mesh.total_area() == Approx(base.problem.mesh.total_area()).epsilon(1e-12));
-    CHECK(s.boundary_rules[0].area == Approx(base.boundary_rules[0].area).epsilon(1e-12));
-    // The smallest element along the rim is 4^k times smaller than before.
-    CHECK(s.problem.mesh.areas().minCoeff() < 1.01 * base.problem.mesh.areas().minCoeff() / std::pow(4.0, k));
-    // For the safe grading the refinement spread over the held side: no held element is left
-    // coarser than 4^-k of the largest held element before (a band alone would leave them 2^k
-    // times coarser than the finest, which made a hung organ's error 2.2 times worse).
-    const auto largest_held = [](const Scene& x) {
-      double a = 0.0;
-      for (Index e = 0; e < x.problem.mesh.num_elements(); ++e)
-        if (!x.problem.boundary_conditions.is_free(e)) a = std::max(a, x.problem.mesh.area(e));
-      return a;
-    };
-    CHECK(largest_held(s) <= 1.01 * largest_held(base) / std::pow(4.0, k));
-    CHECK(s.mesh_source.find("spread") != std::string::npos);
+    // The rim is refined before the split, which then still holds the region's area.
+    const BoundaryRuleArea& held = s.boundary_rules[0];
+    CHECK(std::abs(held.area - held.region_area) <= 0.01 * held.region_area);
+    CHECK(s.mesh_source.find("rim refined") < s.mesh_source.find("conformed"));
+    // Along the rim the elements (before the split) are 2^k times smaller than those they came from.
+    REQUIRE(s.element_grading_size.size() == std::size_t(s.problem.mesh.num_elements()));
+    double finest = 1.0, coarsest = 0.0;
+    for (Index e = 0; e < s.problem.mesh.num_elements(); ++e) {
+      const double r = s.element_grading_size[std::size_t(e)] / element_size(plain.problem.mesh, s.element_origin[std::size_t(e)]);
+      finest = std::min(finest, r);
+      coarsest = std::max(coarsest, r);
+    }
+    CHECK(finest <= 1.01 / std::pow(2.0, k));
+    CHECK(coarsest <= 1.0 + 1e-12);
+    // The safe grading is no worse than the mesh's own: the refinement spread into the held side
+    // as far as the rule needs (a band alone left the held elements 2^k times coarser than the
+    // finest, which made a hung organ's error 2.2 times worse).
+    CHECK(support_size_ratio(s.element_grading_size, held_of(s)) <= std::max(kMaxSupportSizeRatio, 1.1 * base_ratio));
   }
   for (const std::string type : {"constant", "linear"}) {
     CAPTURE(type);

@@ -1,19 +1,22 @@
-"""The finite-element peer of the benchmark report (issue 24; scripts/report/parts/peer.py): CalculiX
-(Debian's calculix-ccx) on quadratic tetrahedra (C3D10) that Gmsh meshes from one fixed surface.
+"""The finite-element peer of the benchmark report (issues 24 and 38; scripts/report/parts/peer.py):
+CalculiX (Debian's calculix-ccx) on quadratic tetrahedra (C3D10) that Gmsh meshes from one fixed surface.
 
-  calculix_peer.py mesh --surface BODY.stl --out DIR --h H --h-edge HE --patch-radius R
+  calculix_peer.py mesh --surface BODY.obj --out DIR --h H --h-edge HE
+                        [--tool-displacement DX,DY,DZ] [--clamp-within TRIANGLES.csv]
                         [--young E --poisson NU --density RHO --gravity G]
 
-meshes the volume bounded by the surface (Gmsh: classify the triangles, re-parametrise, mesh with
-size H, HE within a band around the clamped patch's edge, second order), writes DIR/job.inp and
-DIR/mesh.npz (nodes and the 6-node surface triangles, to evaluate the displacement at any surface
-point). Then ``ccx -i job`` (run by the part, which times it) writes job.dat; ``read_result``
-parses it and ``evaluate`` interpolates the surface displacement at given points.
-
-The clamped patch is the one bench_organ_gravity clamps: the points of the plane z = 0 with
-x^2 + y^2 <= R^2 (here: the nodes, corner and mid-edge, that lie there); a radius past the flat
-face clamps the whole face, whose rim Gmsh keeps as a crease, so every level clamps exactly the
-same region (a disc inside the face zig-zags between nodes: levels 3 % apart). Gravity pulls along -z.
+BODY.obj is bench_organ_gravity's labelled surface: its faces in groups "held" (clamped), "tool"
+(the flat tool's footprint, moved by --tool-displacement) and "free". Each group goes to Gmsh as
+a discrete surface of its own, so that the rims between them are mesh curves (as bemsurg's
+remesher keeps the rim of a flat face and its conforming rules split along a sphere, issue 38):
+both sides then hold the same area, and the held nodes are exactly those of the held surfaces.
+Gmsh re-parametrises the surfaces and meshes the volume with size H, HE within a band around the
+rims, second order; the script writes DIR/job.inp and DIR/mesh.npz (nodes, the 6-node surface
+triangles, the held and tool nodes). Then ``ccx -i job`` (run by the part, which times it) writes
+job.dat; ``read_result`` parses it and ``evaluate`` interpolates the surface displacement at any
+surface point. --clamp-within keeps only the held nodes whose (x, y) lie in one of the listed
+triangles (on the plane z = 0): the control that clamps the finite-element model where bemsurg's
+earlier remeshes clamped it. Gravity pulls along -z.
 
 Needs /usr/bin/python3 with Debian's python3-gmsh for ``mesh``; the rest needs numpy only.
 """
@@ -33,61 +36,191 @@ import numpy as np
 # 8:(1,3) and 9:(2,3) (ccx 2.20 manual, section 6.2.6). So the last two swap.
 GMSH_TO_CCX_TET10 = [0, 1, 2, 3, 4, 5, 6, 7, 9, 8]
 CCX_TET10_EDGES = [(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)]  # of nodes 4..9
-PLANE_TOLERANCE = 1e-7  # m: a node on the plane z = 0 (the re-parametrised flat face is exact to ~1e-17)
+PLANE_TOLERANCE = 1e-7  # m: a point on the plane z = 0 (bench_organ_gravity's patch test)
+LABELS = ("free", "held", "tool")  # the OBJ's groups, in bench_organ_gravity's order
+# Creases sharper than this inside a group split it too (the brain's folds): one surface of the whole
+# folded body parametrises badly (Gmsh took 67 s instead of 4 at h = 12 mm).
+FEATURE_ANGLE = 40.0
 
 
-def mesh(surface, out, h, h_edge, patch_radius, young, poisson, density, gravity):
-    """Gmsh: volume mesh of the closed surface, written as a CalculiX deck. Returns a summary dict."""
+def read_labelled_obj(path):
+    """Vertices (N x 3), faces (M x 3, 0-based) and each face's label (index into LABELS)."""
+    verts, faces, labels, label = [], [], [], 0
+    for line in Path(path).read_text().splitlines():
+        if line.startswith("v "):
+            verts.append([float(x) for x in line.split()[1:4]])
+        elif line.startswith("g "):
+            label = LABELS.index(line.split()[1])
+        elif line.startswith("f "):
+            faces.append([int(x.split("/")[0]) - 1 for x in line.split()[1:4]])
+            labels.append(label)
+    return np.array(verts), np.array(faces, dtype=np.int64), np.array(labels)
+
+
+def surface_points(path):
+    """Centroids, areas and labels of the surface's triangles: the fixed points the FE levels are compared at."""
+    v, f, lab = read_labelled_obj(path)
+    t = v[f]
+    area = 0.5 * np.linalg.norm(np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]), axis=1)
+    return t.mean(axis=1), area, lab
+
+
+def _rim_distance(v, f, lab, spacing):
+    """Distance to the rims (edges between faces of different labels), from points sampled along them."""
+    from scipy.spatial import cKDTree
+    edges = {}
+    for k, tri in enumerate(f):
+        for a, b in ((tri[0], tri[1]), (tri[1], tri[2]), (tri[2], tri[0])):
+            edges.setdefault((min(a, b), max(a, b)), set()).add(int(lab[k]))
+    rim = [e for e, ls in edges.items() if len(ls) > 1]
+    if not rim:
+        return lambda x, y, z: math.inf
+    pts = []
+    for a, b in rim:
+        n = max(1, int(math.ceil(np.linalg.norm(v[b] - v[a]) / spacing)))
+        pts += [v[a] + (v[b] - v[a]) * t for t in np.linspace(0.0, 1.0, n + 1)]
+    tree = cKDTree(np.array(pts))
+    return lambda x, y, z: float(tree.query((x, y, z))[0])
+
+
+def _add_labelled_surfaces(gmsh, v, f, lab):
+    """Each label's faces as a discrete surface; createTopology makes their borders curves, which
+    classifySurfaces (no angle of its own) keeps. Returns the label of each new surface."""
+    from scipy.spatial import cKDTree
+    present = [k for k in range(len(LABELS)) if (lab == k).any()]
+    for k in present:
+        gmsh.model.addDiscreteEntity(2, k + 1)
+    gmsh.model.mesh.addNodes(2, present[0] + 1, list(range(1, len(v) + 1)), v.ravel().tolist())
+    for k in present:
+        sel = np.nonzero(lab == k)[0]
+        gmsh.model.mesh.addElementsByType(k + 1, 2, (sel + 1).tolist(), (f[sel] + 1).ravel().tolist())
+    gmsh.model.mesh.reclassifyNodes()
+    gmsh.model.mesh.createTopology()
+    gmsh.model.mesh.classifySurfaces(FEATURE_ANGLE * math.pi / 180, True, True, math.pi)
+    gmsh.model.mesh.createGeometry()
+    tree = cKDTree(v[f].mean(axis=1))
+    label_of = {}
+    for _, tag in gmsh.model.getEntities(2):
+        _, _, nodes = gmsh.model.mesh.getElements(2, tag)
+        if not len(nodes) or not len(nodes[0]):
+            continue
+        xyz = np.array([gmsh.model.mesh.getNode(int(n))[0] for n in nodes[0][:3]])
+        label_of[tag] = int(lab[tree.query(xyz.mean(axis=0))[1]])
+    return label_of
+
+
+def _nodes_of(gmsh, label_of, label, index):
+    """The (renumbered) nodes on the surfaces of one label, their rims included."""
+    out = set()
+    for tag, lb in label_of.items():
+        if lb == label:
+            tags, _, _ = gmsh.model.mesh.getNodes(2, tag, True, False)
+            out.update(index[np.asarray(tags, dtype=np.int64)].tolist())
+    return np.array(sorted(out), dtype=np.int64)
+
+
+def _surface_triangles(gmsh, label_of, label):
+    """The Gmsh node tags (m x 6) of the 6-node triangles on the surfaces of one label."""
+    out = [np.asarray(gmsh.model.mesh.getElements(2, tag)[2][0], dtype=np.int64).reshape(-1, 6)
+           for tag, lb in label_of.items() if lb == label]
+    return np.concatenate(out) if out else np.zeros((0, 6), dtype=np.int64)
+
+
+# A 6-point rule of degree 4 on the reference triangle (Dunavant 1985): points (r, s), weights summing to 1.
+_TRI_A, _TRI_B, _TRI_WA, _TRI_WB = 0.445948490915965, 0.091576213509771, 0.223381589678011, 0.109951743655322
+_TRI_RULE = [((_TRI_A, _TRI_A), _TRI_WA), ((1 - 2 * _TRI_A, _TRI_A), _TRI_WA), ((_TRI_A, 1 - 2 * _TRI_A), _TRI_WA),
+             ((_TRI_B, _TRI_B), _TRI_WB), ((1 - 2 * _TRI_B, _TRI_B), _TRI_WB), ((_TRI_B, 1 - 2 * _TRI_B), _TRI_WB)]
+
+
+def curved_area(xyz, tris6):
+    """The area of 6-node triangles (Gmsh order: corners, then mid-edges 01, 12, 20) as the finite
+    elements see it: their quadratic geometry, whose mid-edge nodes lie on the surface's curves, so
+    that a held disc's rim is followed far closer than by the corners' chords."""
+    if len(tris6) == 0:
+        return 0.0
+    p = xyz[tris6]  # (m, 6, 3)
+    total = 0.0
+    for (r, t), w in _TRI_RULE:
+        l0, l1, l2 = 1 - r - t, r, t
+        d_r = [-(4 * l0 - 1), 4 * l1 - 1, 0.0, 4 * (l0 - l1), 4 * l2, -4 * l2]  # dN/dr (dl0/dr = -1, dl1/dr = 1)
+        d_t = [-(4 * l0 - 1), 0.0, 4 * l2 - 1, -4 * l1, 4 * l1, 4 * (l0 - l2)]  # dN/dt (dl0/dt = -1, dl2/dt = 1)
+        xr = np.einsum("i,mic->mc", np.array(d_r), p)
+        xt = np.einsum("i,mic->mc", np.array(d_t), p)
+        total += 0.5 * w * np.linalg.norm(np.cross(xr, xt), axis=1).sum()
+    return float(total)
+
+
+def _inside_triangles(xy, tris):
+    """Whether each 2-D point lies in one of the triangles (rows x0,y0,z0,...: their (x, y))."""
+    inside = np.zeros(len(xy), bool)
+    a, b, c = tris[:, 0:2], tris[:, 3:5], tris[:, 6:8]
+    for k in range(len(tris)):
+        d = np.stack([((q - p)[0] * (xy[:, 1] - p[1]) - (q - p)[1] * (xy[:, 0] - p[0]))
+                      for p, q in ((a[k], b[k]), (b[k], c[k]), (c[k], a[k]))], axis=1)
+        scale = 1e-9 * max(np.abs(d).max(), 1e-300)
+        inside |= (d >= -scale).all(axis=1) | (d <= scale).all(axis=1)
+    return inside
+
+
+def mesh(surface, out, h, h_edge, young, poisson, density, gravity, tool_displacement=(0.0, 0.0, 0.0), clamp_within=None):
+    """Gmsh: volume mesh of the closed labelled surface, written as a CalculiX deck. Returns a summary dict."""
     import gmsh  # Debian's python3-gmsh: imported here so that the rest works without it
 
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     start = time.monotonic()
+    v, f, lab = read_labelled_obj(surface)
+    edge = _rim_distance(v, f, lab, h_edge / 4)
     gmsh.initialize([], False)
     try:
         gmsh.option.setNumber("General.Terminal", 0)
-        gmsh.merge(str(surface))
-        # 40 degrees: the rim of the flat face is a crease (55-65 degrees, brain_model_impl.hpp), the folds are not.
-        gmsh.model.mesh.classifySurfaces(40 * math.pi / 180, True, True, math.pi)
-        gmsh.model.mesh.createGeometry()
+        label_of = _add_labelled_surfaces(gmsh, v, f, lab)
         loop = gmsh.model.geo.addSurfaceLoop([t for _, t in gmsh.model.getEntities(2)])
         gmsh.model.geo.addVolume([loop])
         gmsh.model.geo.synchronize()
-        band = 3.0 * h  # grade from HE on the clamped region's edge to H at this distance
-        edge = _clamped_edge(surface, patch_radius)
+        band = 3.0 * h  # grade from HE on the rims to H at this distance
 
         def size(dim, tag, x, y, z):  # gmsh 4.8: no current size argument
             return h_edge + (h - h_edge) * min(1.0, edge(x, y, z) / band)
 
         gmsh.model.mesh.setSizeCallback(size)
-        for k, v in (("Mesh.MeshSizeFromPoints", 0), ("Mesh.MeshSizeFromCurvature", 0), ("Mesh.MeshSizeExtendFromBoundary", 0),
-                     ("Mesh.MeshSizeMin", h_edge), ("Mesh.MeshSizeMax", h), ("Mesh.Algorithm", 6), ("Mesh.Algorithm3D", 1),
-                     ("Mesh.ElementOrder", 2), ("Mesh.SecondOrderLinear", 0), ("Mesh.Optimize", 1)):
-            gmsh.option.setNumber(k, v)
+        for k, val in (("Mesh.MeshSizeFromPoints", 0), ("Mesh.MeshSizeFromCurvature", 0), ("Mesh.MeshSizeExtendFromBoundary", 0),
+                       ("Mesh.MeshSizeMin", h_edge), ("Mesh.MeshSizeMax", h), ("Mesh.Algorithm", 6), ("Mesh.Algorithm3D", 1),
+                       ("Mesh.ElementOrder", 2), ("Mesh.SecondOrderLinear", 0), ("Mesh.Optimize", 1)):
+            gmsh.option.setNumber(k, val)
         gmsh.model.mesh.generate(3)
         tags, xyz, _ = gmsh.model.mesh.getNodes()
         xyz = xyz.reshape(-1, 3)
         _, tet_nodes = gmsh.model.mesh.getElementsByType(11)
         _, tri_nodes = gmsh.model.mesh.getElementsByType(9)
+        # Renumber the nodes 0..N-1 (ccx wants 1..N; Gmsh's tags may have gaps).
+        index = np.zeros(int(tags.max()) + 1, dtype=np.int64)
+        index[tags.astype(np.int64)] = np.arange(len(tags))
+        held = _nodes_of(gmsh, label_of, LABELS.index("held"), index)
+        tool = _nodes_of(gmsh, label_of, LABELS.index("tool"), index)
+        held_tris = _surface_triangles(gmsh, label_of, LABELS.index("held"))
+        tool_tris = _surface_triangles(gmsh, label_of, LABELS.index("tool"))
     finally:
         gmsh.finalize()
     mesh_s = time.monotonic() - start
-    # Renumber the nodes 1..N (ccx wants them; Gmsh's tags may have gaps).
-    index = np.zeros(int(tags.max()) + 1, dtype=np.int64)
-    index[tags.astype(np.int64)] = np.arange(len(tags))
     tets = index[tet_nodes.astype(np.int64)].reshape(-1, 10)[:, GMSH_TO_CCX_TET10]
     tris = index[tri_nodes.astype(np.int64)].reshape(-1, 6)
+    held_area = curved_area(xyz, index[held_tris])
+    tool_area = curved_area(xyz, index[tool_tris])
     tets = _positive(xyz, tets)
     _check_mid_edges(xyz, tets)
     straightened = _untangle(xyz, tets)
-    on_patch = (np.abs(xyz[:, 2]) <= PLANE_TOLERANCE) & (np.hypot(xyz[:, 0], xyz[:, 1]) <= patch_radius)
+    if clamp_within is not None:
+        tri = np.loadtxt(clamp_within, delimiter=",", skiprows=1, ndmin=2)
+        held = held[_inside_triangles(xyz[held, :2], tri)]
     surface_nodes = np.unique(tris)
-    patch_load = gravity_on_nodes(xyz, tets, np.nonzero(on_patch)[0], density, gravity)
-    _write_deck(out / "job.inp", xyz, tets, np.nonzero(on_patch)[0], surface_nodes, young, poisson, density, gravity)
-    np.savez_compressed(out / "mesh.npz", xyz=xyz, tris=tris, surface_nodes=surface_nodes)
-    return {"peak_rss_bytes": peak_rss_bytes(), "nodes": len(xyz), "elements": len(tets), "surface_triangles": len(tris), "patch_nodes": int(on_patch.sum()),
-            "straightened_elements": straightened,
-            "patch_node_load_n": patch_load,
+    held_load = gravity_on_nodes(xyz, tets, held, density, gravity)
+    tool_load = gravity_on_nodes(xyz, tets, tool, density, gravity)
+    _write_deck(out / "job.inp", xyz, tets, held, tool, surface_nodes, young, poisson, density, gravity, tool_displacement)
+    np.savez_compressed(out / "mesh.npz", xyz=xyz, tris=tris, surface_nodes=surface_nodes, held=held, tool=tool)
+    return {"peak_rss_bytes": peak_rss_bytes(), "nodes": len(xyz), "elements": len(tets), "surface_triangles": len(tris),
+            "patch_nodes": len(held), "tool_nodes": len(tool), "held_area_m2": held_area, "tool_area_m2": tool_area,
+            "straightened_elements": straightened, "patch_node_load_n": held_load, "tool_node_load_n": tool_load,
             "mesh_s": mesh_s, "h": h, "h_edge": h_edge}
 
 
@@ -113,19 +246,6 @@ def run_ccx(workdir):
         tail = "\n".join((Path(workdir) / "ccx.log").read_text().splitlines()[-12:])
         raise RuntimeError(f"calculix_peer: ccx exited with {code} in {workdir}:\n{tail}")
     return {"ccx_s": seconds, "peak_rss_bytes": usage.ru_maxrss * 1024}
-
-
-def _clamped_edge(surface, patch_radius):
-    """Distance (approximate) to the clamped region's edge: the circle of radius R on the plane z = 0,
-    or, where R reaches past the flat face, the face's rim, taken as the ellipse through its extreme
-    points (the brain's flat face is one: brain_model_impl.hpp)."""
-    v = np.array([[float(x) for x in line.split()[1:4]] for line in Path(surface).read_text().splitlines()
-                  if line.lstrip().startswith("vertex")])
-    flat = v[np.abs(v[:, 2]) <= PLANE_TOLERANCE]
-    a, b = np.abs(flat[:, 0]).max(), np.abs(flat[:, 1]).max()
-    if patch_radius < min(a, b):
-        return lambda x, y, z: math.hypot(math.hypot(x, y) - patch_radius, z)
-    return lambda x, y, z: math.hypot(min(a, b) * (math.hypot(x / a, y / b) - 1.0), z)
 
 
 def _positive(xyz, tets):
@@ -205,25 +325,28 @@ def _untangle(xyz, tets, floor=0.05):
     raise RuntimeError("calculix_peer: elements still tangled after straightening their edges")
 
 
-def _write_deck(path, xyz, tets, fixed, surface_nodes, young, poisson, density, gravity):
+def _write_deck(path, xyz, tets, fixed, tool, surface_nodes, young, poisson, density, gravity, tool_displacement):
     if len(fixed) == 0:
-        raise RuntimeError("calculix_peer: no node lies on the clamped patch")
+        raise RuntimeError("calculix_peer: no node lies on the held surface")
     lines = ["** bemsurg organ peer (scripts/report/calculix_peer.py): C3D10 from Gmsh", "*NODE, NSET=NALL"]
     # ccx reads at most 20 characters a field: 13 significant digits fit.
     lines += [f"{i + 1}, {x:.12e}, {y:.12e}, {z:.12e}" for i, (x, y, z) in enumerate(xyz.tolist())]
     lines.append("*ELEMENT, TYPE=C3D10, ELSET=EALL")
     # Eleven entries: a data line holds at most 16, so one line each.
     lines += [f"{e + 1}, " + ", ".join(str(n + 1) for n in row) for e, row in enumerate(tets.tolist())]
-    lines += _nset("FIX", fixed) + _nset("NSURF", surface_nodes)
+    lines += _nset("FIX", fixed) + _nset("NSURF", surface_nodes) + (_nset("TOOL", tool) if len(tool) else [])
     lines += ["*MATERIAL, NAME=TISSUE", "*ELASTIC", f"{young!r}, {poisson!r}", "*DENSITY", f"{density!r}",
               "*SOLID SECTION, ELSET=EALL, MATERIAL=TISSUE",
-              "*BOUNDARY", "FIX, 1, 3",
-              "*STEP", "*STATIC",
+              "*BOUNDARY", "FIX, 1, 3"]
+    if len(tool):  # the tool's footprint moves with the tool (bonded: all three components prescribed)
+        lines += [f"TOOL, {k + 1}, {k + 1}, {float(d)!r}" for k, d in enumerate(tool_displacement)]
+    lines += ["*STEP", "*STATIC",
               "*DLOAD", f"EALL, GRAV, {gravity!r}, 0., 0., -1.",
               "*NODE PRINT, NSET=NSURF", "U",
-              "*NODE PRINT, NSET=FIX, TOTALS=ONLY", "RF",
-              "*EL PRINT, ELSET=EALL, TOTALS=ONLY", "EVOL",
-              "*END STEP", ""]
+              "*NODE PRINT, NSET=FIX, TOTALS=ONLY", "RF"]
+    if len(tool):
+        lines += ["*NODE PRINT, NSET=TOOL, TOTALS=ONLY", "RF"]
+    lines += ["*EL PRINT, ELSET=EALL, TOTALS=ONLY", "EVOL", "*END STEP", ""]
     Path(path).write_text("\n".join(lines))
 
 
@@ -234,10 +357,11 @@ def _nset(name, nodes):
 
 def read_result(workdir):
     """job.dat: the surface nodes' displacements (N x 3, NaN off the surface), the total reaction
-    force on the patch (3) and the total volume ccx integrated."""
+    force on each constrained set ({"FIX": (3,), "TOOL": (3,)}: ccx's RF, the internal force at
+    those nodes) and the total volume ccx integrated."""
     d = np.load(Path(workdir) / "mesh.npz")
     u = np.full((len(d["xyz"]), 3), np.nan)
-    reaction, volume, section = None, None, None
+    reactions, volume, section, rf_set = {}, None, None, None
     for line in (Path(workdir) / "job.dat").read_text().splitlines():
         s = line.strip()
         if not s:
@@ -245,17 +369,21 @@ def read_result(workdir):
         if re.match(r"^[a-z]", s):
             section = "u" if s.startswith("displacements") else "rf" if s.startswith("total force") else \
                 "vol" if s.startswith("total volume") else None
+            if section == "rf":
+                m = re.search(r"for set (\S+)", s)
+                rf_set = m.group(1).upper() if m else "FIX"
             continue
         v = s.split()
         if section == "u":
             u[int(v[0]) - 1] = [float(x) for x in v[1:4]]
         elif section == "rf":
-            reaction = [float(x) for x in v[:3]]
+            reactions[rf_set] = np.array([float(x) for x in v[:3]])
         elif section == "vol":
             volume = float(v[0])
-    if reaction is None or volume is None or np.isnan(u[d["surface_nodes"]]).any():
-        raise RuntimeError(f"calculix_peer: {workdir}/job.dat lacks displacements, the reaction or the volume")
-    return u, np.array(reaction), volume
+    if "FIX" not in reactions or volume is None or np.isnan(u[d["surface_nodes"]]).any() or \
+            (len(d["tool"]) and "TOOL" not in reactions):
+        raise RuntimeError(f"calculix_peer: {workdir}/job.dat lacks displacements, a reaction or the volume")
+    return u, reactions, volume
 
 
 def evaluate(workdir, u, points, k=8, chunk=2048):
@@ -301,14 +429,6 @@ def relative_l2(u, ref, weights):
     return float(math.sqrt((weights * ((u - ref) ** 2).sum(1)).sum() / (weights * (ref ** 2).sum(1)).sum()))
 
 
-def read_stl_centroids(path):
-    """Centroids and areas of an ASCII STL's triangles: the fixed points the FE levels are compared at."""
-    v = np.array([[float(x) for x in line.split()[1:4]] for line in Path(path).read_text().splitlines()
-                  if line.lstrip().startswith("vertex")]).reshape(-1, 3, 3)
-    area = 0.5 * np.linalg.norm(np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0]), axis=1)
-    return v.mean(axis=1), area
-
-
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = ap.add_subparsers(dest="command", required=True)
@@ -317,7 +437,8 @@ def main():
     m.add_argument("--out", required=True)
     m.add_argument("--h", type=float, required=True)
     m.add_argument("--h-edge", type=float, required=True)
-    m.add_argument("--patch-radius", type=float, required=True)
+    m.add_argument("--tool-displacement", default="0,0,0", help="DX,DY,DZ (m): the tool footprint's displacement")
+    m.add_argument("--clamp-within", help="CSV of triangles (x0,y0,z0,...,z2): hold only the held nodes inside them")
     m.add_argument("--young", type=float, default=3000.0)
     m.add_argument("--poisson", type=float, default=0.45)
     m.add_argument("--density", type=float, default=1000.0)
@@ -328,7 +449,8 @@ def main():
     if a.command == "ccx":
         print(json.dumps(run_ccx(a.dir)))
         return 0
-    info = mesh(a.surface, a.out, a.h, a.h_edge, a.patch_radius, a.young, a.poisson, a.density, a.gravity)
+    tool = [float(x) for x in a.tool_displacement.split(",")]
+    info = mesh(a.surface, a.out, a.h, a.h_edge, a.young, a.poisson, a.density, a.gravity, tool, a.clamp_within)
     print(json.dumps(info))
     return 0
 

@@ -103,7 +103,7 @@ def load_average():
 # shared code. A part whose data ran at a commit before a change to any of these is stale; a change
 # to the part's own file is not enough (it may only change the drawing), so the part file is left out.
 DATA_SOURCES = ("include", "src", "benchmarks", "tests/support", "examples", "CMakeLists.txt", "cmake",
-                "scripts/report/report_lib.py", "scripts/report/calculix_peer.py")
+                "scripts/report/report_lib.py", "scripts/report/calculix_peer.py", "scripts/report/peer_support.py")
 
 
 def stale_sources(repo, commit, head):

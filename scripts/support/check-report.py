@@ -21,6 +21,7 @@ from PIL import Image, ImageStat
 REQUIRED = {
     "Accuracy against cost": "the work-precision diagrams",
     "A finite-element peer: CalculiX on an organ": "the CalculiX comparison",
+    "A second peer: the liver, hung and pressed": "the CalculiX comparison on the liver (issue 38)",
     "The paper's Table 1: re-solves after a cut": "Table 1",
     "Cut-step latency against n": "cut latency against n",
     "Precompute against n": "precompute against n",

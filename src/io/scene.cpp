@@ -71,7 +71,7 @@ void warn_unsafe_grading(Scene& scene) {
   const ElastostaticProblem& p = scene.problem;
   std::vector<char> held(static_cast<std::size_t>(p.mesh.num_elements()));
   for (Index e = 0; e < p.mesh.num_elements(); ++e) held[static_cast<std::size_t>(e)] = !p.boundary_conditions.is_free(e);
-  const std::string w = grading_rule_warning(p.mesh, held);
+  const std::string w = grading_rule_warning(p.mesh, held, scene.element_grading_size);
   if (!w.empty()) scene.warnings.push_back("mesh: " + w);
 }
 
@@ -196,6 +196,7 @@ Scene build_scene(const io::JsonDocument& document, const std::string& directory
   problem.boundary_conditions = std::move(bcs.conditions);
   scene.boundary_rules = std::move(bcs.rules);
   scene.element_origin = std::move(bcs.origin);
+  scene.element_grading_size = std::move(bcs.grading_size);
   for (const std::string& change : bcs.mesh_changes) scene.mesh_source += ", " + change;
   scene.warnings.insert(scene.warnings.end(), bcs.warnings.begin(), bcs.warnings.end());
   if (!scene.element_origin.empty()) require_solvable_size(scene, root.required("mesh"), directory);  // the rules' splits added elements

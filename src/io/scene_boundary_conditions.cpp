@@ -382,7 +382,7 @@ void remap_rules(std::vector<Rule>& rules, std::vector<Index>& origin, const Map
 /// then holds the pieces inside (and picked by its other selectors). Returns what was done, for
 /// the mesh's source line (empty when the boundary crosses no element: nothing changed).
 std::string conform_rule(const JsonReader& rule, std::size_t index, std::vector<Rule>& rules, TriangleMesh& mesh,
-                         std::vector<Index>& origin, std::vector<std::string>& warnings) {
+                         std::vector<Index>& origin, std::vector<double>& grading_size, std::vector<std::string>& warnings) {
   Rule& r = rules[index];
   const ElementSplit split = conform_to_region(mesh, *r.conform);
   if (!(split.held_area > 0.0))
@@ -402,13 +402,23 @@ std::string conform_rule(const JsonReader& rule, std::size_t index, std::vector<
   }
   remap_rules(rules, origin, split.parent);
   for (std::size_t e = 0; e < r.selected.size(); ++e) r.selected[e] = split.inside[e] && r.others[e];
+  // The safe-grading rule counts a piece with the size of the element it was cut from: the split
+  // makes the boundary true, not the mesh finer (refine_rim, which runs first, does that).
+  if (grading_size.empty())
+    for (Index e = 0; e < mesh.num_elements(); ++e) grading_size.push_back(element_size(mesh, e));
+  std::vector<double> pieces(split.parent.size());
+  for (std::size_t e = 0; e < pieces.size(); ++e) pieces[e] = grading_size[static_cast<std::size_t>(split.parent[e])];
+  grading_size.swap(pieces);
   mesh = split.mesh;
   return "rules[" + std::to_string(index) + "] conformed (" + std::to_string(split.split_elements) + " elements split" +
          (split.refinement_levels > 0 ? ", " + std::to_string(split.refinement_levels) + " red-green levels along the boundary" : "") + ")";
 }
 
 /// "refine_rim": k red-green levels on the elements either side of the rule's rim (the edges
-/// between its elements and the rest). For a displacement rule the refinement then spreads over
+/// between its elements and the rest) and, for a conforming rule, on the elements its region's
+/// boundary crosses. It runs before any conforming split, so that the split then cuts the refined
+/// elements (and needs fewer levels of its own) and the grading below is measured on whole
+/// elements, not on the split's pieces. For a displacement rule the refinement then spreads over
 /// the held side, a ring at a time, until the safe-grading ratio (docs/graded.md, "Safe
 /// gradings": held elements against the finest) is no worse than before the refinement (or within
 /// the rule's limit of 1.2), or the whole held side is refined: refining only a band would leave
@@ -422,6 +432,12 @@ std::string refine_rule_rim(std::size_t index, std::vector<Rule>& rules, Triangl
   for (Index e = 0; e < E; ++e)
     for (Index g : topology.neighbours(e))
       if (g >= 0 && r.selected[std::size_t(g)] != r.selected[std::size_t(e)]) marked[std::size_t(e)] = 1;
+  if (r.conform)
+    for (Index e = 0; e < E; ++e) {
+      const std::array<Vec3, 3> c = mesh.corners(e);
+      const double inside = triangle_area_inside(c[0], c[1], c[2], *r.conform);
+      if (inside > 1e-12 * mesh.area(e) && inside < (1.0 - 1e-12) * mesh.area(e)) marked[std::size_t(e)] = 1;
+    }
   for (const Rule& other : rules)
     if (other.holds_displacement())
       for (Index e = 0; e < E; ++e) held[std::size_t(e)] = held[std::size_t(e)] || other.selected[std::size_t(e)];
@@ -475,14 +491,19 @@ LoadedBoundaryConditions load_boundary_conditions(const JsonReader& b, const std
   LoadedBoundaryConditions out;
   std::vector<Index> origin(static_cast<std::size_t>(mesh.num_elements()));
   for (std::size_t e = 0; e < origin.size(); ++e) origin[e] = static_cast<Index>(e);
-  for (std::size_t i = 0; i < rules.size(); ++i)
-    if (rules[i].conform)
-      if (std::string change = conform_rule(rule_keys[i], i, rules, mesh, origin, out.warnings); !change.empty())
-        out.mesh_changes.push_back(std::move(change));
+  // Rim refinement first, then the conforming splits (refine_rule_rim says why).
   for (std::size_t i = 0; i < rules.size(); ++i)
     if (rules[i].refine_rim > 0)
       if (std::string change = refine_rule_rim(i, rules, mesh, origin); !change.empty()) out.mesh_changes.push_back(std::move(change));
-  if (!out.mesh_changes.empty()) out.origin = origin;
+  std::vector<double> grading_size;
+  for (std::size_t i = 0; i < rules.size(); ++i)
+    if (rules[i].conform)
+      if (std::string change = conform_rule(rule_keys[i], i, rules, mesh, origin, grading_size, out.warnings); !change.empty())
+        out.mesh_changes.push_back(std::move(change));
+  if (!out.mesh_changes.empty()) {
+    out.origin = origin;
+    out.grading_size = std::move(grading_size);
+  }
 
   // Everything starts traction-free; rules apply in order (later ones win on shared elements);
   // the file comes last, so a per-element file can refine what the rules set. Every rule and

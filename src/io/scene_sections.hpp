@@ -46,6 +46,8 @@ struct LoadedBoundaryConditions {
   std::vector<BoundaryRuleArea> rules;
   /// When "conform" or "refine_rim" split the mesh: each solved element's element of the mesh given.
   std::vector<Index> origin;
+  /// With `origin`: the size each element counts with in the safe-grading rule (Scene::element_grading_size).
+  std::vector<double> grading_size;
   /// What the rules did to the mesh, one phrase each (for the mesh's source line).
   std::vector<std::string> mesh_changes;
   /// Things allowed but probably unintended (a conformed rule still more than 1 % off its region).

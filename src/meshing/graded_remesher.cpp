@@ -314,14 +314,17 @@ double graded_target_size(const OperatingRegion& region, const GradedRemeshOptio
 }
 
 double support_size_ratio(const TriangleMesh& mesh, const std::vector<char>& displacement_prescribed) {
+  std::vector<double> sizes(static_cast<std::size_t>(mesh.num_elements()));
+  for (Index e = 0; e < mesh.num_elements(); ++e) sizes[static_cast<std::size_t>(e)] = element_size(mesh, e);
+  return support_size_ratio(sizes, displacement_prescribed);
+}
+
+double support_size_ratio(const std::vector<double>& element_sizes, const std::vector<char>& displacement_prescribed) {
   // Percentiles, not extremes: a uniform Gmsh mesh's element sizes spread by about 1.4 between the
   // largest and the smallest (docs/graded.md), which says nothing about its grading.
-  std::vector<double> all, held;
-  for (Index e = 0; e < mesh.num_elements(); ++e) {
-    all.push_back(element_size(mesh, e));
-    if (static_cast<std::size_t>(e) < displacement_prescribed.size() && displacement_prescribed[static_cast<std::size_t>(e)])
-      held.push_back(all.back());
-  }
+  std::vector<double> all = element_sizes, held;
+  for (std::size_t e = 0; e < all.size(); ++e)
+    if (e < displacement_prescribed.size() && displacement_prescribed[e]) held.push_back(all[e]);
   if (held.empty()) return 0.0;
   const auto percentile = [](std::vector<double>& v, double q) {
     const auto k = v.begin() + static_cast<std::ptrdiff_t>(q * static_cast<double>(v.size() - 1));
@@ -331,8 +334,10 @@ double support_size_ratio(const TriangleMesh& mesh, const std::vector<char>& dis
   return percentile(held, 0.9) / percentile(all, 0.1);
 }
 
-std::string grading_rule_warning(const TriangleMesh& mesh, const std::vector<char>& displacement_prescribed) {
-  const double ratio = support_size_ratio(mesh, displacement_prescribed);
+std::string grading_rule_warning(const TriangleMesh& mesh, const std::vector<char>& displacement_prescribed,
+                                 const std::vector<double>& element_sizes) {
+  const double ratio = element_sizes.empty() ? support_size_ratio(mesh, displacement_prescribed)
+                                             : support_size_ratio(element_sizes, displacement_prescribed);
   if (ratio <= kMaxSupportSizeRatio) return {};
   return "the displacement-prescribed (supported) elements are up to " + number_text(std::round(100.0 * ratio) / 100.0) +
          " times the size of the finest elements (limit " + number_text(kMaxSupportSizeRatio) +

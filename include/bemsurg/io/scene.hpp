@@ -57,6 +57,10 @@ struct Scene {
   /// the element of the mesh the rules and the CSV file refer to (the mesh after any remesh, before
   /// the rules' splits). Empty when no rule changed the mesh.
   std::vector<Index> element_origin;
+  /// The size (mean edge length) each solved element counts with in the safe-grading rule: its
+  /// own, or for a piece of a conforming split the size of the element it was cut from. Empty
+  /// when no rule changed the mesh (every element counts with its own).
+  std::vector<double> element_grading_size;
 
   /// The scene file as given and the directory relative paths in it are resolved against.
   std::string path;

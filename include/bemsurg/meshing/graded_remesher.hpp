@@ -72,9 +72,16 @@ inline constexpr double kMaxSupportSizeRatio = 1.2;
 /// (percentiles: a uniform Gmsh mesh's sizes spread by ~1.4 between extremes); 0 without such elements.
 double support_size_ratio(const TriangleMesh& mesh, const std::vector<char>& displacement_prescribed);
 
+/// The same ratio from given element sizes (one per element): where a conforming split cut
+/// elements into pieces, each piece counts with the size of the element it was cut from
+/// (scene_boundary_conditions.cpp), since a piece is not a finer mesh, only a truer boundary.
+double support_size_ratio(const std::vector<double>& element_sizes, const std::vector<char>& displacement_prescribed);
+
 /// A warning (empty when the rule holds) for a mesh whose supported elements are coarser than
-/// kMaxSupportSizeRatio times its finest elements, naming the ratio, the limit and the fix.
-std::string grading_rule_warning(const TriangleMesh& mesh, const std::vector<char>& displacement_prescribed);
+/// kMaxSupportSizeRatio times its finest elements, naming the ratio, the limit and the fix;
+/// `element_sizes`, when not empty, are the sizes the rule counts (as above).
+std::string grading_rule_warning(const TriangleMesh& mesh, const std::vector<char>& displacement_prescribed,
+                                 const std::vector<double>& element_sizes = {});
 
 /// What graded_remesh returns: the remeshed and validated surface, its quality figures and the time taken (seconds).
 /// \ingroup meshing
