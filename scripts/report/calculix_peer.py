@@ -38,9 +38,10 @@ GMSH_TO_CCX_TET10 = [0, 1, 2, 3, 4, 5, 6, 7, 9, 8]
 CCX_TET10_EDGES = [(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)]  # of nodes 4..9
 PLANE_TOLERANCE = 1e-7  # m: a point on the plane z = 0 (bench_organ_gravity's patch test)
 LABELS = ("free", "held", "tool")  # the OBJ's groups, in bench_organ_gravity's order
-# Creases sharper than this inside a group split it too (the brain's folds): one surface of the whole
-# folded body parametrises badly (Gmsh took 67 s instead of 4 at h = 12 mm).
+# Creases sharper than this split the free group further (the brain's folds): one surface of the
+# whole folded body parametrises badly (Gmsh took 67 s instead of 4 at h = 12 mm). _parts says how.
 FEATURE_ANGLE = 40.0
+MAX_PART_TRIANGLES = 800  # larger parts are cut into sectors (_parts)
 
 
 def read_labelled_obj(path):
@@ -83,21 +84,75 @@ def _rim_distance(v, f, lab, spacing):
     return lambda x, y, z: float(tree.query((x, y, z))[0])
 
 
+def _parts(v, f, lab, feature_angle):
+    """Each face's part: the labels' regions, the free one split further at creases sharper than the
+    feature angle (flood fill across smoother edges), as bemsurg's remesher does
+    (graded_remesher.cpp, surface_of_faces): an edge with a corner on a label's rim is never a
+    crease, since the triangles along a flat face's rim zigzag at 40-60 degrees, and Gmsh, given
+    those as creases, cut the sides into slivers (6 mm took 385 s instead of seconds)."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+    n = np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]])
+    n /= np.linalg.norm(n, axis=1)[:, None]
+    edges = {}
+    for k, tri in enumerate(f.tolist()):
+        for a, b in ((tri[0], tri[1]), (tri[1], tri[2]), (tri[2], tri[0])):
+            edges.setdefault((min(a, b), max(a, b)), []).append(k)
+    on_rim = np.zeros(len(v), bool)
+    for (a, b), fs in edges.items():
+        if len(fs) == 2 and lab[fs[0]] != lab[fs[1]]:
+            on_rim[[a, b]] = True
+    cos = math.cos(math.radians(feature_angle))
+    rows, cols = [], []
+    for (a, b), fs in edges.items():
+        if len(fs) != 2 or lab[fs[0]] != lab[fs[1]]:
+            continue
+        if lab[fs[0]] == 0 and not (on_rim[a] or on_rim[b]) and n[fs[0]] @ n[fs[1]] < cos:
+            continue  # a crease of the free part
+        rows.append(fs[0])
+        cols.append(fs[1])
+    graph = coo_matrix((np.ones(len(rows)), (rows, cols)), shape=(len(f), len(f)))
+    part = connected_components(graph, directed=False)[1]
+    # Large parts cut into sectors about their centroid: Gmsh evaluates a size field on a
+    # re-parametrised surface at a cost that grows with its triangles (the brain's flat face, 5,800
+    # of them, took minutes to mesh graded, seconds in eight sectors).
+    c = v[f].mean(axis=1)
+    out, next_id = part.copy(), part.max() + 1
+    for k in np.unique(part):
+        sel = np.nonzero(part == k)[0]
+        if len(sel) <= MAX_PART_TRIANGLES:
+            continue
+        centre = c[sel].mean(axis=0)
+        normal = n[sel].sum(axis=0)
+        normal /= np.linalg.norm(normal)
+        e1 = np.cross(normal, [1.0, 0.0, 0.0] if abs(normal[0]) < 0.9 else [0.0, 1.0, 0.0])
+        e1 /= np.linalg.norm(e1)
+        e2 = np.cross(normal, e1)
+        d = c[sel] - centre
+        sectors = int(math.ceil(len(sel) / MAX_PART_TRIANGLES))
+        s = np.minimum((np.arctan2(d @ e2, d @ e1) + math.pi) / (2 * math.pi) * sectors, sectors - 1).astype(int)
+        out[sel] = np.where(s == 0, k, next_id + s - 1)
+        next_id += sectors - 1
+    return out
+
+
 def _add_labelled_surfaces(gmsh, v, f, lab):
-    """Each label's faces as a discrete surface; createTopology makes their borders curves, which
-    classifySurfaces (no angle of its own) keeps. Returns the label of each new surface."""
-    from scipy.spatial import cKDTree
-    present = [k for k in range(len(LABELS)) if (lab == k).any()]
-    for k in present:
-        gmsh.model.addDiscreteEntity(2, k + 1)
-    gmsh.model.mesh.addNodes(2, present[0] + 1, list(range(1, len(v) + 1)), v.ravel().tolist())
-    for k in present:
-        sel = np.nonzero(lab == k)[0]
-        gmsh.model.mesh.addElementsByType(k + 1, 2, (sel + 1).tolist(), (f[sel] + 1).ravel().tolist())
+    """Each part (_parts) as a discrete surface; createTopology makes their borders curves, which
+    classifySurfaces (no angle of its own) keeps, and createGeometry re-parametrises. Returns the
+    label of each surface."""
+    part = _parts(v, f, lab, FEATURE_ANGLE)
+    parts = np.unique(part)
+    for k in parts:
+        gmsh.model.addDiscreteEntity(2, int(k) + 1)
+    gmsh.model.mesh.addNodes(2, int(parts[0]) + 1, list(range(1, len(v) + 1)), v.ravel().tolist())
+    for k in parts:
+        sel = np.nonzero(part == k)[0]
+        gmsh.model.mesh.addElementsByType(int(k) + 1, 2, (sel + 1).tolist(), (f[sel] + 1).ravel().tolist())
     gmsh.model.mesh.reclassifyNodes()
     gmsh.model.mesh.createTopology()
-    gmsh.model.mesh.classifySurfaces(FEATURE_ANGLE * math.pi / 180, True, True, math.pi)
+    gmsh.model.mesh.classifySurfaces(math.pi, True, True, math.pi)
     gmsh.model.mesh.createGeometry()
+    from scipy.spatial import cKDTree
     tree = cKDTree(v[f].mean(axis=1))
     label_of = {}
     for _, tag in gmsh.model.getEntities(2):
@@ -205,11 +260,13 @@ def mesh(surface, out, h, h_edge, young, poisson, density, gravity, tool_displac
     mesh_s = time.monotonic() - start
     tets = index[tet_nodes.astype(np.int64)].reshape(-1, 10)[:, GMSH_TO_CCX_TET10]
     tris = index[tri_nodes.astype(np.int64)].reshape(-1, 6)
-    held_area = curved_area(xyz, index[held_tris])
-    tool_area = curved_area(xyz, index[tool_tris])
     tets = _positive(xyz, tets)
     _check_mid_edges(xyz, tets)
     straightened = _untangle(xyz, tets)
+    # After the straightening: Gmsh may leave a mid-edge node of a flat face unplaced (1e21) where
+    # its projection fails; the straightened model is what ccx solves and what holds the area.
+    held_area = curved_area(xyz, index[held_tris])
+    tool_area = curved_area(xyz, index[tool_tris])
     if clamp_within is not None:
         tri = np.loadtxt(clamp_within, delimiter=",", skiprows=1, ndmin=2)
         held = held[_inside_triangles(xyz[held, :2], tri)]

@@ -78,7 +78,8 @@ def _scene(surface_info, h, element_type, refine_rim, density):
             "material": {"young_modulus": MATERIAL["young"], "poisson_ratio": MATERIAL["poisson"], "density": density},
             "gravity": [0.0, 0.0, -MATERIAL["gravity"]],
             "elements": element_type,
-            "operating_region": {"sphere": {"center": tool["center"], "radius": h}, "inside_edge_length": h,
+            # Equal edge lengths: a uniform remesh; the region (which must hold free elements) only places it.
+            "operating_region": {"sphere": {"center": tool["center"], "radius": 4 * tool["radius"]}, "inside_edge_length": h,
                                  "outside_edge_length": h},
             "boundary_conditions": {"rules": [rule(held, [0.0, 0.0, 0.0]), rule(tool, list(TOOL_DISPLACEMENT))]},
             "solver": {"method": "lu"}}
