@@ -69,7 +69,7 @@ def run(ctx):
     ctx.run([bench, "--write-surface", surface, "--surface-subdivisions", SURFACE_SUBDIVISIONS], NAME)
     points, weights, _ = fe.surface_points(surface)
     fe_rows, finest, u_ref = ps.fe_ladder(ctx, NAME, surface, FE_SIZES[ctx.mode], EDGE_FACTOR, MATERIAL, points, weights,
-                                          agreement=AGREEMENT, min_levels=3 if ctx.mode == "full" else 2)
+                                          agreement=AGREEMENT, min_levels=4 if ctx.mode == "full" else 2)
     rl.write_csv(pd / "fem_levels.csv", fe_rows, FE_COLUMNS)
     ref = fe_rows[-1]
     face_area = ref["held_area_m2"]  # what the reference clamps
