@@ -38,7 +38,9 @@ AGREEMENT = 0.01  # two consecutive FE levels within 1 %: the finer is the refer
 FE_SIZES = {"quick": [0.016, 0.012], "full": [0.012, 0.0085, 0.006, 0.00425]}  # m, a factor sqrt(2) apart
 # m: bemsurg's meshes, the same fine surface remeshed by Gmsh with uniform edges (the face kept);
 # 6 mm gives about 3700 elements, 11000 dense equations.
-BEM_SIZES = {"quick": [0.02, 0.014], "full": [0.016, 0.012, 0.0085, 0.006]}
+# 16 mm is left out: its remesh held 1.41 % less of the face than the reference (rim loss asked: 0.2 %),
+# past the 1 % the comparison allows; 12 mm held 0.66 % more, 8.5 mm 0.41 % more, 6 mm 0.14 % less.
+BEM_SIZES = {"quick": [0.02, 0.014], "full": [0.012, 0.0085, 0.006]}
 RIM_AREA_LOSS = 0.002  # the remesh meshes the face's rim so that its chords lose about this much of it
 CONTROL_SIZES = {"quick": [0.02], "full": [0.016, 0.0085]}  # the old clamp, at two of bemsurg's sizes
 CONTROL_LEVEL = {"quick": 1, "full": 2}  # the FE level the old clamp is tried on
