@@ -3,6 +3,8 @@ the ladder of CalculiX levels on one labelled surface (cached), the reference's 
 Richardson extrapolation from its last three levels, and the "who wins where" table.
 """
 
+import hashlib
+import inspect
 import json
 import math
 from pathlib import Path
@@ -21,6 +23,19 @@ FE_COLUMNS = ["level", "h_m", "h_edge_m", "nodes", "elements", "equations", "mes
 def ccx_version():
     ccx = Path("/usr/bin/ccx")
     return rl.file_digest(ccx) if ccx.exists() else "none"  # a new ccx build: a new reference
+
+
+def fe_code_digest():
+    """What a cached CalculiX result depends on: calculix_peer.py and the two functions here that
+    run it (not this file's report text, whose edits would otherwise recompute the references)."""
+    h = hashlib.sha256(Path(fe.__file__).read_bytes())
+    for f in (run_level, fe_ladder):
+        h.update(inspect.getsource(f).encode())
+    return h.hexdigest()[:16]
+
+
+def pct(x):
+    return "–" if x is None else f"{100 * x:.2f} %"
 
 
 def run_level(ctx, part, surface, lev, h, h_edge, material, tool_displacement=(0.0, 0.0, 0.0), clamp_within=None):
@@ -63,7 +78,7 @@ def fe_ladder(ctx, part, surface, sizes, edge_factor, material, points, weights,
     levels agree within `agreement` (relative L2 of the surface displacement at `points`), but at
     least `min_levels` (Richardson needs three). Returns the rows, the finest level's folder and
     displacements."""
-    key = {"surface": rl.file_digest(surface), "script": rl.file_digest(fe.__file__, __file__), "material": material,
+    key = {"surface": rl.file_digest(surface), "script": fe_code_digest(), "material": material,
            "sizes": sizes, "edge_factor": edge_factor, "agreement": agreement, "min_levels": min_levels,
            "tool": list(tool_displacement), "ccx": ccx_version()}
     d, done = ctx.cache(part + "-calculix", key)
@@ -169,16 +184,17 @@ def verdict_text(organ, verdicts, bem, band):
         out.append(f"On the {organ}, bemsurg is the quicker way to {', '.join(wins)}: use it for a surface answer at that "
                    "accuracy, and always where the same factorisation then serves many loads (tables, contact, cuts), "
                    "which CalculiX would solve afresh.")
+    unreached = [f"{t:.0%}" for t, b, f in verdicts if not b]
     for t, b, f in loses:
         if b:
             out.append(f"At {t:.0%} CalculiX is {b['wall_s'] / f['total_s']:.2g} × quicker ({rl.seconds_text(f['total_s'])} "
                        f"against {rl.seconds_text(b['wall_s'])}): bemsurg's dense solve grows as n³ while the sparse "
                        "finite-element solve grows far slower.")
-        else:
-            best = min(bem, key=lambda r: r["error_u"])
-            out.append(f"At {t:.0%} none of bemsurg's configurations measured reaches it (its best: {best['label']}, "
-                       f"{best['error_u']:.2%}, {rl.bytes_text(best['peak_rss_bytes'])}): finer meshes than these are needed, "
-                       "and dense storage grows as n² (the hierarchical backend, issue 40, is the way to them).")
+    if unreached:
+        best = min(bem, key=lambda r: r["error_u"])
+        out.append(f"None of bemsurg's configurations measured reaches {', '.join(unreached)} (its best: {best['label']}, "
+                   f"{best['error_u']:.2%}, {rl.bytes_text(best['peak_rss_bytes'])}): finer meshes than these are needed, "
+                   "and dense storage grows as n² (the hierarchical backend, issue 40, is the way to them).")
     if band is not None:
         out.append(f"The reference's own error is about {band:.2%} (Richardson from its last three levels): "
                    "thresholds below it cannot be judged.")

@@ -108,7 +108,7 @@ def _control(ctx, bench, pd, surface, fe_rows, finest, u_ref, bem_rows, points, 
         tris = pd / f"old_clamp_{k}.csv"
         j, p, _ = _bem(ctx, bench, pd, f"old_{k}", h, fe_rows[-1]["volume_m3"], ["--old-clamp", "--clamped-out", tris])
         err = fe.relative_l2(p[:, 5:8], fe.evaluate(finest, u_ref, p[:, :3]), p[:, 3])
-        key = {"surface": rl.file_digest(surface, tris), "script": rl.file_digest(fe.__file__, ps.__file__), "h": base["h_m"],
+        key = {"surface": rl.file_digest(surface, tris), "script": ps.fe_code_digest(), "h": base["h_m"],
                "material": MATERIAL, "ccx": ps.ccx_version()}
         d, done = ctx.cache(NAME + "-old-clamp", key)
         lev = d / "level"
@@ -134,10 +134,6 @@ def _held_area(lev):
     t = d["tris"][held[d["tris"][:, :3]].all(axis=1), :3]
     x = d["xyz"]
     return float(0.5 * np.linalg.norm(np.cross(x[t[:, 1]] - x[t[:, 0]], x[t[:, 2]] - x[t[:, 0]]), axis=1).sum())
-
-
-def _pct(x):
-    return "–" if x is None else f"{100 * x:.2f} %"
 
 
 def render(ctx):
@@ -184,7 +180,7 @@ def render(ctx):
     for r in fem:
         lines.append(f"| {r['level']} | {1e3 * r['h_m']:.3g} | {1e3 * r['h_edge_m']:.3g} | {r['nodes']} | {r['elements']} | "
                      f"{rl.seconds_text(r['mesh_s'])} | {rl.seconds_text(r['ccx_s'])} | {rl.bytes_text(r['ccx_peak_rss_bytes'])} | "
-                     f"{1e4 * r['held_area_m2']:.2f} | {r['reaction_over_weight']:.4f} | {_pct(r.get('difference_to_next'))} |")
+                     f"{1e4 * r['held_area_m2']:.2f} | {r['reaction_over_weight']:.4f} | {ps.pct(r.get('difference_to_next'))} |")
     lines += ["", "**bemsurg** (the same fine surface remeshed by Gmsh with edges of about h, the flat face kept with a rim "
               f"area loss of {RIM_AREA_LOSS:.1%}; error against the finest CalculiX level at the element centroids, "
               "area-weighted; the process's time includes the remeshing; times from one run of each size):", "",
@@ -195,7 +191,7 @@ def render(ctx):
         lines.append(f"| {1e3 * r['edge_length_m']:.3g} | {r['elements']} | {r['equations']} | {rl.seconds_text(r['assembly_s'])} | "
                      f"{rl.seconds_text(r['solve_s'])} | {rl.seconds_text(r['wall_s'])} | {rl.bytes_text(r['peak_rss_bytes'])} | "
                      f"{r['clamped_area_m2'] / r['face_area_m2']:.4f} | {r['weight_n'] / ref['weight_n']:.4f} | "
-                     f"{r['reaction_over_weight']:.4f} | {_pct(r['error_u'])} |")
+                     f"{r['reaction_over_weight']:.4f} | {ps.pct(r['error_u'])} |")
     lines += ["", "**The control: the old clamp.** bemsurg remeshed as before issue 38 (the face's rim rounded off by the "
               "remesh, the elements whose centroid lies on the plane clamped), and the finite-element model at level "
               f"{control[0]['fe_level'] if control else '–'} clamped on the same triangles, against the same level clamped on the "
@@ -204,8 +200,8 @@ def render(ctx):
               "| bemsurg error, face kept |", "|---|---|---|---|---|---|"]
     for r in control:
         lines.append(f"| {1e3 * r['edge_length_m']:.3g} | {r['clamped_area_m2'] / r['face_area_m2']:.1%} | "
-                     f"{r['fe_held_area_m2'] / r['face_area_m2']:.1%} | {_pct(r['fe_change'])} | {_pct(r['bem_error_u'])} | "
-                     f"{_pct(r.get('bem_error_u_face_kept'))} |")
+                     f"{r['fe_held_area_m2'] / r['face_area_m2']:.1%} | {ps.pct(r['fe_change'])} | {ps.pct(r['bem_error_u'])} | "
+                     f"{ps.pct(r.get('bem_error_u_face_kept'))} |")
     lines += ["", "**Who wins where** (the cheapest configuration of each side reaching each error, whole process, this "
               "machine, this run):", "", table, "", _findings(fem, bem, front, band), "",
               ps.verdict_text("brain", verdicts, bem_named, band["error"] if band else None)]
@@ -218,27 +214,27 @@ def _findings(fem, bem, front, band):
     out = []
     diffs = [r.get("difference_to_next") for r in fem if r.get("difference_to_next") is not None]
     if diffs and diffs[-1] <= AGREEMENT:
-        out.append(f"The reference converged: its last two levels agree within {_pct(diffs[-1])} (goal {AGREEMENT:.0%}).")
+        out.append(f"The reference converged: its last two levels agree within {ps.pct(diffs[-1])} (goal {AGREEMENT:.0%}).")
     else:
         out.append(f"**The reference did not reach the {AGREEMENT:.0%} agreement** in this run (last two levels "
-                   f"{_pct(diffs[-1] if diffs else None)} apart; quick mode stops after two coarse levels): the errors below "
+                   f"{ps.pct(diffs[-1] if diffs else None)} apart; quick mode stops after two coarse levels): the errors below "
                    "are against a reference that is itself this uncertain.")
     if band:
         out.append(f"Richardson from its last three levels: observed order {band['order']:.2g} in h, the finest level's own "
-                   f"error about {_pct(band['error'])}.")
+                   f"error about {ps.pct(band['error'])}.")
     else:
         out.append("The reference's own error could not be estimated (fewer than three levels, or differences that do not "
                    "shrink).")
     worst_fe = max(abs(r["reaction_over_weight"] - 1) for r in fem)
-    out.append(f"The CalculiX reactions balance the weight within {_pct(worst_fe)} at every level"
+    out.append(f"The CalculiX reactions balance the weight within {ps.pct(worst_fe)} at every level"
                + (" (goal 0.5 %)." if worst_fe <= 0.005 else " — **more than the 0.5 % expected**."))
     worst_bem = max(abs(r["reaction_over_weight"] - 1) for r in bem)
-    out.append(f"bemsurg's reactions (traction × area summed over the clamped elements) balance its weight within {_pct(worst_bem)}.")
+    out.append(f"bemsurg's reactions (traction × area summed over the clamped elements) balance its weight within {ps.pct(worst_bem)}.")
     shares = ", ".join(f"{r['clamped_area_m2'] / r['face_area_m2']:.2%}" for r in bem)
     out.append(f"bemsurg clamps {shares} of the area the reference clamps (h = "
                + ", ".join(f"{1e3 * r['edge_length_m']:.3g}" for r in bem) + " mm) and hangs the same weight.")
     best = min(bem, key=lambda r: r["error_u"])
-    out.append(f"bemsurg's best error is {_pct(best['error_u'])} with {best['elements']} elements ({rl.seconds_text(best['wall_s'])}); "
+    out.append(f"bemsurg's best error is {ps.pct(best['error_u'])} with {best['elements']} elements ({rl.seconds_text(best['wall_s'])}); "
                f"CalculiX's finest level, the reference, took {rl.seconds_text(ref['total_s'])} (Gmsh + ccx): "
                f"{ref['total_s'] / best['wall_s']:.2g} × that time.")
     winners = sorted({f[2] for f in front})

@@ -173,10 +173,6 @@ def run(ctx):
     (pd / "refused.json").write_text(json.dumps(refused, indent=1))
 
 
-def _pct(x):
-    return "–" if x is None else f"{100 * x:.2f} %"
-
-
 def render(ctx):
     pd = ctx.out / NAME
     fem = rl.read_csv(pd / "fem_levels.csv")
@@ -235,7 +231,7 @@ def render(ctx):
         lines.append(f"| {r['level']} | {1e3 * r['h_m']:.3g} | {r['nodes']} | {r['elements']} | {rl.seconds_text(r['mesh_s'])} | "
                      f"{rl.seconds_text(r['ccx_s'])} | {rl.bytes_text(r['peak_rss_bytes'])} | {1e4 * r['held_area_m2']:.2f} | "
                      f"{1e4 * r['tool_area_m2']:.3f} | {r['reaction_over_weight']:.4f} | {r['tool_force_n']:.4f} | "
-                     f"{_pct(r.get('difference_to_next'))} |")
+                     f"{ps.pct(r.get('difference_to_next'))} |")
     lines += ["", "**bemsurg** (`bemsurg solve`, one run of each; held and footprint areas against the reference's):", "",
               "| series | h (mm) | elements | equations | process (s) | peak memory | held area | footprint | footprint force (N) "
               "| force error | displacement error |", "|---|---|---|---|---|---|---|---|---|---|---|"]
@@ -243,7 +239,7 @@ def render(ctx):
         lines.append(f"| {r['series']} | {1e3 * r['edge_length_m']:.3g} | {r['elements']} | {r['equations']} | "
                      f"{rl.seconds_text(r['wall_s'])} | {rl.bytes_text(r['peak_rss_bytes'])} | "
                      f"{r['held_area_m2'] / ref['held_area_m2']:.4f} | {r['tool_area_m2'] / ref['tool_area_m2']:.4f} | "
-                     f"{r['tool_force_n']:.4f} | {_pct(r['error_force'])} | {_pct(r['error_u'])} |")
+                     f"{r['tool_force_n']:.4f} | {ps.pct(r['error_force'])} | {ps.pct(r['error_u'])} |")
     refused_path = pd / "refused.json"
     refused = json.loads(refused_path.read_text()) if refused_path.exists() else []
     if refused:
@@ -258,14 +254,14 @@ def _findings(fem, bem, front, band, force_band):
     out = []
     diffs = [r.get("difference_to_next") for r in fem if r.get("difference_to_next") is not None]
     if diffs and diffs[-1] <= AGREEMENT:
-        out.append(f"The reference converged: its last two levels agree within {_pct(diffs[-1])}.")
+        out.append(f"The reference converged: its last two levels agree within {ps.pct(diffs[-1])}.")
     else:
         out.append(f"**The reference did not reach the {AGREEMENT:.0%} agreement** in this run (last two levels "
-                   f"{_pct(diffs[-1] if diffs else None)} apart; quick mode stops after two coarse levels).")
+                   f"{ps.pct(diffs[-1] if diffs else None)} apart; quick mode stops after two coarse levels).")
     if band:
-        out.append(f"Its own displacement error is about {_pct(band['error'])} (observed order {band['order']:.2g}).")
+        out.append(f"Its own displacement error is about {ps.pct(band['error'])} (observed order {band['order']:.2g}).")
     if force_band:
-        out.append(f"The footprint's force extrapolates to {force_band['value']:.4f} N, {_pct(force_band['error'])} from the "
+        out.append(f"The footprint's force extrapolates to {force_band['value']:.4f} N, {ps.pct(force_band['error'])} from the "
                    "finest level; bemsurg's force errors are against the extrapolated value.")
     else:
         out.append("The footprint's force could not be extrapolated (" + ("fewer than three levels" if len(fem) < 3 else
@@ -274,7 +270,7 @@ def _findings(fem, bem, front, band, force_band):
     for label in SERIES:
         s = [r for r in bem if r["series"] == label]
         if len(s) > 1:
-            out.append(f"{label}: displacement error " + " → ".join(_pct(r["error_u"]) for r in s)
+            out.append(f"{label}: displacement error " + " → ".join(ps.pct(r["error_u"]) for r in s)
                        + f" from {s[0]['elements']} to {s[-1]['elements']} elements.")
     for etype in ("constant", "linear"):
         plain = {r["edge_length_m"]: r for r in bem if r["element_type"] == etype and not r["refine_rim"]}
@@ -284,8 +280,8 @@ def _findings(fem, bem, front, band, force_band):
             out.append(f"With {etype} elements, refine_rim {RIM_LEVELS} is "
                        + ("no worse than the unrefined mesh at every size." if not worse else
                           "**worse** than the unrefined mesh at h = "
-                          + ", ".join(f"{1e3 * r['edge_length_m']:.3g} mm ({_pct(r['error_u'])} against "
-                                      f"{_pct(plain[r['edge_length_m']]['error_u'])})" for r in worse) + "."))
+                          + ", ".join(f"{1e3 * r['edge_length_m']:.3g} mm ({ps.pct(r['error_u'])} against "
+                                      f"{ps.pct(plain[r['edge_length_m']]['error_u'])})" for r in worse) + "."))
     winners = sorted({f[2] for f in front})
     out.append("On the displacement's time chart the Pareto front holds: " + ", ".join(winners) + ".")
     return " ".join(out)
