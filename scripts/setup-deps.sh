@@ -14,7 +14,7 @@ packages=(
   locales       # de_DE.UTF-8 for the comma-decimal locale test (tests/test_locale.cpp)
   doxygen       # the API reference (target bemsurg_api_docs, docs/api/)
   clang-format  # the format check (scripts/check-structure.sh, .clang-format)
-  calculix-ccx python3-gmsh  # the report's finite-element peer (scripts/run-benchmarks.sh, docs/report.md)
+  calculix-ccx python3-gmsh python3-scipy  # the report's finite-element peer (scripts/run-benchmarks.sh, docs/report.md; scipy: calculix_peer.py's rim distances and crease split)
 )
 
 # A comma-decimal locale, so tests/test_locale.cpp runs rather than reporting itself skipped.
