@@ -10,7 +10,10 @@
 #   2. no source file in include/, src/ or examples/ over 600 lines;
 #   3. no function over 100 lines without a `// long:` comment saying why
 #      (scripts/support/long-functions.py);
-#   4. the C++ sources formatted by .clang-format (Debian's clang-format 14).
+#   4. the C++ sources formatted by .clang-format (Debian's clang-format 14);
+#   5. every benchmark program either run by a part of the report (scripts/report/) or listed in
+#      benchmarks/CMakeLists.txt's BEMSURG_BENCHMARKS_OUTSIDE_REPORT, which ctest smoke-runs: the
+#      quick report in CI is the only run the others get.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 status=0
@@ -44,6 +47,24 @@ fi
 
 if [ -f scripts/support/long-functions.py ]; then
   python3 scripts/support/long-functions.py include src examples || status=1
+fi
+
+outside=$(sed -n 's/^set(BEMSURG_BENCHMARKS_OUTSIDE_REPORT \(.*\))$/\1/p' benchmarks/CMakeLists.txt)
+unrun=""
+for src in benchmarks/bench_*.cpp; do
+  name=$(basename "$src" .cpp)
+  if grep -qw "$name" <<< "$outside"; then
+    if grep -rqw "$name" scripts/report; then unrun+="  $name: run by the report, yet listed as outside it"$'\n'; fi
+  elif ! grep -rqw "$name" scripts/report; then
+    unrun+="  $name: no part of scripts/report/ runs it and no smoke entry does"$'\n'
+  fi
+done
+if [ -n "$unrun" ]; then
+  echo "check-structure: benchmark programs the CI would not run once (benchmarks/CMakeLists.txt, BEMSURG_BENCHMARKS_OUTSIDE_REPORT):" >&2
+  printf '%s' "$unrun" >&2
+  status=1
+else
+  echo "check-structure: every benchmark program runs in the quick report or as a ctest smoke entry"
 fi
 
 format=$(command -v clang-format-14 || command -v clang-format || true)

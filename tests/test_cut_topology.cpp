@@ -267,10 +267,19 @@ TEST_CASE("seeded random cut sequences keep the surface closed manifold oriented
   std::mt19937 rng(20261123);
   std::uniform_real_distribution<double> U(-1.0, 1.0);
   int accepted = 0, refused = 0, deepened = 0, second_cuts = 0;
+  // Under AddressSanitizer 5 trials of each shape, not 14: every path below (refusals, deepening,
+  // turns, second cuts) still runs, and the pass saves about 35 s of its CPU. Measured with this
+  // seed and 5 trials: 83 accepted (11 deepens, 10 steps of second cuts), 139 refused; the bounds
+  // are about a third of that, as below for 14.
+#if defined(__SANITIZE_ADDRESS__)
+  constexpr int kTrials = 5, kMinSteps = 150, kMinAccepted = 40, kMinRefused = 45, kMinDeepened = 4, kMinSecondCuts = 4;
+#else
+  constexpr int kTrials = 14, kMinSteps = 400, kMinAccepted = 200, kMinRefused = 100, kMinDeepened = 20, kMinSecondCuts = 20;
+#endif
   for (const auto& c : cases) {
     INFO(c.name);
     const auto original = std::make_shared<const TriangleMesh>(c.mesh);
-    for (int trial = 0; trial < 14; ++trial) {
+    for (int trial = 0; trial < kTrials; ++trial) {
       Index start = -1;  // a free (unsupported) element to start at
       while (start < 0 || c.locks[static_cast<std::size_t>(start)])
         start = static_cast<Index>(rng() % static_cast<unsigned>(c.mesh.num_elements()));
@@ -306,11 +315,11 @@ TEST_CASE("seeded random cut sequences keep the surface closed manifold oriented
   // earlier build: 263, 27, 49, 325; the directions come from std::uniform_real_distribution,
   // whose output the standard leaves to the library). Lower bounds: a third of the measured, or
   // the old bound where that was already within 3x.
-  CHECK(accepted + refused >= 400);
-  CHECK(accepted >= 200);  // the sequences really cut
-  CHECK(refused >= 100);   // and meet refusals on the way
-  CHECK(deepened >= 20);
-  CHECK(second_cuts >= 20);
+  CHECK(accepted + refused >= kMinSteps);
+  CHECK(accepted >= kMinAccepted);  // the sequences really cut
+  CHECK(refused >= kMinRefused);    // and meet refusals on the way
+  CHECK(deepened >= kMinDeepened);
+  CHECK(second_cuts >= kMinSecondCuts);
 }
 
 TEST_CASE("steps that cannot be done cleanly are refused with the reason and change nothing", "[cut]") {
