@@ -66,22 +66,33 @@ def surface_points(path):
     return t.mean(axis=1), area, lab
 
 
-def _rim_distance(v, f, lab, spacing):
-    """Distance to the rims (edges between faces of different labels), from points sampled along them."""
-    from scipy.spatial import cKDTree
-    edges = {}
-    for k, tri in enumerate(f):
-        for a, b in ((tri[0], tri[1]), (tri[1], tri[2]), (tri[2], tri[0])):
-            edges.setdefault((min(a, b), max(a, b)), set()).add(int(lab[k]))
-    rim = [e for e, ls in edges.items() if len(ls) > 1]
-    if not rim:
-        return lambda x, y, z: math.inf
-    pts = []
-    for a, b in rim:
-        n = max(1, int(math.ceil(np.linalg.norm(v[b] - v[a]) / spacing)))
-        pts += [v[a] + (v[b] - v[a]) * t for t in np.linspace(0.0, 1.0, n + 1)]
-    tree = cKDTree(np.array(pts))
-    return lambda x, y, z: float(tree.query((x, y, z))[0])
+def _rim_size_field(gmsh, label_of, h, h_edge, band):
+    """Gmsh's own Distance and Threshold fields: h_edge on the rims (the curves between surfaces of
+    different labels), growing linearly to h at the distance `band`. A Python size callback did the
+    same with one k-d tree query per call: about 219,000 calls, 15.9 s of a 20 s mesh of the liver's
+    coarsest level, nearly all of it numpy's per-call overhead. Returns the field, or None without rims."""
+    rims, longest = [], 0.0
+    for _, c in gmsh.model.getEntities(1):
+        up, _ = gmsh.model.getAdjacencies(1, c)
+        if len({label_of.get(int(s)) for s in up}) > 1:
+            rims.append(c)
+            tags, xyz, _ = gmsh.model.mesh.getNodes(1, c, True, False)
+            at = dict(zip(tags, np.asarray(xyz).reshape(-1, 3)))
+            types, _, nodes = gmsh.model.mesh.getElements(1, c)
+            for t, ns in zip(types, nodes):  # the input's own segments along the curve
+                if t == 1:
+                    longest = max(longest, sum(float(np.linalg.norm(at[a] - at[b])) for a, b in np.asarray(ns).reshape(-1, 2)))
+    if not rims:
+        return None
+    distance = gmsh.model.mesh.field.add("Distance")
+    gmsh.model.mesh.field.setNumbers(distance, "CurvesList", rims)
+    # Points spaced at most h_edge / 4 on the longest rim curve (uniformly in its parameter).
+    gmsh.model.mesh.field.setNumber(distance, "NumPointsPerCurve", max(20, int(math.ceil(4.0 * longest / h_edge))))
+    threshold = gmsh.model.mesh.field.add("Threshold")
+    gmsh.model.mesh.field.setNumber(threshold, "InField", distance)
+    for k, val in (("SizeMin", h_edge), ("SizeMax", h), ("DistMin", 0.0), ("DistMax", band)):
+        gmsh.model.mesh.field.setNumber(threshold, k, val)
+    return threshold
 
 
 def _parts(v, f, lab, feature_angle):
@@ -225,7 +236,6 @@ def mesh(surface, out, h, h_edge, young, poisson, density, gravity, tool_displac
     out.mkdir(parents=True, exist_ok=True)
     start = time.monotonic()
     v, f, lab = read_labelled_obj(surface)
-    edge = _rim_distance(v, f, lab, h_edge / 4)
     gmsh.initialize([], False)
     try:
         gmsh.option.setNumber("General.Terminal", 0)
@@ -233,12 +243,9 @@ def mesh(surface, out, h, h_edge, young, poisson, density, gravity, tool_displac
         loop = gmsh.model.geo.addSurfaceLoop([t for _, t in gmsh.model.getEntities(2)])
         gmsh.model.geo.addVolume([loop])
         gmsh.model.geo.synchronize()
-        band = 3.0 * h  # grade from HE on the rims to H at this distance
-
-        def size(dim, tag, x, y, z):  # gmsh 4.8: no current size argument
-            return h_edge + (h - h_edge) * min(1.0, edge(x, y, z) / band)
-
-        gmsh.model.mesh.setSizeCallback(size)
+        field = _rim_size_field(gmsh, label_of, h, h_edge, band=3.0 * h)  # grade from h_edge on the rims to h at 3 h
+        if field is not None:
+            gmsh.model.mesh.field.setAsBackgroundMesh(field)
         for k, val in (("Mesh.MeshSizeFromPoints", 0), ("Mesh.MeshSizeFromCurvature", 0), ("Mesh.MeshSizeExtendFromBoundary", 0),
                        ("Mesh.MeshSizeMin", h_edge), ("Mesh.MeshSizeMax", h), ("Mesh.Algorithm", 6), ("Mesh.Algorithm3D", 1),
                        ("Mesh.ElementOrder", 2), ("Mesh.SecondOrderLinear", 0), ("Mesh.Optimize", 1)):
