@@ -5,7 +5,7 @@
 #
 #   scripts/run-benchmarks.sh [--quick] [--out DIR] [--build DIR] [--only PART] [--publish] [--render-only]
 #
-#   --quick     small runs of every part (under a minute on 2 cores once built; CI runs it)
+#   --quick     small runs of every part (about 4 minutes on 2 cores once built; CI runs it)
 #   --out DIR   where results, charts and report.md go (default results/, not committed)
 #   --build DIR reuse an existing Release tree (default: configure and build build-bench/)
 #   --only PART run one part (chart family) and redraw the report from what DIR holds
