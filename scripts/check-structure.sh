@@ -17,6 +17,17 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 status=0
+# report FINDINGS HEADER OK: the findings (one indented line each) under HEADER on stderr and a
+# failure, or OK on stdout when there are none.
+report() {
+  if [ -n "$1" ]; then
+    echo "check-structure: $2" >&2
+    printf '%s' "$1" >&2
+    status=1
+  else
+    echo "check-structure: $3"
+  fi
+}
 
 python3 scripts/module-graph.py || status=1
 
@@ -37,13 +48,7 @@ while read -r f; do
   n=$(wc -l < "$f")
   if [ "$n" -gt 600 ]; then too_long+="  $f: $n lines"$'\n'; fi
 done < "$sources_list"
-if [ -n "$too_long" ]; then
-  echo "check-structure: files over 600 lines (split them by job):" >&2
-  printf '%s' "$too_long" >&2
-  status=1
-else
-  echo "check-structure: no source file over 600 lines"
-fi
+report "$too_long" "files over 600 lines (split them by job):" "no source file over 600 lines"
 
 if [ -f scripts/support/long-functions.py ]; then
   python3 scripts/support/long-functions.py include src examples || status=1
@@ -59,13 +64,8 @@ for src in benchmarks/bench_*.cpp; do
     unrun+="  $name: no part of scripts/report/ runs it and no smoke entry does"$'\n'
   fi
 done
-if [ -n "$unrun" ]; then
-  echo "check-structure: benchmark programs the CI would not run once (benchmarks/CMakeLists.txt, BEMSURG_BENCHMARKS_OUTSIDE_REPORT):" >&2
-  printf '%s' "$unrun" >&2
-  status=1
-else
-  echo "check-structure: every benchmark program runs in the quick report or as a ctest smoke entry"
-fi
+report "$unrun" "benchmark programs CI would run never or twice (benchmarks/CMakeLists.txt, BEMSURG_BENCHMARKS_OUTSIDE_REPORT):" \
+  "every benchmark program runs in the quick report or as a ctest smoke entry"
 
 format=$(command -v clang-format-14 || command -v clang-format || true)
 if [ -z "$format" ]; then

@@ -12,9 +12,9 @@
 #   scripts/run-sanitized-tests.sh thread      ThreadSanitizer over the tests that start threads:
 #       the haptic loop, the UDP bridge and the force limiter (all of test_haptics), the background
 #       refactorisation swapped in under a cut (test_cutting), the session command with its
-#       real-time haptic thread (test_cli's session cases but the two that check a script's depths and
-#       a table file's region, the CLI itself instrumented) and the
-#       viewer's model worker (all of test_viewer_core). Their single-threaded cases run in the
+#       real-time haptic thread (test_cli's session cases but the two that check a script's depths
+#       and a table file's region, the CLI itself instrumented) and the viewer's model worker (all
+#       of test_viewer_core). Their single-threaded cases run in the
 #       address pass; under TSan they would cost minutes and find nothing it looks for. OpenMP and
 #       OpenBLAS run one thread each: libgomp and OpenBLAS are not instrumented, so their barriers
 #       would look like races (37 false reports in the assembly's OpenMP loop with two threads);

@@ -270,7 +270,7 @@ TEST_CASE("seeded random cut sequences keep the surface closed manifold oriented
   // Under AddressSanitizer 5 trials of each shape, not 14: every path below (refusals, deepening,
   // turns, second cuts) still runs, and the pass saves about 35 s of its CPU. Measured with this
   // seed and 5 trials: 83 accepted (11 deepens, 10 steps of second cuts), 139 refused; the bounds
-  // are about a third of that, as below for 14.
+  // lie between a third and two thirds of those counts.
 #if defined(__SANITIZE_ADDRESS__)
   constexpr int kTrials = 5, kMinSteps = 150, kMinAccepted = 40, kMinRefused = 45, kMinDeepened = 4, kMinSecondCuts = 4;
 #else
