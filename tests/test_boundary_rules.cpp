@@ -266,6 +266,23 @@ TEST_CASE("refine_rim refines along the support's rim on both element types and 
     // finest, which made a hung organ's error 2.2 times worse).
     CHECK(support_size_ratio(s.element_grading_size, held_of(s)) <= std::max(kMaxSupportSizeRatio, 1.1 * base_ratio));
   }
+  // Linear elements: a band only (the safe-grading rule is constant elements'), whose elements count
+  // with their parent's size, so that the grading reads as the unrefined mesh's.
+  const Scene spread = load_scene_from_string(hung_liver_scene(false, 2, "constant", "", 2), dir.path.string());
+  const Scene band = load_scene_from_string(hung_liver_scene(false, 2, "linear", "", 2), dir.path.string());
+  require_valid_mesh(band.problem.mesh);
+  CHECK(band.mesh_source.find("a band: linear elements") != std::string::npos);
+  CHECK(spread.mesh_source.find("a band") == std::string::npos);
+  CHECK(band.problem.mesh.num_elements() > plain.problem.mesh.num_elements());
+  CHECK(band.problem.mesh.num_elements() < spread.problem.mesh.num_elements());
+  CHECK(band.boundary_rules[0].area == Approx(plain.boundary_rules[0].area).epsilon(1e-12));
+  REQUIRE(band.element_grading_size.size() == std::size_t(band.problem.mesh.num_elements()));
+  for (Index e = 0; e < band.problem.mesh.num_elements(); ++e)
+    CHECK(band.element_grading_size[std::size_t(e)] ==
+          Approx(element_size(plain.problem.mesh, band.element_origin[std::size_t(e)])).epsilon(1e-12));
+  CHECK(support_size_ratio(band.element_grading_size, held_of(band)) <= 1.1 * plain_ratio);
+  // By their own sizes the grading would read steeper than the rule allows.
+  CHECK(support_size_ratio(band.problem.mesh, held_of(band)) > std::max(kMaxSupportSizeRatio, 1.2 * plain_ratio));
   for (const std::string type : {"constant", "linear"}) {
     CAPTURE(type);
     const Scene s = load_scene_from_string(hung_liver_scene(false, 1, type, "", 2), dir.path.string());

@@ -192,7 +192,8 @@ Scene build_scene(const io::JsonDocument& document, const std::string& directory
     io::remesh_for_operating_region(request, scene);
   }
   require_solvable_size(scene, root.required("mesh"), directory);
-  io::LoadedBoundaryConditions bcs = io::load_boundary_conditions(root.required("boundary_conditions"), directory, problem.mesh, as_read);
+  io::LoadedBoundaryConditions bcs =
+      io::load_boundary_conditions(root.required("boundary_conditions"), directory, problem.mesh, as_read, problem.elements);
   problem.boundary_conditions = std::move(bcs.conditions);
   scene.boundary_rules = std::move(bcs.rules);
   scene.element_origin = std::move(bcs.origin);

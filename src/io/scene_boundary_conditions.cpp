@@ -418,13 +418,22 @@ std::string conform_rule(const JsonReader& rule, std::size_t index, std::vector<
 /// between its elements and the rest) and, for a conforming rule, on the elements its region's
 /// boundary crosses. It runs before any conforming split, so that the split then cuts the refined
 /// elements (and needs fewer levels of its own) and the grading below is measured on whole
-/// elements, not on the split's pieces. For a displacement rule the refinement then spreads over
-/// the held side, a ring at a time, until the safe-grading ratio (docs/graded.md, "Safe
-/// gradings": held elements against the finest) is no worse than before the refinement (or within
-/// the rule's limit of 1.2), or the whole held side is refined: refining only a band would leave
-/// the held elements 2^k times coarser than the finest, which with constant elements made the
-/// error of a hung organ 2.2 times worse (issue 38).
-std::string refine_rule_rim(std::size_t index, std::vector<Rule>& rules, TriangleMesh& mesh, std::vector<Index>& origin) {
+/// elements, not on the split's pieces.
+///
+/// Constant elements: for a displacement rule the refinement then spreads over the held side, a
+/// ring at a time, until the safe-grading ratio (docs/graded.md, "Safe gradings": held elements
+/// against the finest) is no worse than before the refinement (or within the rule's limit of 1.2),
+/// or the whole held side is refined; the rule comes from constant elements' non-monotone local
+/// refinement (study (i)).
+///
+/// Linear elements: the refinement stays a band, and its elements count with the size of the element
+/// they came from in the safe-grading rule (`grading_size`, as a conforming split's pieces do). The
+/// rule was measured for constant elements only, and spreading costs linear elements the memory
+/// the refinement is for: on a prepared liver of 2,358 elements hung from a 154-element patch, two
+/// levels spread over the held side made 4,740 elements (27 GiB dense, refused on 24 GB), a band
+/// 3,750; at one level the band's error equalled the spread's (docs/graded.md, "Rim refinement").
+std::string refine_rule_rim(std::size_t index, std::vector<Rule>& rules, TriangleMesh& mesh, std::vector<Index>& origin,
+                            std::vector<double>& grading_size, ElementType elements) {
   const Rule& r = rules[index];
   const MeshTopology topology(mesh);
   const Index E = mesh.num_elements();
@@ -442,6 +451,7 @@ std::string refine_rule_rim(std::size_t index, std::vector<Rule>& rules, Triangl
     if (other.holds_displacement())
       for (Index e = 0; e < E; ++e) held[std::size_t(e)] = held[std::size_t(e)] || other.selected[std::size_t(e)];
   if (std::find(marked.begin(), marked.end(), 1) == marked.end()) return {};  // no rim: nothing to refine
+  const bool spread = elements == ElementType::Constant;
   const double allowed = std::max(kMaxSupportSizeRatio, 1.05 * support_size_ratio(mesh, held));
   int rings = 0;
   for (;;) {
@@ -453,7 +463,7 @@ std::string refine_rule_rim(std::size_t index, std::vector<Rule>& rules, Triangl
     std::vector<char> held_now(kept.parent.size());
     for (std::size_t e = 0; e < kept.parent.size(); ++e) held_now[e] = held[std::size_t(kept.parent[e])];
     bool grown = false;
-    if (r.holds_displacement() && support_size_ratio(kept.mesh, held_now) > allowed) {
+    if (spread && r.holds_displacement() && support_size_ratio(kept.mesh, held_now) > allowed) {
       std::vector<char> next = marked;
       for (Index e = 0; e < E; ++e)
         if (marked[std::size_t(e)])
@@ -464,17 +474,28 @@ std::string refine_rule_rim(std::size_t index, std::vector<Rule>& rules, Triangl
     }
     if (grown) continue;
     remap_rules(rules, origin, kept.parent);
+    // Linear elements: the band's elements count with their parent's size (above); constant ones
+    // with their own, once a size list exists.
+    if (grading_size.empty() && !spread)
+      for (Index e = 0; e < E; ++e) grading_size.push_back(element_size(mesh, e));
+    if (!grading_size.empty()) {
+      std::vector<double> sizes(kept.parent.size());
+      for (std::size_t e = 0; e < sizes.size(); ++e)
+        sizes[e] = spread ? element_size(kept.mesh, static_cast<Index>(e)) : grading_size[static_cast<std::size_t>(kept.parent[e])];
+      grading_size.swap(sizes);
+    }
     mesh = kept.mesh;
     return "rules[" + std::to_string(index) + "] rim refined (" + std::to_string(list.size()) + " elements, " +
            std::to_string(r.refine_rim) + " level" + (r.refine_rim > 1 ? "s" : "") +
-           (rings > 0 ? ", spread " + std::to_string(rings) + " rings into the held side for the safe grading" : "") + ")";
+           (rings > 0 ? ", spread " + std::to_string(rings) + " rings into the held side for the safe grading" : "") +
+           (!spread && r.holds_displacement() ? ", a band: linear elements" : "") + ")";
   }
 }
 
 }  // namespace
 
 LoadedBoundaryConditions load_boundary_conditions(const JsonReader& b, const std::string& directory, TriangleMesh& mesh,
-                                                  const TriangleMesh& as_read) {
+                                                  const TriangleMesh& as_read, ElementType elements) {
   b.object().warn_unknown_keys({"file", "rules"});
   // Rules select on the mesh given (after any remesh); "conform" and "refine_rim" may then split
   // it, carrying every rule's selection and the file's element numbers over to the pieces.
@@ -492,10 +513,11 @@ LoadedBoundaryConditions load_boundary_conditions(const JsonReader& b, const std
   std::vector<Index> origin(static_cast<std::size_t>(mesh.num_elements()));
   for (std::size_t e = 0; e < origin.size(); ++e) origin[e] = static_cast<Index>(e);
   // Rim refinement first, then the conforming splits (refine_rule_rim says why).
+  std::vector<double> grading_size;
   for (std::size_t i = 0; i < rules.size(); ++i)
     if (rules[i].refine_rim > 0)
-      if (std::string change = refine_rule_rim(i, rules, mesh, origin); !change.empty()) out.mesh_changes.push_back(std::move(change));
-  std::vector<double> grading_size;
+      if (std::string change = refine_rule_rim(i, rules, mesh, origin, grading_size, elements); !change.empty())
+        out.mesh_changes.push_back(std::move(change));
   for (std::size_t i = 0; i < rules.size(); ++i)
     if (rules[i].conform)
       if (std::string change = conform_rule(rule_keys[i], i, rules, mesh, origin, grading_size, out.warnings); !change.empty())
