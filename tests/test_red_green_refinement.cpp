@@ -6,7 +6,9 @@
 
 #include <set>
 
+#include "bemsurg/elastostatics/elastostatic_solver.hpp"
 #include "bemsurg/io/scene.hpp"
+#include "bemsurg/memory_budget.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/mesh/mesh_quality.hpp"
 #include "bemsurg/mesh/mesh_topology.hpp"
@@ -125,4 +127,28 @@ TEST_CASE("red-green: the scene's mesh.refine refines the region and refuses bad
                     Catch::Contains("operating_region.supported: expected exactly one of"));
   CHECK_THROWS_WITH(scene(R"({"sphere": {"center": [9, 9, 9], "radius": 0.1}})"),
                     Catch::Contains("mesh.refine: ") && Catch::Contains("nothing to refine"));
+}
+
+TEST_CASE("red-green: mesh.refine over the whole mesh is judged by what it makes, four times the elements a level") {
+  // The largest cube of n x n x n divisions (12 n^2 elements) whose one-level refinement (48 n^2)
+  // still fits this machine's dense-solve limit: accepted and refined, where the estimate of a
+  // marked set plus its closure band (13 times the elements) would have refused it.
+  const auto fits = [](double elements) { return estimate_elastostatic_bytes(Index(elements)) <= default_memory_limit_bytes(); };
+  int n = 1;
+  while (fits(48.0 * (n + 1) * (n + 1))) ++n;
+  REQUIRE_FALSE(fits(13.0 * 12.0 * n * n));  // the case the old estimate got wrong, on any machine
+  const std::string d = std::to_string(n);
+  const Scene s = load_scene_from_string(R"({"mesh": {"generator": "box", "min": [0, 0, 0], "max": [1, 1, 1], "divisions": [)" + d + "," +
+                                             d + "," + d + R"(], "refine": {"box": {"min": [-1, -1, -1], "max": [2, 2, 2]}}},
+      "material": {"young_modulus": 1, "poisson_ratio": 0.3},
+      "boundary_conditions": {"rules": [{"select": {"plane": {"point": [0, 0, 1], "normal": [0, 0, 1]}}, "displacement": [0, 0, 0]}]}})",
+                                         ".", "s.json");
+  CHECK(s.problem.mesh.num_elements() == 48 * Index(n) * n);
+  // One level more is refused before it is generated, naming the key.
+  CHECK_THROWS_WITH(load_scene_from_string(R"({"mesh": {"generator": "box", "min": [0, 0, 0], "max": [1, 1, 1], "divisions": [)" + d + "," +
+                                               d + "," + d + R"(], "refine": {"box": {"min": [-1, -1, -1], "max": [2, 2, 2]}, "levels": 2}},
+      "material": {"young_modulus": 1, "poisson_ratio": 0.3},
+      "boundary_conditions": {"rules": [{"select": {"plane": {"point": [0, 0, 1], "normal": [0, 0, 1]}}, "displacement": [0, 0, 0]}]}})",
+                                           ".", "s.json"),
+                    Catch::Contains("mesh.refine: the refined mesh has") && Catch::Contains("refused before generating it"));
 }

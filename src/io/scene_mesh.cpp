@@ -183,7 +183,10 @@ void refine_in_region(const JsonReader& m, TriangleMesh& mesh, std::string& sour
   const std::vector<Index> marked = region.elements_of(mesh, slack);
   if (marked.empty()) r.fail(region.describe() + " holds no element centroid of the mesh: nothing to refine");
   // Each level multiplies the marked elements by four; the closure adds at most a band around them.
-  require_generated_size(r.path(), "the refined mesh", double(mesh.num_elements()) + 3.0 * double(marked.size()) * std::pow(4.0, levels));
+  // No element ends in more than 4^levels pieces, so that bounds the whole (refining every element
+  // of a 2,358-element liver once was refused as 30,654 elements; it makes 9,432).
+  const double E = double(mesh.num_elements()), grow = std::pow(4.0, levels);
+  require_generated_size(r.path(), "the refined mesh", std::min(E * grow, E + 3.0 * double(marked.size()) * grow));
   mesh = refine_red_green(mesh, marked, levels).mesh;
   source += ", red-green refined (" + std::to_string(marked.size()) + " elements, " + std::to_string(levels) + " level" +
             (levels > 1 ? "s" : "") + ")";
