@@ -137,18 +137,16 @@ TEST_CASE("red-green: mesh.refine over the whole mesh is judged by what it makes
   int n = 1;
   while (fits(48.0 * (n + 1) * (n + 1))) ++n;
   REQUIRE_FALSE(fits(13.0 * 12.0 * n * n));  // the case the old estimate got wrong, on any machine
-  const std::string d = std::to_string(n);
-  const Scene s = load_scene_from_string(R"({"mesh": {"generator": "box", "min": [0, 0, 0], "max": [1, 1, 1], "divisions": [)" + d + "," +
-                                             d + "," + d + R"(], "refine": {"box": {"min": [-1, -1, -1], "max": [2, 2, 2]}}},
+  const auto cube = [n](int levels) {
+    const std::string d = std::to_string(n);
+    return load_scene_from_string(R"({"mesh": {"generator": "box", "min": [0, 0, 0], "max": [1, 1, 1], "divisions": [)" + d + "," + d +
+                                      "," + d + R"(], "refine": {"box": {"min": [-1, -1, -1], "max": [2, 2, 2]}, "levels": )" +
+                                      std::to_string(levels) + R"(}},
       "material": {"young_modulus": 1, "poisson_ratio": 0.3},
       "boundary_conditions": {"rules": [{"select": {"plane": {"point": [0, 0, 1], "normal": [0, 0, 1]}}, "displacement": [0, 0, 0]}]}})",
-                                         ".", "s.json");
-  CHECK(s.problem.mesh.num_elements() == 48 * Index(n) * n);
+                                  ".", "s.json");
+  };
+  CHECK(cube(1).problem.mesh.num_elements() == 48 * Index(n) * n);
   // One level more is refused before it is generated, naming the key.
-  CHECK_THROWS_WITH(load_scene_from_string(R"({"mesh": {"generator": "box", "min": [0, 0, 0], "max": [1, 1, 1], "divisions": [)" + d + "," +
-                                               d + "," + d + R"(], "refine": {"box": {"min": [-1, -1, -1], "max": [2, 2, 2]}, "levels": 2}},
-      "material": {"young_modulus": 1, "poisson_ratio": 0.3},
-      "boundary_conditions": {"rules": [{"select": {"plane": {"point": [0, 0, 1], "normal": [0, 0, 1]}}, "displacement": [0, 0, 0]}]}})",
-                                           ".", "s.json"),
-                    Catch::Contains("mesh.refine: the refined mesh has") && Catch::Contains("refused before generating it"));
+  CHECK_THROWS_WITH(cube(2), Catch::Contains("mesh.refine: the refined mesh has") && Catch::Contains("refused before generating it"));
 }

@@ -474,14 +474,11 @@ std::string refine_rule_rim(std::size_t index, std::vector<Rule>& rules, Triangl
     }
     if (grown) continue;
     remap_rules(rules, origin, kept.parent);
-    // Linear elements: the band's elements count with their parent's size (above); constant ones
-    // with their own, once a size list exists.
-    if (grading_size.empty() && !spread)
-      for (Index e = 0; e < E; ++e) grading_size.push_back(element_size(mesh, e));
-    if (!grading_size.empty()) {
+    if (!spread) {  // the band's elements count with their parent's size (a scene has one element type)
+      if (grading_size.empty())
+        for (Index e = 0; e < E; ++e) grading_size.push_back(element_size(mesh, e));
       std::vector<double> sizes(kept.parent.size());
-      for (std::size_t e = 0; e < sizes.size(); ++e)
-        sizes[e] = spread ? element_size(kept.mesh, static_cast<Index>(e)) : grading_size[static_cast<std::size_t>(kept.parent[e])];
+      for (std::size_t e = 0; e < sizes.size(); ++e) sizes[e] = grading_size[static_cast<std::size_t>(kept.parent[e])];
       grading_size.swap(sizes);
     }
     mesh = kept.mesh;

@@ -57,9 +57,10 @@ struct LoadedBoundaryConditions {
 /// "boundary_conditions": rules in order, then the CSV file, per element, per corner or per linear
 /// node (docs/design.md §5, docs/elements.md; scene_boundary_conditions.cpp). Rules and rows name
 /// elements of `mesh` as given; a rule's "conform" and "refine_rim" split `mesh` (replaced by the
-/// mesh solved; `elements`, the scene's element type, decides how far "refine_rim" spreads; the rules' and rows' elements carry over to the pieces). The values are the
+/// mesh solved; the rules' and rows' elements carry over to the pieces). The values are the
 /// elements' (at the centroids, the mean of the corners' or nodes'). `as_read` is the mesh before
-/// any remesh, on which the rules' regions are measured ("region_area").
+/// any remesh, on which the rules' regions are measured ("region_area"); `elements`, the scene's
+/// element type, decides how far "refine_rim" spreads.
 LoadedBoundaryConditions load_boundary_conditions(const JsonReader& conditions, const std::string& directory, TriangleMesh& mesh,
                                                   const TriangleMesh& as_read, ElementType elements);
 
