@@ -191,7 +191,9 @@ class ToolContactSolver {
   Eigen::Vector3d base_position(Index e) const { return mesh_->centroid(e) + table_->base_displacement().segment<3>(3 * e); }
   /// Whether candidate element e of tool t is geometrically in contact at the current pose, and
   /// the displacement target: the displacement change from the base state it must undergo.
-  bool geometric_contact(const Tool& t, Index e, Eigen::Vector3d& push, Eigen::Vector3d& row_direction) const;
+  /// `held`: e is in contact with t now (a sphere keeps a face it took as its centre passes the
+  /// face's plane; it takes one only while the face looks at it).
+  bool geometric_contact(const Tool& t, Index e, Eigen::Vector3d& push, Eigen::Vector3d& row_direction, bool held) const;
   void collect_candidates(Tool& t);
   void add_element_rows(const Tool& t, int tag, Index e, const Eigen::Vector3d& row_direction);
   void set_targets();

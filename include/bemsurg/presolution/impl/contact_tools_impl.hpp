@@ -248,7 +248,8 @@ BEMSURG_INLINE void ToolContactSolver::release(int tool) {
   t.engaged = false;
 }
 
-BEMSURG_INLINE bool ToolContactSolver::geometric_contact(const Tool& t, Index e, Eigen::Vector3d& push, Eigen::Vector3d& w) const {
+BEMSURG_INLINE bool ToolContactSolver::geometric_contact(const Tool& t, Index e, Eigen::Vector3d& push, Eigen::Vector3d& w,
+                                                         bool held) const {
   const Eigen::Vector3d n = mesh_->normal(e);
   switch (t.spec.shape) {
     case ToolShape::Point: {
@@ -284,7 +285,15 @@ BEMSURG_INLINE bool ToolContactSolver::geometric_contact(const Tool& t, Index e,
       // (docs/stability.md (h)); now the elements stay on its far side.
       const double r2 = t.spec.radius * t.spec.radius, along = x.dot(t.direction);
       const bool passed = along < 0.0 && x.squaredNorm() - along * along < r2 && (x + t.delta).dot(t.direction) >= -t.spec.radius;
-      if (disc < 0.0 || !(x.squaredNorm() < r2 || passed)) return false;
+      // A face is taken only while it looks at the sphere (its centre on the face's outer side,
+      // b < 0): its centroid then meets the sphere with delta_n = 0 and joins with zero reaction.
+      // A face looking away (b > 0: a cut's wall on the tool's side of the groove, whose normal
+      // points into the gap, or any steep back face) is reached by the sphere only through the
+      // material, and would join with a finite push of -2 b at once: a step of the force in one
+      // tick (issue 39, item 4). A face already held stays held as the sphere's centre passes its
+      // plane (a press deeper than R, or one dragged sideways there).
+      const bool inside = x.squaredNorm() < r2 && (b < 0.0 || held);
+      if (disc < 0.0 || !(inside || passed)) return false;
       const double delta_n = -b - std::sqrt(disc);  // normal move (along n) onto the sphere
       if (!(delta_n < 0.0)) return false;
       push = delta_n * n;
@@ -307,7 +316,7 @@ BEMSURG_INLINE void ToolContactSolver::set_targets() {
     const ContactRow& r = contact_.row(a);
     const Tool& t = tools_[static_cast<std::size_t>(r.tag)];
     Eigen::Vector3d push, w;
-    geometric_contact(t, r.element, push, w);
+    geometric_contact(t, r.element, push, w, true);
     const double* u = ug + 3 * r.element;
     contact_.set_target(a, r.direction.dot(Eigen::Vector3d(u[0] + push(0), u[1] + push(1), u[2] + push(2))));
   }
@@ -350,12 +359,12 @@ BEMSURG_INLINE void ToolContactSolver::remove_unwanted_rows() {
     const int tag = static_cast<int>(ti);
     for (std::size_t i = 0; i < t.candidates.size(); ++i) {
       const Index e = t.candidates[i];
+      int& owner = owner_[static_cast<std::size_t>(e)];
       Eigen::Vector3d push, w;
-      const bool geo = geometric_contact(t, e, push, w);
+      const bool geo = geometric_contact(t, e, push, w, owner == tag);
       if (!geo) t.released[i] = 0;  // out of reach: forget an old release
       const bool want = geo && !t.released[i];
       t.wanted[i] = want ? 1 : 0;
-      int& owner = owner_[static_cast<std::size_t>(e)];
       if (owner == tag && !want) {
         contact_.remove_element(e);
         owner = -1;
@@ -384,7 +393,7 @@ BEMSURG_INLINE bool ToolContactSolver::gather_additions() {
         return false;
       }
       Eigen::Vector3d push, w;
-      geometric_contact(t, e, push, w);
+      geometric_contact(t, e, push, w, false);
       add_element_rows(t, tag, e, w);
       owner = tag;  // claimed; rolled back if add_rows fails
     }
@@ -426,7 +435,7 @@ BEMSURG_INLINE bool ToolContactSolver::readmit_penetrating() {
       if (!t.released[i]) continue;
       const Index e = t.candidates[i];
       Eigen::Vector3d push, w;
-      if (!geometric_contact(t, e, push, w)) continue;
+      if (!geometric_contact(t, e, push, w, false)) continue;
       const Eigen::Vector3d moved = contact_.displacement_of(e) - table_->base_displacement().segment<3>(3 * e);
       // Penetration: the element has not moved as far into the body as the tool demands.
       const double need = push.dot(w);
