@@ -9,18 +9,21 @@
 //      nearest the cut, or all when fewer), against n: median over the steps of one cut (opening
 //      and five extensions), the refactorisation it replaces (re-assembly, LU, table) and the
 //      agreement of the two (largest relative difference of base state and table).
-//      Beside it, the step's flop floor: changed_columns d = 3 (modified + added elements), the
-//      rows and columns of A* the step changes (its correction has rank 2d; docs/cutting.md),
-//      rounded mean over the steps; any exact update applies the inverse to at least those d
-//      columns, 2 n^2 d flops, priced at the rate of a bare dgemm (n x n times n x d, median of 5)
-//      measured in the same run: flop_floor_seconds = 2 n^2 d / dgemm rate.
+//      Beside it, the step's profile (GreensTableUpdateResult: integration, the step's terms, LU
+//      solves, the accumulated rank's work, the new snapshot's first touches, the table's GEMMs)
+//      and its arithmetic floor (docs/cutting.md): changed_columns d = 3 (modified + added
+//      elements), the rows and columns of A* the step changes (its correction has rank 2d); the
+//      step's LU solves (solve_columns right-hand sides, 2 n^2 each) priced at the dgetrs rate on
+//      the table's own factors, plus the table's two GEMMs priced at a bare dgemm's rate (n x n
+//      times n x d, median of 5), both measured in the same run.
 //   3. Narrow gaps: the solution on a cut mesh with default quadrature against a much finer one,
 //      as gap width / edge length shrinks (kMinimumGapRatio in cutting/gap_limit.hpp).
 //   bench_cut [--quick] [--json PATH] [--csv-dir DIR] [--equations N1,N2,...] [--table1-equations N1,...]
 //             [--repeats R] [--no-gap] [--no-table1] [--no-latency] [--fresh-pages]
 // JSON: "table1": [{"equations", "scenario", "method", "seconds", "iterations", ...}],
 //       "latency": [{"equations", "region_elements", "exact_seconds", "refactor_seconds", "agreement",
-//                    "changed_columns", "dgemm_gflops", "flop_floor_seconds", ...}],
+//                    "changed_columns", "dgemm_gflops", "arithmetic_floor_seconds", the profile's
+//                    "change_seconds", "solve_seconds", "correction_seconds", "snapshot_seconds", ...}],
 //       "gap": [{"gap_ratio", "difference_vs_fine_quadrature", ...}].
 // --csv-dir DIR: table1.csv, latency.csv (the JSON's fields, one column each) and run.csv.
 #include <Eigen/Core>
@@ -31,6 +34,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <iterator>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -57,6 +61,9 @@ using json = nlohmann::json;
 namespace {
 
 constexpr double kCell = 0.01;  // 1 cm cells
+// The first response's reach in the latency study: the region elements within 2 cm (two cells) of a
+// probe where the step cut: a 1 cm probe and the 1 cm it can travel before the step completes.
+constexpr double kReach = 0.02;
 
 struct Body {
   std::shared_ptr<const TriangleMesh> mesh;
@@ -130,6 +137,7 @@ std::vector<Step> cut_steps(const Body& b, int extensions, CutOptions options = 
 double relative_max(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
   return (a - b).cwiseAbs().maxCoeff() / std::max(1e-300, b.cwiseAbs().maxCoeff());
 }
+
 double table_difference(const GreensTable& a, const GreensTable& b) {
   return std::max({relative_max(a.columns(), b.columns()), relative_max(a.base_displacement(), b.base_displacement()),
                    relative_max(a.base_traction(), b.base_traction())});
@@ -254,24 +262,93 @@ json latency_point(int N) {
   auto t = precompute(body, 1000);
   const double precompute_s = t->timings().assembly_seconds + t->timings().factorization_seconds + t->timings().table_seconds;
   std::vector<double> exact, integ, sys, tab;
+  // The profile of the system and table phases (GreensTableUpdateResult), one median each.
+  const char* profile_keys[] = {"change_seconds", "solve_seconds", "correction_seconds", "snapshot_seconds", "gemm_seconds",
+                                "finish_seconds", "solve_columns", "table_gemm_flops",   "snapshot_bytes"};
+  std::vector<std::vector<double>> profile(std::size(profile_keys));
   double changed = 0.0;
   Index rank = 0;
   std::shared_ptr<const GreensTable> before_last;
+  std::vector<double> first, one_step, reach_count;
+  double first_agreement = 0.0;
+  int index = 0;
   for (const Step& s : steps) {
     GreensTableUpdateResult r;
     before_last = t;
-    t = updated_table(*t, s.mesh, s.delta, {}, &r);
-    exact.push_back(r.total_seconds);
+    // The step in two phases (CutTableStep, docs/cutting.md "First response"): the first makes exact
+    // the columns of the region elements within kReach of a probe where the step cut, the second
+    // completes the table. Beside it, from the same table, the step in one call (updated_table, the
+    // baseline: the latency before the split). They run in alternating order.
+    std::shared_ptr<const GreensTable> one, two, early;
+    double first_s = 0.0, two_s = 0.0;
+    auto two_phases = [&] {
+      const auto t0 = SteadyClock::now();
+      CutChange change = integrate_cut_change(*t->mesh(), *s.mesh, s.delta, t->material(), t->quadrature(), t->gravity());
+      const CutTableStep cut(t, s.mesh, s.delta, std::move(change));
+      const Eigen::Vector3d probe = s.mesh->centroid(s.delta.added.front());
+      const std::vector<Index> reach = elements_within_reach(*s.mesh, cut.region(), {probe}, kReach);
+      early = cut.first_response(reach);
+      first_s = seconds_since(t0);
+      two = cut.complete(&r);
+      two_s = seconds_since(t0);
+      reach_count.push_back(double(reach.size()));
+    };
+    auto one_call = [&] {
+      const auto t0 = SteadyClock::now();
+      one = updated_table(*t, s.mesh, s.delta);
+      one_step.push_back(seconds_since(t0));
+    };
+    if (index++ % 2 == 0) {
+      one_call();
+      two_phases();
+    } else {
+      two_phases();
+      one_call();
+    }
+    first.push_back(first_s);
+    for (Index e : early->region())  // the first response's columns against the complete table's
+      first_agreement = std::max(first_agreement, relative_max(early->columns().middleCols(3 * early->region_slot(e), 3),
+                                                               two->columns().middleCols(3 * two->region_slot(e), 3)));
+    first_agreement = std::max(first_agreement, table_difference(*one, *two));
+    one.reset();
+    early.reset();
+    t = two;
+    exact.push_back(two_s);
     integ.push_back(r.integration_seconds);
     sys.push_back(r.system_seconds);
     tab.push_back(r.table_seconds);
+    const double values[] = {r.change_seconds, r.solve_seconds,         r.correction_seconds, r.snapshot_seconds,      r.gemm_seconds,
+                             r.finish_seconds, double(r.solve_columns), r.table_gemm_flops,   double(r.snapshot_bytes)};
+    for (std::size_t k = 0; k < profile.size(); ++k) profile[k].push_back(values[k]);
     changed += double(s.delta.modified.size() + s.delta.added.size()) / double(steps.size());
     rank = r.rank;
   }
+  // The rate of the LU's triangular solves on this table's own factors (dgetrs, as many right-hand
+  // sides as a step's median): what the arithmetic floor prices the solves at.
+  const Index n0 = t->solver()->base_size();
+  const Index k = std::max<Index>(1, static_cast<Index>(std::lround(median(profile[6]))));
+  std::vector<double> solve_s;
+  for (int r = 0; r < 6; ++r) {
+    Eigen::MatrixXd B = Eigen::MatrixXd::Constant(n0, k, 1e-3);
+    const auto ts = SteadyClock::now();
+    t->solver()->base()->solve_in_place(B);
+    if (r > 0) solve_s.push_back(seconds_since(ts));  // the first touches B's pages and starts threads
+  }
+  const double dgetrs_gflops = 2.0 * double(n0) * double(n0) * double(k) / std::max(1e-12, median(solve_s)) * 1e-9;
   const auto t0 = SteadyClock::now();
   auto ref = recomputed_table_after(*before_last, steps.back().mesh, steps.back().delta);
   const double refactor_s = seconds_since(t0);
+  json profile_row = json::object();
+  for (std::size_t i = 0; i < profile.size(); ++i) profile_row[profile_keys[i]] = median(profile[i]);
+  profile_row["solve_base_size"] = n0;
+  profile_row["dgetrs_gflops"] = dgetrs_gflops;
   return {{"equations", body.mesh->num_dofs()},
+          {"profile", profile_row},
+          {"first_response_seconds", median(first)},
+          {"one_step_seconds", median(one_step)},
+          {"reach_elements", median(reach_count)},
+          {"reach_metres", kReach},
+          {"first_response_agreement", first_agreement},
           {"block", {c[0], c[1], c[2]}},
           {"region_elements", before_last->region().size()},
           {"steps", steps.size()},
@@ -307,18 +384,32 @@ double dgemm_gflops(Index n, Index k, int repeats) {
 
 void latency(const std::vector<int>& equations, json& out) {
   std::printf("\nCut-step latency, exact update of system + table (region: 1,000 free elements nearest the cut)\n");
-  std::printf("%7s %7s %5s %10s %10s %10s %9s %10s %8s %9s %5s %8s %9s\n", "n", "region", "d", "exact s", "integr. s", "system s",
-              "table s", "refactor s", "agree", "rank", "GF/s", "floor s", "ex/floor");
+  std::printf("%7s %7s %5s %10s %10s %10s %10s %10s %9s %10s %8s %9s %5s %8s %9s\n", "n", "region", "d", "exact s", "first s", "one call s",
+              "integr. s", "system s", "table s", "refactor s", "agree", "rank", "GF/s", "floor s", "ex/floor");
   for (int N : equations) {
     json row = latency_point(N);
     const Index n = row["equations"].get<Index>(), k = std::max<Index>(1, row["changed_columns"].get<Index>());
     const double rate = dgemm_gflops(n, k, 5);
-    const double floor_s = 2.0 * double(n) * double(n) * double(k) / (rate * 1e9);
+    // The arithmetic floor (docs/cutting.md, "Where a step's time goes"): the LU solves a step
+    // needs (the new dofs' unit columns need none: K^-1 is the identity there) at the measured
+    // dgetrs rate, and the table's two products at the dgemm rate. Integration, the accumulated
+    // rank's products and first touches are above it.
+    json profile = row["profile"];
+    row.erase("profile");
+    for (auto it = profile.begin(); it != profile.end(); ++it) row[it.key()] = it.value();
+    const double nb = row["solve_base_size"].get<double>();
+    const double solve_floor = 2.0 * nb * nb * row["solve_columns"].get<double>() / (row["dgetrs_gflops"].get<double>() * 1e9);
+    const double gemm_floor = row["table_gemm_flops"].get<double>() / (rate * 1e9);
+    const double floor_s = solve_floor + gemm_floor;
     row["dgemm_gflops"] = rate;
-    row["flop_floor_seconds"] = floor_s;
+    row["solve_floor_seconds"] = solve_floor;
+    row["gemm_floor_seconds"] = gemm_floor;
+    row["arithmetic_floor_seconds"] = floor_s;
     const double ex = row["exact_seconds"].get<double>();
-    std::printf("%7lld %7zu %5lld %10s %10s %10s %9s %10s %8s %9lld %5s %8s %9s\n", static_cast<long long>(n),
+    std::printf("%7lld %7zu %5lld %10s %10s %10s %10s %10s %9s %10s %8s %9lld %5s %8s %9s\n", static_cast<long long>(n),
                 row["region_elements"].get<std::size_t>(), static_cast<long long>(k), fixed_text(ex, 4).c_str(),
+                fixed_text(row["first_response_seconds"].get<double>(), 4).c_str(),
+                fixed_text(row["one_step_seconds"].get<double>(), 4).c_str(),
                 fixed_text(row["integration_seconds"].get<double>(), 4).c_str(), fixed_text(row["system_seconds"].get<double>(), 4).c_str(),
                 fixed_text(row["table_seconds"].get<double>(), 4).c_str(), fixed_text(row["refactor_seconds"].get<double>(), 3).c_str(),
                 scientific_text(row["agreement"].get<double>(), 1).c_str(), static_cast<long long>(row["final_rank"].get<Index>()),
@@ -326,9 +417,24 @@ void latency(const std::vector<int>& equations, json& out) {
     out.push_back(row);
   }
   std::printf(
+      "  exact: request to the complete table in two phases; first: to the first response (the columns within\n"
+      "  2 cm of a probe where the step cut); one call: the same step by updated_table, the baseline.\n"
       "  targets (medians): exact <= 0.020 s at n = 1,584 and <= 0.25 s at n = 9,000. Agreement: max relative\n"
       "  difference of base state and table from a full refactorisation after the last step. d: changed columns\n"
-      "  per step; floor: 2 n^2 d flops at the dgemm rate (GF/s, n x n times n x d) measured here.\n");
+      "  per step; floor: the step's LU solves at the dgetrs rate measured on its own factors plus the table's\n"
+      "  two GEMMs at the dgemm rate (GF/s, n x n times n x d) measured here.\n");
+  std::printf("\nWhere the exact step's time goes (medians, seconds)\n");
+  std::printf("%7s %9s %9s %9s %6s %10s %9s %9s %9s %9s %9s %9s\n", "n", "integr.", "change", "solves", "rhs", "correction", "snapshot",
+              "gemm", "finish", "floor", "dgetrsGF", "snap MB");
+  for (const json& row : out)
+    std::printf(
+        "%7lld %9s %9s %9s %6lld %10s %9s %9s %9s %9s %9s %9s\n", static_cast<long long>(row["equations"].get<Index>()),
+        fixed_text(row["integration_seconds"].get<double>(), 4).c_str(), fixed_text(row["change_seconds"].get<double>(), 4).c_str(),
+        fixed_text(row["solve_seconds"].get<double>(), 4).c_str(), static_cast<long long>(std::llround(row["solve_columns"].get<double>())),
+        fixed_text(row["correction_seconds"].get<double>(), 4).c_str(), fixed_text(row["snapshot_seconds"].get<double>(), 4).c_str(),
+        fixed_text(row["gemm_seconds"].get<double>(), 4).c_str(), fixed_text(row["finish_seconds"].get<double>(), 4).c_str(),
+        fixed_text(row["arithmetic_floor_seconds"].get<double>(), 4).c_str(), fixed_text(row["dgetrs_gflops"].get<double>(), 1).c_str(),
+        fixed_text(row["snapshot_bytes"].get<double>() / 1e6, 0).c_str());
 }
 
 void gap_study(bool quick, json& out) {
@@ -451,9 +557,42 @@ bool write_csv_dir(const std::string& dir, const json& report) {
                    {"equations", "scenario", "method", "equations_after", "seconds", "seconds_min", "seconds_max", "repeats", "iterations",
                     "integration_seconds", "agreement_vs_refactor", "paper_seconds", "paper_iterations", "dgemm_gflops"}) &&
          write_csv(dir + "/latency.csv", latency_rows,
-                   {"equations", "nx", "ny", "nz", "region_elements", "steps", "changed_elements_per_step", "changed_columns",
-                    "exact_seconds", "integration_seconds", "system_seconds", "table_seconds", "refactor_seconds", "precompute_seconds",
-                    "agreement", "final_rank", "dgemm_gflops", "flop_floor_seconds"}) &&
+                   {"equations",
+                    "nx",
+                    "ny",
+                    "nz",
+                    "region_elements",
+                    "steps",
+                    "changed_elements_per_step",
+                    "changed_columns",
+                    "exact_seconds",
+                    "first_response_seconds",
+                    "one_step_seconds",
+                    "reach_elements",
+                    "reach_metres",
+                    "first_response_agreement",
+                    "integration_seconds",
+                    "system_seconds",
+                    "table_seconds",
+                    "refactor_seconds",
+                    "precompute_seconds",
+                    "agreement",
+                    "final_rank",
+                    "dgemm_gflops",
+                    "change_seconds",
+                    "solve_seconds",
+                    "solve_columns",
+                    "correction_seconds",
+                    "snapshot_seconds",
+                    "gemm_seconds",
+                    "finish_seconds",
+                    "table_gemm_flops",
+                    "snapshot_bytes",
+                    "solve_base_size",
+                    "dgetrs_gflops",
+                    "solve_floor_seconds",
+                    "gemm_floor_seconds",
+                    "arithmetic_floor_seconds"}) &&
          write_csv(dir + "/run.csv", run,
                    {"mode", "threads", "dense_backend", "repeats", "freed_memory_reused", "load_average_at_start", "load_average_at_end"});
 }

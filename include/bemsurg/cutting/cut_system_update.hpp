@@ -194,11 +194,86 @@ class CutSystemUpdate {
     return r;
   }
 
+  /// One exact step in two phases (docs/cutting.md, "First response"): the surface step, then what every
+  /// column needs (the system's update, the step's solves, the base state) and the table over the region
+  /// elements within `reach` of the `tools` positions (elements_within_reach), returned in `first` and
+  /// not published: table() stays the table before the step until complete_step() publishes the
+  /// complete one, which must come before the next step. A refused step is returned with accepted false
+  /// and changes nothing. Exact only: a CutSystemUpdate that keeps the explicit A* (keep_matrix, the
+  /// iterative modes) refuses it.
+  CutStepResult cut_first(const Eigen::Vector3d& from, const Eigen::Vector3d& direction, const std::vector<Eigen::Vector3d>& tools,
+                          double reach, std::shared_ptr<const GreensTable>& first) {
+    const auto t0 = SteadyClock::now();
+    first.reset();
+    if (A_.size() > 0) throw InvalidArgumentError("CutSystemUpdate::cut_first: two-phase steps are exact only (this update keeps A*)");
+    if (pending_step_) throw InvalidArgumentError("CutSystemUpdate::cut_first: the previous step was not completed (complete_step)");
+    const CutSurfaceStep surface = cut_surface(from, direction);
+    if (!surface.accepted) return refused(CutUpdateMethod::Exact, surface.reason);
+    CutStepResult r;
+    r.delta = surface.delta;
+    try {
+      const std::shared_ptr<const GreensTable> current = table();
+      CutChange change = integrate_cut_change(*current->mesh(), *surface.mesh, surface.delta, current->material(), current->quadrature(),
+                                              current->gravity());
+      r.integration_seconds = change.integration_seconds;
+      auto step = std::make_unique<CutTableStep>(current, surface.mesh, surface.delta, std::move(change), options_.table);
+      GreensTableUpdateResult tr;
+      first = step->first_response(elements_within_reach(*surface.mesh, step->region(), tools, reach), &tr);
+      r.system_seconds = tr.system_seconds;
+      r.table_seconds = tr.table_seconds;
+      r.rank = tr.rank;
+      pending_step_ = std::move(step);
+      pending_started_ = t0;
+      pending_delta_ = surface.delta;
+      pending_before_.reset();  // the surface step stands
+    } catch (const Error& e) {
+      *cutter_ = std::move(*pending_before_);
+      pending_before_.reset();
+      first.reset();
+      return refused(CutUpdateMethod::Exact, e.what());
+    } catch (...) {
+      *cutter_ = std::move(*pending_before_);
+      pending_before_.reset();
+      throw;
+    }
+    r.total_seconds = seconds_since(t0);
+    return r;
+  }
+
+  /// True between cut_first() and complete_step().
+  bool completion_pending() const { return pending_step_ != nullptr; }
+
+  /// The second phase of cut_first(): the complete table, published (table(), solution()) as apply()
+  /// publishes, and the refactorisation policy applied. Its total_seconds count from cut_first's start.
+  CutStepResult complete_step() {
+    if (!pending_step_) throw InvalidArgumentError("CutSystemUpdate::complete_step: no step is waiting (cut_first)");
+    const std::unique_ptr<CutTableStep> step = std::move(pending_step_);
+    CutStepResult r;
+    r.delta = pending_delta_;
+    GreensTableUpdateResult tr;
+    const std::shared_ptr<const GreensTable> next = step->complete(&tr);
+    r.integration_seconds = tr.integration_seconds;
+    r.system_seconds = tr.system_seconds;
+    r.table_seconds = tr.table_seconds;
+    Eigen::VectorXd x = solution_of(*next);
+    r.rank = next->solver()->rank();
+    {
+      std::lock_guard<std::mutex> lock(publish_);
+      std::atomic_store(&table_, next);
+    }
+    x_.swap(x);
+    const Index limit = options_.refactor_rank > 0 ? options_.refactor_rank : default_refactor_rank(next->num_dofs());
+    if (r.rank > limit) r.refactor_started = start_refactor(next, r.rank > 2 * limit || !options_.background_refactor);
+    r.total_seconds = seconds_since(pending_started_);
+    return r;
+  }
+
   /// The surface half of cut(), for a caller that shows the new surface before the tables follow (the
   /// viewer): the next increment of the current cut, with the elements of cut_locked_elements locked. Only
   /// the surface advances; apply(step) brings the system and the table to it and must come next.
   CutSurfaceStep cut_surface(const Eigen::Vector3d& from, const Eigen::Vector3d& direction) {
     if (pending_before_) throw InvalidArgumentError("CutSystemUpdate::cut_surface: the previous surface step was not applied");
+    if (pending_step_) throw InvalidArgumentError("CutSystemUpdate::cut_surface: the previous step was not completed (complete_step)");
     if (cutter_ && cutter_->mesh() != table()->mesh()) cutter_.reset();  // the system was stepped elsewhere
     if (!cutter_) {
       const std::shared_ptr<const GreensTable> t = table();
@@ -242,6 +317,7 @@ class CutSystemUpdate {
   /// current mesh (the conditions and region rules apply; the locking rule is the caller's).
   /// On an exception nothing has changed (the current table and solution stay as they were).
   CutStepResult apply(std::shared_ptr<const TriangleMesh> after, const MeshDelta& delta, CutUpdateMethod method) {
+    if (pending_step_) throw InvalidArgumentError("CutSystemUpdate::apply: the previous step was not completed (complete_step)");
     const auto t0 = SteadyClock::now();
     CutStepResult r;
     r.method = method;
@@ -378,7 +454,10 @@ class CutSystemUpdate {
   CutOptions cut_options_;
   std::unique_ptr<SurfaceCutter> cutter_;          // the current cut (null: the next step opens one)
   std::unique_ptr<SurfaceCutter> pending_before_;  // the cutter before a surface step not yet applied
-  std::shared_ptr<const GreensTable> table_;       // read and written with std::atomic_load / atomic_store
+  std::unique_ptr<CutTableStep> pending_step_;     // cut_first's step, until complete_step
+  SteadyClock::time_point pending_started_{};
+  MeshDelta pending_delta_;
+  std::shared_ptr<const GreensTable> table_;  // read and written with std::atomic_load / atomic_store
   Eigen::VectorXd x_;
   Eigen::MatrixXd A_;  // explicit A* (iterative modes only)
   std::mutex publish_;

@@ -30,13 +30,25 @@ struct GreensTableUpdateOptions {
   double join_distance = 0.0;
 };
 
-/// Wall-clock seconds of one table update after a cut step, by phase, and what it left.
+/// Wall-clock seconds of one table update after a cut step, by phase, and what it left. The three
+/// phases (integration, system, table) add up to the total; the profile below splits the last two
+/// by the kind of work (docs/cutting.md, "Where a step's time goes").
 /// \ingroup cutting
 struct GreensTableUpdateResult {
   double integration_seconds = 0.0;  // rows and columns of the changed elements, both meshes
   double system_seconds = 0.0;       // low-rank update of the factorisation and the base state
   double table_seconds = 0.0;        // the table's columns (old ones corrected, new ones solved)
   double total_seconds = 0.0;
+  // The profile of the system and table phases.
+  double change_seconds = 0.0;      // the step's terms X, U_s, V_s, the new right-hand side and the fresh columns' right-hand sides
+  double solve_seconds = 0.0;       // LU triangular solves (one multi-right-hand-side dgetrs)
+  Index solve_columns = 0;          // right-hand sides that went through the LU
+  double correction_seconds = 0.0;  // the accumulated rank: U, V, W and the capacitance grown, Woodbury finish of the solves
+  double snapshot_seconds = 0.0;    // the new table's matrix allocated and the old columns copied in (first touches)
+  double gemm_seconds = 0.0;        // the table's products: X T and the Woodbury term (one GEMM each)
+  double finish_seconds = 0.0;      // fresh columns placed, finiteness check, reaction rows and slots
+  double table_gemm_flops = 0.0;    // flops of those two products, 2 n (3|R0|) d + 2 n' (2d) (3|R0|)
+  std::size_t snapshot_bytes = 0;   // the new table's columns
   Index rank = 0;                   // accumulated rank of the correction after the step
   Index added_region_elements = 0;  // new elements that joined the region
 };
@@ -65,6 +77,46 @@ std::shared_ptr<const GreensTable> updated_table(const GreensTable& table, std::
 std::shared_ptr<const GreensTable> updated_table(const GreensTable& table, std::shared_ptr<const TriangleMesh> after,
                                                  const MeshDelta& delta, const CutChange& change,
                                                  const GreensTableUpdateOptions& options = {}, GreensTableUpdateResult* report = nullptr);
+
+namespace detail {
+struct CutStepState;
+}
+
+/// One exact table update after a cut step, taken in two phases (docs/cutting.md, "First response";
+/// issue 39). The constructor does what every column of the new table needs: the system's low-rank
+/// update, the step's LU solves (the solves of all the step's columns: Z = A'^-1 U_s) and the base
+/// state. first_response(reach) then makes exact only the columns of the region elements listed (a
+/// table whose region is those elements, in the complete table's order), for the tools' neighbourhood;
+/// complete() makes the whole table, equal to updated_table's. Both are new immutable snapshots
+/// (version() + 1) sharing the step's solver; either may be called any number of times, from one
+/// thread at a time. The step holds the table before it, the change and the solves (about
+/// n' x (2d + fresh columns) doubles) until it is destroyed.
+/// \ingroup cutting
+class CutTableStep {
+ public:
+  /// `change`: integrate_cut_change on the table's mesh, `after`, its material, quadrature and gravity.
+  /// Throws as updated_table does.
+  CutTableStep(std::shared_ptr<const GreensTable> table, std::shared_ptr<const TriangleMesh> after, const MeshDelta& delta,
+               CutChange change, const GreensTableUpdateOptions& options = {});
+  /// The region after the step: the complete table's elements, in its slots.
+  const std::vector<Index>& region() const;
+  /// Integration (as the change says) and the system phase with its profile.
+  const GreensTableUpdateResult& result() const;
+  /// A table over the region elements in `reach` (others ignored; any order): exact for them. `report`
+  /// gets the system phase as result() and this table's phase.
+  std::shared_ptr<const GreensTable> first_response(const std::vector<Index>& reach, GreensTableUpdateResult* report = nullptr) const;
+  /// The complete table (updated_table's result).
+  std::shared_ptr<const GreensTable> complete(GreensTableUpdateResult* report = nullptr) const;
+
+ private:
+  std::shared_ptr<const detail::CutStepState> state_;
+};
+
+/// The reach rule of a first response: the elements of `region` whose centroid lies within `reach` of
+/// any of the `tools` positions (e.g. the tool's radius plus the distance it can travel before the
+/// step completes). Throws InvalidArgumentError for a negative or non-finite reach or position.
+std::vector<Index> elements_within_reach(const TriangleMesh& mesh, const std::vector<Index>& region,
+                                         const std::vector<Eigen::Vector3d>& tools, double reach);
 
 /// The reference for updated_table: the same step by full re-assembly and a new factorisation (same
 /// rules, version() + 1).

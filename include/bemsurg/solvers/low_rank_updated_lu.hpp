@@ -26,9 +26,19 @@
 #include "bemsurg/error.hpp"
 #include "bemsurg/number_text.hpp"
 #include "bemsurg/solvers/lu_factors.hpp"
+#include "bemsurg/timing.hpp"
 #include "bemsurg/types.hpp"
 
 namespace bemsurg {
+
+/// Where the time of one LowRankUpdatedLu::updated() went (docs/cutting.md, "Timing"): the LU's
+/// triangular solves against the work the accumulated correction costs.
+/// \ingroup solvers
+struct LowRankUpdateProfile {
+  double base_solve_seconds = 0.0;  // K^-1 applied to the step's columns: one multi-right-hand-side dgetrs
+  Index base_solve_columns = 0;     // right-hand sides that went through the LU (new dofs' unit columns need none)
+  double correction_seconds = 0.0;  // U, V, W grown by the step's columns and the capacitance C refactorised
+};
 
 /// The solver of a system a cut has grown and reshaped: the precompute's LU (LuFactors) plus an accumulated low-rank
 /// correction A = K + U V^T, solved with Woodbury as described at the top of this header. Immutable: updated() returns a new one.
@@ -51,23 +61,24 @@ class LowRankUpdatedLu {
   std::size_t bytes() const { return static_cast<std::size_t>(3 * U_.size() + 2 * C_.size()) * sizeof(double); }
 
   /// B <- K^-1 B in place: the LU solve on the first n0 rows (only for the columns that have
-  /// anything there), identity on the rest.
-  void apply_base_inverse(Eigen::MatrixXd& B) const {
+  /// anything there), identity on the rest. Returns the number of columns that went through the LU.
+  Index apply_base_inverse(Eigen::MatrixXd& B) const {
     check_rows(B.rows(), "apply_base_inverse");
     const Index n0 = base_->size();
     std::vector<Index> busy;
     busy.reserve(static_cast<std::size_t>(B.cols()));
     for (Index j = 0; j < B.cols(); ++j)
       if (!B.col(j).head(n0).isZero(0.0)) busy.push_back(j);
-    if (busy.empty()) return;
+    if (busy.empty()) return 0;
     if (static_cast<Index>(busy.size()) == B.cols()) {
       base_->solve_in_place(B.topRows(n0));
-      return;
+      return B.cols();
     }
     Eigen::MatrixXd top(n0, static_cast<Index>(busy.size()));
     for (std::size_t c = 0; c < busy.size(); ++c) top.col(static_cast<Index>(c)) = B.col(busy[c]).head(n0);
     base_->solve_in_place(top);
     for (std::size_t c = 0; c < busy.size(); ++c) B.col(busy[c]).head(n0) = top.col(static_cast<Index>(c));
+    return static_cast<Index>(busy.size());
   }
 
   /// Given Y = K^-1 B, completes the Woodbury solve: Y <- A^-1 B.
@@ -96,9 +107,10 @@ class LowRankUpdatedLu {
   /// `also` (optional, new_size rows) is overwritten by K_new^-1 also in the same LU solve as Us
   /// (one multi-right-hand-side dgetrs instead of two: a cut step's table columns ride along);
   /// finish it with the new object's finish_solve.
+  /// `profile` (optional) receives where the time went.
   /// Throws SolverError when the new capacitance matrix is singular (A_new singular).
   LowRankUpdatedLu updated(Index new_size, const Eigen::MatrixXd& Us, const Eigen::MatrixXd& Vs, Eigen::MatrixXd* kinv_us = nullptr,
-                           Eigen::MatrixXd* also = nullptr) const {
+                           Eigen::MatrixXd* also = nullptr, LowRankUpdateProfile* profile = nullptr) const {
     if (empty()) throw SolverError("LowRankUpdatedLu::updated: no factorisation");
     if (new_size < n_) throw InvalidArgumentError("LowRankUpdatedLu::updated: the system cannot shrink");
     if (Us.rows() != new_size || Vs.rows() != new_size || Us.cols() != Vs.cols())
@@ -110,17 +122,20 @@ class LowRankUpdatedLu {
     out.n_ = new_size;
     const Index r0 = rank(), k = Us.cols(), r = r0 + k;
     Eigen::MatrixXd Ws;
+    const auto t_solve = SteadyClock::now();
+    Index solved = 0;
     if (also && also->cols() > 0) {
       Eigen::MatrixXd both(new_size, k + also->cols());
       both.leftCols(k) = Us;
       both.rightCols(also->cols()) = *also;
-      out.apply_base_inverse(both);
+      solved = out.apply_base_inverse(both);
       Ws = both.leftCols(k);
       *also = both.rightCols(also->cols());
     } else {
       Ws = Us;
-      out.apply_base_inverse(Ws);
+      solved = out.apply_base_inverse(Ws);
     }
+    const auto t_correction = SteadyClock::now();
     auto grow = [&](const Eigen::MatrixXd& old, const Eigen::MatrixXd& add) {
       Eigen::MatrixXd m = large_dense_matrix(new_size, r);  // huge pages: see dense_storage.hpp
       if (r0 > 0) {  // at rank 0 `old` is 0 x 0, not n x 0: assigning it to the block asserts in Debug
@@ -144,6 +159,11 @@ class LowRankUpdatedLu {
     if (!(rc > 1e-15))
       throw SolverError("the updated system is singular to working precision (capacitance reciprocal condition " + number_text(rc) + ")");
     if (kinv_us) *kinv_us = std::move(Ws);
+    if (profile) {
+      profile->base_solve_seconds = seconds_between(t_solve, t_correction);
+      profile->base_solve_columns = solved;
+      profile->correction_seconds = seconds_since(t_correction);
+    }
     return out;
   }
 

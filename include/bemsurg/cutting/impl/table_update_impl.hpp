@@ -6,6 +6,7 @@
 #include "bemsurg/config.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -13,12 +14,33 @@
 #include "bemsurg/cutting/table_update.hpp"
 #include "bemsurg/dense_storage.hpp"
 #include "bemsurg/error.hpp"
+#include "bemsurg/number_text.hpp"
 #include "bemsurg/solvers/low_rank_updated_lu.hpp"
 #include "bemsurg/timing.hpp"
 
 namespace bemsurg {
 
 namespace detail {
+
+/// What every column of a cut step's new table needs, computed once (CutTableStep; docs/cutting.md,
+/// "First response"): the system's low-rank update, the step's LU solves and the base state.
+struct CutStepState {
+  std::shared_ptr<const GreensTable> keep_before;  // CutTableStep holds the table before; updated_table borrows it
+  const GreensTable* before = nullptr;
+  std::shared_ptr<const CutChange> keep_change;
+  const CutChange* change = nullptr;
+  std::shared_ptr<const TriangleMesh> after;
+  MeshDelta delta;
+  BoundaryConditions bc;             // after the step
+  Eigen::MatrixXd X;                 // the change of the rows D
+  std::vector<Index> region;         // after the step (the complete table's slots)
+  std::vector<Index> fresh_cols;     // FreshColumns::table_cols
+  std::vector<Index> fresh_sources;  // FreshColumns::sources
+  Eigen::MatrixXd Z, F;              // A'^-1 U_s; A'^-1 [the fresh columns' right-hand sides, b']
+  std::shared_ptr<const LowRankUpdatedLu> solver;
+  Eigen::VectorXd rhs;
+  GreensTableUpdateResult timing;  // integration and the system phase with its profile
+};
 
 /// The cut update's access to a GreensTable's parts (a friend of GreensTable).
 struct GreensTableParts {
@@ -97,7 +119,8 @@ struct GreensTableParts {
     return F;
   }
 
-  static Eigen::MatrixXd correction_coefficients_transposed(const GreensTable& g, const CutChange& change, const Eigen::MatrixXd& X) {
+  static Eigen::MatrixXd correction_coefficients_transposed(const GreensTable& g, const CutChange& change, const Eigen::MatrixXd& X,
+                                                            const std::vector<Index>* columns) {
     // The old columns: T' = T + A'^-1 (B' - A' T) with T extended by zero rows. The residual is
     // E_D (dB_D - X T) - Y T_D + F (F: whole columns of reshaped region elements outside rows D),
     // so T' = T + Z_E (dB_D - X T) - Z_Y T_D + A'^-1 F, Z = A'^-1 U_s: T' = T + [Z_E, -Z_Y] CT with
@@ -107,121 +130,210 @@ struct GreensTableParts {
     // Held transposed (3|R0| x 2d): X T is then computed as T^T X^T, a GEMM with a long output and
     // a short inner side, which OpenBLAS runs faster than the d-row product (measured by
     // benchmarks/bench_cut, the table phase of the exact update).
+    // `columns` (ascending table columns of g, or null for all): the rows of CT^T for those only (a
+    // first response's columns, CutTableStep).
     const Index n = g.num_dofs(), d = change.size(), R0 = static_cast<Index>(g.region_.size());
-    Eigen::MatrixXd CTt(3 * R0, 2 * d);
+    const Index m = columns ? static_cast<Index>(columns->size()) : 3 * R0;
+    auto column = [&](Index i) { return columns ? (*columns)[static_cast<std::size_t>(i)] : i; };
+    Eigen::MatrixXd CTt(m, 2 * d);
     auto coef_t = CTt.leftCols(d);
     const Eigen::MatrixXd Xt = X.leftCols(n).transpose();
-    coef_t.noalias() = -g.columns_.transpose() * Xt;
-    if (!g.reaction_dofs_.empty()) {
-      Eigen::MatrixXd Xr_t(static_cast<Index>(g.reaction_dofs_.size()), d);
-      for (std::size_t i = 0; i < g.reaction_dofs_.size(); ++i) Xr_t.row(static_cast<Index>(i)) = Xt.row(g.reaction_dofs_[i]);
-      coef_t.noalias() -= g.reactions_.transpose() * Xr_t;
-    }
-    for (Index s = 0; s < R0; ++s)
-      for (int a = 0; a < 3; ++a) {
-        const Index k = 3 * g.region_[static_cast<std::size_t>(s)] + a, col = 3 * s + a;
-        coef_t.row(col) += change.rows_G.col(k).transpose();  // B'_D: the rows D of G' in column k
-        if (k < n) coef_t.row(col).head(change.num_modified_dofs) -= change.old_rows_G.col(k).transpose();
+    Eigen::MatrixXd Xr_t(static_cast<Index>(g.reaction_dofs_.size()), d);
+    for (std::size_t i = 0; i < g.reaction_dofs_.size(); ++i) Xr_t.row(static_cast<Index>(i)) = Xt.row(g.reaction_dofs_[i]);
+    if (!columns) {
+      coef_t.noalias() = -g.columns_.transpose() * Xt;
+      if (!g.reaction_dofs_.empty()) coef_t.noalias() -= g.reactions_.transpose() * Xr_t;
+    } else {
+      Eigen::MatrixXd T(n, m), R(g.reactions_.rows(), m);
+      for (Index i = 0; i < m; ++i) {
+        T.col(i) = g.columns_.col(column(i));
+        R.col(i) = g.reactions_.col(column(i));
       }
+      coef_t.noalias() = -T.transpose() * Xt;
+      if (!g.reaction_dofs_.empty()) coef_t.noalias() -= R.transpose() * Xr_t;
+    }
+    for (Index i = 0; i < m; ++i) {
+      const Index col = column(i), k = 3 * g.region_[static_cast<std::size_t>(col / 3)] + col % 3;
+      coef_t.row(i) += change.rows_G.col(k).transpose();  // B'_D: the rows D of G' in column k
+      if (k < n) coef_t.row(i).head(change.num_modified_dofs) -= change.old_rows_G.col(k).transpose();
+    }
     for (Index j = 0; j < d; ++j) {  // T_D: a supported dof's row is its reactions
       const Index k = change.dofs[static_cast<std::size_t>(j)];
       const auto it = std::lower_bound(g.reaction_dofs_.begin(), g.reaction_dofs_.end(), k);
-      if (k >= n)
-        CTt.col(d + j).setZero();
-      else if (it != g.reaction_dofs_.end() && *it == k)
-        CTt.col(d + j) = g.reactions_.row(it - g.reaction_dofs_.begin()).transpose();
-      else
-        CTt.col(d + j) = g.columns_.row(k).transpose();
+      const bool reaction = it != g.reaction_dofs_.end() && *it == k;
+      for (Index i = 0; i < m; ++i)
+        CTt(i, d + j) = k >= n ? 0.0 : reaction ? g.reactions_(it - g.reaction_dofs_.begin(), column(i)) : g.columns_(k, column(i));
     }
     return CTt;
   }
 
+  /// Where the table phase's time went (GreensTableUpdateResult's profile).
+  struct TableProfile {
+    double snapshot_seconds = 0.0, gemm_seconds = 0.0, finish_seconds = 0.0;
+  };
+
+  /// The columns of the new table for the region slots `slots` (ascending indices into the region
+  /// after the step; null: all of them, the complete table), in that order.
   static Eigen::MatrixXd columns_after_cut(const GreensTable& g, const CutChange& change, const Eigen::MatrixXd& Z,
                                            const Eigen::MatrixXd& CTt, const Eigen::MatrixXd& F, const FreshColumns& fresh,
-                                           Index region_after_size) {
+                                           Index region_after_size, const std::vector<Index>* slots, TableProfile* profile) {
+    const auto t0 = SteadyClock::now();
     const Index n = g.num_dofs(), n1 = change.n_after, d = change.size();
     const Index R0 = static_cast<Index>(g.region_.size()), R1 = region_after_size;
+    std::vector<Index> out_slot(static_cast<std::size_t>(R1), -1);  // region slot -> output slot
+    Index kept = 0, kept_old = 0;
+    for (Index s = 0; s < R1; ++s)
+      if (!slots || std::binary_search(slots->begin(), slots->end(), s)) {
+        out_slot[static_cast<std::size_t>(s)] = kept++;
+        kept_old += s < R0 ? 1 : 0;
+      }
     Eigen::MatrixXd ZZ(n1, 2 * d);
     ZZ.leftCols(d) = Z.leftCols(d);
     ZZ.rightCols(d) = -Z.rightCols(d);
-    // The new n' x 3|R1| table. A fresh matrix per step (snapshots are immutable): advise huge pages
+    // The new n' x 3|kept| table. A fresh matrix per step (snapshots are immutable): advise huge pages
     // before the first touch, which otherwise costs one page fault per 4 KiB. Reaction rows are
     // gathered and scattered column by column: a row of a column-major matrix touches one page per
     // entry. (Panels of columns updated in cache were measured slower: narrow GEMMs cost more than
     // the passes over memory they save.)
     const Index S0 = static_cast<Index>(g.reaction_dofs_.size());
-    Eigen::MatrixXd T = large_dense_matrix(n1, 3 * R1);
-    T.topLeftCorner(n, 3 * R0) = g.columns_;
-    for (Index c = 0; c < 3 * R0; ++c) {
-      double* col = T.col(c).data();
-      const double* r = g.reactions_.col(c).data();
-      for (Index i = 0; i < S0; ++i) col[g.reaction_dofs_[static_cast<std::size_t>(i)]] = r[i];
+    Eigen::MatrixXd T = large_dense_matrix(n1, 3 * kept);
+    for (Index s = 0; s < R0; ++s) {
+      const Index o = out_slot[static_cast<std::size_t>(s)];
+      if (o < 0) continue;
+      T.block(0, 3 * o, n, 3) = g.columns_.middleCols(3 * s, 3);
+      for (int a = 0; a < 3; ++a) {
+        double* col = T.col(3 * o + a).data();
+        const double* r = g.reactions_.col(3 * s + a).data();
+        for (Index i = 0; i < S0; ++i) col[g.reaction_dofs_[static_cast<std::size_t>(i)]] = r[i];
+      }
     }
-    T.bottomLeftCorner(n1 - n, 3 * R0).setZero();
-    T.rightCols(3 * (R1 - R0)).setZero();
-    if (d > 0) T.leftCols(3 * R0).noalias() += ZZ * CTt.transpose();  // one GEMM: both halves of Z
+    T.bottomLeftCorner(n1 - n, 3 * kept_old).setZero();
+    T.rightCols(3 * (kept - kept_old)).setZero();
+    const auto t1 = SteadyClock::now();
+    // One GEMM, both halves of Z: the kept old slots come first and in CTt's order.
+    if (d > 0 && kept_old > 0) T.leftCols(3 * kept_old).noalias() += ZZ * CTt.transpose();
+    const auto t2 = SteadyClock::now();
     for (std::size_t i = 0; i < fresh.table_cols.size(); ++i) {
-      if (fresh.table_cols[i] < 3 * R0)
-        T.col(fresh.table_cols[i]) += F.col(static_cast<Index>(i));
+      const Index col = fresh.table_cols[i], o = out_slot[static_cast<std::size_t>(col / 3)];
+      if (o < 0) continue;
+      if (col < 3 * R0)
+        T.col(3 * o + col % 3) += F.col(static_cast<Index>(i));
       else
-        T.col(fresh.table_cols[i]) = F.col(static_cast<Index>(i));
+        T.col(3 * o + col % 3) = F.col(static_cast<Index>(i));
+    }
+    if (profile) {
+      profile->snapshot_seconds += seconds_between(t0, t1);  // includes ZZ's copy, small beside the table's
+      profile->gemm_seconds += seconds_between(t1, t2);
+      profile->finish_seconds += seconds_since(t2);
     }
     return T;
+  }
+
+  /// Takes what every column of the step's new table needs (CutTableStep's construction): the system's
+  /// low-rank update, the step's LU solves, the base state. Fills `s.timing`'s system phase.
+  static void prepare(CutStepState& s, const GreensTableUpdateOptions& options) {
+    const GreensTable& g = *s.before;
+    const CutChange& change = *s.change;
+    const auto t_system = SteadyClock::now();
+    const BoundaryConditions before = g.base_conditions();
+    s.bc = conditions_after_cut(before, s.delta);
+    SystemChange system = system_change(change, before, s.bc);
+    // The region after the step and the table's columns to solve afresh come first: their LU solve
+    // rides along with U_s's (one multi-right-hand-side dgetrs). Old elements keep their slots;
+    // added elements near the region join at the end.
+    s.region = region_after_cut(g, *s.after, s.delta, options);
+    const FreshColumns fresh = fresh_columns(change, s.region);
+    s.fresh_cols = fresh.table_cols;
+    s.fresh_sources = fresh.sources;
+    s.rhs = rhs_after_cut(change, g.rhs_, before, s.bc);
+    s.F = fresh_right_hand_sides(g, change, fresh, s.rhs);
+    const double change_s = seconds_since(t_system);
+    LowRankUpdateProfile lu_profile;  // Z: K^-1 U_s, then A*_after^-1 U_s (push-through: no further LU solve)
+    s.solver = std::make_shared<const LowRankUpdatedLu>(g.solver_->updated(change.n_after, system.Us, system.Vs, &s.Z, &s.F, &lu_profile));
+    const auto t_finish = SteadyClock::now();
+    s.solver->finish_solve(s.Z);
+    s.solver->finish_solve(s.F);  // K^-1 F came with U_s's solve
+    const double finish_solve_s = seconds_since(t_finish);
+    s.X = std::move(system.X);
+    GreensTableUpdateResult& r = s.timing;
+    r.integration_seconds = change.integration_seconds;
+    r.change_seconds = change_s;
+    r.solve_seconds = lu_profile.base_solve_seconds;
+    r.solve_columns = lu_profile.base_solve_columns;
+    r.correction_seconds = lu_profile.correction_seconds + finish_solve_s;
+    r.rank = s.solver->rank();
+    r.added_region_elements = static_cast<Index>(s.region.size() - g.region_.size());
+    r.system_seconds = seconds_since(t_system);
+  }
+
+  /// The new table over the region slots `slots` (ascending; null: all, the complete table) from a
+  /// prepared step. `report` gets the table phase and its profile (the system phase as prepared).
+  static std::shared_ptr<const GreensTable> table_of(const CutStepState& s, const std::vector<Index>* slots,
+                                                     GreensTableUpdateResult* report) {
+    const auto t_table = SteadyClock::now();
+    const GreensTable& g = *s.before;
+    const CutChange& change = *s.change;
+    const Index nf = static_cast<Index>(s.fresh_cols.size());
+    const FreshColumns fresh{s.fresh_cols, s.fresh_sources};
+    auto out = std::make_shared<GreensTable>();
+    GreensTable& t = *out;
+    t.version_ = g.version_ + 1;
+    t.mesh_ = s.after;
+    t.solver_ = s.solver;
+    t.quadrature_ = g.quadrature_;
+    t.key_ = make_greens_table_key(*t.mesh_, g.key_.material, s.bc, g.key_.gravity, g.quadrature_);
+    t.base_kinds_ = s.bc.kinds();
+    t.base_values_ = s.bc.values();
+    t.rhs_ = s.rhs;
+    t.set_base_state(s.bc, s.F.col(nf));
+    std::vector<Index> old_columns;  // the table columns of g behind the kept old slots
+    if (slots) {
+      t.region_.clear();
+      for (Index slot : *slots) {
+        t.region_.push_back(s.region[static_cast<std::size_t>(slot)]);
+        if (slot < static_cast<Index>(g.region_.size()))
+          for (int a = 0; a < 3; ++a) old_columns.push_back(3 * slot + a);
+      }
+    } else {
+      t.region_ = s.region;
+    }
+    TableProfile profile;
+    const auto t_coefficients = SteadyClock::now();
+    const Eigen::MatrixXd CTt = correction_coefficients_transposed(g, change, s.X, slots ? &old_columns : nullptr);
+    profile.gemm_seconds = seconds_since(t_coefficients);  // X T is most of it
+    Eigen::MatrixXd T = columns_after_cut(g, change, s.Z, CTt, s.F, fresh, static_cast<Index>(s.region.size()), slots, &profile);
+    const auto t_checks = SteadyClock::now();
+    if (!T.allFinite()) throw SolverError("updated_table: the table has non-finite entries");
+    t.set_columns_from_solution(std::move(T));
+    t.build_slots();
+    t.timings_ = g.timings_;
+    profile.finish_seconds += seconds_since(t_checks);
+    if (report) {
+      *report = s.timing;
+      report->table_seconds = seconds_since(t_table);
+      report->total_seconds = report->system_seconds + report->table_seconds;  // integration: the caller's (updated_table adds it)
+      report->snapshot_seconds = profile.snapshot_seconds;
+      report->gemm_seconds = profile.gemm_seconds;
+      report->finish_seconds = profile.finish_seconds;
+      const double n0 = static_cast<double>(g.num_dofs()), n1 = static_cast<double>(change.n_after);
+      const double d = static_cast<double>(change.size()), cols0 = static_cast<double>(slots ? old_columns.size() : 3 * g.region_.size());
+      report->table_gemm_flops = d > 0 ? 2.0 * n0 * cols0 * d + 2.0 * n1 * 2.0 * d * cols0 : 0.0;
+      report->snapshot_bytes = static_cast<std::size_t>(t.columns_.size() + t.reactions_.size()) * sizeof(double);
+    }
+    return out;
   }
 
   static std::shared_ptr<const GreensTable> updated(const GreensTable& g, std::shared_ptr<const TriangleMesh> after, const MeshDelta& delta,
                                                     const CutChange& change, const GreensTableUpdateOptions& options,
                                                     GreensTableUpdateResult* report) {
-    const auto t_start = SteadyClock::now();
     check_update(g, after.get(), delta, change);
-    const BoundaryConditions before = g.base_conditions();
-    const BoundaryConditions bc = conditions_after_cut(before, delta);
-    const auto t_system = SteadyClock::now();
-    const SystemChange system = system_change(change, before, bc);
-    // The region after the step and the table's columns to solve afresh come first: their LU solve
-    // rides along with U_s's (one multi-right-hand-side dgetrs). Old elements keep their slots;
-    // added elements near the region join at the end.
-    std::vector<Index> region1 = region_after_cut(g, *after, delta, options);
-    const FreshColumns fresh = fresh_columns(change, region1);
-    const Index nf = static_cast<Index>(fresh.table_cols.size());
-    Eigen::VectorXd rhs1 = rhs_after_cut(change, g.rhs_, before, bc);
-    Eigen::MatrixXd F = fresh_right_hand_sides(g, change, fresh, rhs1);
-    Eigen::MatrixXd Z;  // K^-1 U_s, then A*_after^-1 U_s (push-through: no further LU solve)
-    auto solver = std::make_shared<const LowRankUpdatedLu>(g.solver_->updated(change.n_after, system.Us, system.Vs, &Z, &F));
-    solver->finish_solve(Z);
-    solver->finish_solve(F);  // K^-1 F came with U_s's solve
-
-    auto out = std::make_shared<GreensTable>();
-    GreensTable& t = *out;
-    t.version_ = g.version_ + 1;
-    t.mesh_ = std::move(after);
-    t.solver_ = solver;
-    t.quadrature_ = g.quadrature_;
-    t.key_ = make_greens_table_key(*t.mesh_, g.key_.material, bc, g.key_.gravity, g.quadrature_);
-    t.base_kinds_ = bc.kinds();
-    t.base_values_ = bc.values();
-    t.rhs_ = std::move(rhs1);
-    t.set_base_state(bc, F.col(nf));
-    const auto t_table = SteadyClock::now();
-
-    const Index R1 = static_cast<Index>(region1.size());
-    t.region_ = std::move(region1);
-    const Eigen::MatrixXd CTt = correction_coefficients_transposed(g, change, system.X);
-    Eigen::MatrixXd T = columns_after_cut(g, change, Z, CTt, F, fresh, R1);
-    if (!T.allFinite()) throw SolverError("updated_table: the table has non-finite entries");
-    t.set_columns_from_solution(std::move(T));
-    t.build_slots();
-    t.timings_ = g.timings_;
-
-    if (report) {
-      report->integration_seconds = change.integration_seconds;
-      report->system_seconds = seconds_between(t_system, t_table);
-      report->table_seconds = seconds_since(t_table);
-      report->total_seconds = seconds_since(t_start);
-      report->rank = solver->rank();
-      report->added_region_elements = R1 - static_cast<Index>(g.region_.size());
-    }
-    return out;
+    CutStepState s;
+    s.before = &g;
+    s.change = &change;
+    s.after = std::move(after);
+    s.delta = delta;
+    prepare(s, options);
+    return table_of(s, nullptr, report);
   }
 
   static std::shared_ptr<const GreensTable> updated(const GreensTable& g, std::shared_ptr<const TriangleMesh> after, const MeshDelta& delta,
@@ -272,6 +384,62 @@ BEMSURG_INLINE std::vector<Index> region_after_cut(const GreensTable& g, const T
     if (join) region.push_back(e);
   }
   return region;
+}
+
+BEMSURG_INLINE std::vector<Index> elements_within_reach(const TriangleMesh& mesh, const std::vector<Index>& region,
+                                                        const std::vector<Eigen::Vector3d>& tools, double reach) {
+  std::vector<Index> out;
+  if (!(reach >= 0.0) || !std::isfinite(reach))
+    throw InvalidArgumentError("elements_within_reach: the reach must be finite and not negative, got " + number_text(reach));
+  for (const Eigen::Vector3d& p : tools)
+    if (!p.allFinite()) throw InvalidArgumentError("elements_within_reach: a tool position is not finite");
+  for (Index e : region) {
+    if (e < 0 || e >= mesh.num_elements())
+      throw InvalidArgumentError("elements_within_reach: region element " + std::to_string(e) + " is not on the mesh");
+    for (const Eigen::Vector3d& p : tools)
+      if ((mesh.centroid(e) - p).squaredNorm() <= reach * reach) {
+        out.push_back(e);
+        break;
+      }
+  }
+  return out;
+}
+
+BEMSURG_INLINE CutTableStep::CutTableStep(std::shared_ptr<const GreensTable> table, std::shared_ptr<const TriangleMesh> after,
+                                          const MeshDelta& delta, CutChange change, const GreensTableUpdateOptions& options) {
+  if (!table) throw InvalidArgumentError("CutTableStep: no table");
+  detail::GreensTableParts::check_update(*table, after.get(), delta, change);
+  auto s = std::make_shared<detail::CutStepState>();
+  s->keep_before = std::move(table);
+  s->before = s->keep_before.get();
+  s->keep_change = std::make_shared<const CutChange>(std::move(change));
+  s->change = s->keep_change.get();
+  s->after = std::move(after);
+  s->delta = delta;
+  detail::GreensTableParts::prepare(*s, options);
+  state_ = std::move(s);
+}
+
+BEMSURG_INLINE const std::vector<Index>& CutTableStep::region() const { return state_->region; }
+
+BEMSURG_INLINE const GreensTableUpdateResult& CutTableStep::result() const { return state_->timing; }
+
+BEMSURG_INLINE std::shared_ptr<const GreensTable> CutTableStep::first_response(const std::vector<Index>& reach,
+                                                                               GreensTableUpdateResult* report) const {
+  std::vector<char> wanted(static_cast<std::size_t>(state_->after->num_elements()), 0);
+  for (Index e : reach) {
+    if (e < 0 || e >= state_->after->num_elements())
+      throw InvalidArgumentError("CutTableStep::first_response: element " + std::to_string(e) + " is not on the cut mesh");
+    wanted[static_cast<std::size_t>(e)] = 1;
+  }
+  std::vector<Index> slots;
+  for (std::size_t s = 0; s < state_->region.size(); ++s)
+    if (wanted[static_cast<std::size_t>(state_->region[s])]) slots.push_back(static_cast<Index>(s));
+  return detail::GreensTableParts::table_of(*state_, &slots, report);
+}
+
+BEMSURG_INLINE std::shared_ptr<const GreensTable> CutTableStep::complete(GreensTableUpdateResult* report) const {
+  return detail::GreensTableParts::table_of(*state_, nullptr, report);
 }
 
 BEMSURG_INLINE std::shared_ptr<const GreensTable> updated_table(const GreensTable& table, std::shared_ptr<const TriangleMesh> after,
