@@ -10,7 +10,9 @@
 #include <atomic>
 #include <chrono>
 #include <memory>
+#include <mutex>
 #include <thread>
+#include <vector>
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -105,6 +107,77 @@ TEST_CASE("a cut step longer than the watchdog's staleness keeps the force: the 
     // machine delivers a tick late (seen once: 5.3 % at the pull).
     INFO("largest model-force jump " << r.max_force_jump_fraction << " at t = " << r.max_force_jump_time << " s");
     CHECK((r.max_force_jump_fraction < 0.05 || r.max_force_jump_time < 0.42));
+  }
+}
+
+TEST_CASE("a cut step answers first within the tools' reach, then completes before the next step", "[haptics][continuity][cut]") {
+  // docs/haptics.md, "First response, then the complete table": the hook's first response (0.1 s
+  // here, a table 1 % softer) is handed to the loop at once; its completion (0.3 s more, 2 % softer)
+  // follows on the background thread, and the next step (due 0.05 s later) waits for it.
+  struct Record {
+    std::mutex lock;
+    std::vector<double> requested, completed, reach;
+    std::vector<std::size_t> tools;
+    int completions = 0;
+  };
+  const auto record = std::make_shared<Record>();
+  const auto start = std::chrono::steady_clock::now();
+  const auto since = [start] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+  const Block& b = testing::haptic_block();
+  SessionOptions options;
+  options.loop.realtime_priority = 0;
+  options.cut_hook = [record, since](const CutRequest& r) {
+    {
+      std::lock_guard<std::mutex> g(record->lock);
+      record->requested.push_back(since());
+      record->reach.push_back(r.reach);
+      record->tools.push_back(r.tools.size());
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    CutResult out{r.mesh, testing::scaled_table(*r.table, 1.01)};
+    if (r.reach > 0.0) {
+      const std::shared_ptr<const GreensTable> table = r.table;
+      out.complete = [record, since, table] {
+        std::this_thread::sleep_for(std::chrono::milliseconds(300));
+        std::lock_guard<std::mutex> g(record->lock);
+        ++record->completions;
+        record->completed.push_back(since());
+        return testing::scaled_table(*table, 1.02);
+      };
+    }
+    return out;
+  };
+  SECTION("two phases (the default)") {
+    Session session(b.mesh, b.table, load_action_script_from_string(kHoldScript), options);
+    const SessionResult r = session.run();
+    CHECK(r.cuts == 2);
+    REQUIRE(r.cut_step_seconds.size() == 2);
+    REQUIRE(r.cut_complete_seconds.size() == 2);
+    std::lock_guard<std::mutex> g(record->lock);
+    CHECK(record->completions == 2);
+    REQUIRE(record->requested.size() == 2);
+    REQUIRE(record->completed.size() == 2);
+    CHECK(record->requested[1] >= record->completed[0]);  // the next step waited for the completion
+    CHECK(r.cut_steps_waited == 1);
+    for (std::size_t i = 0; i < 2; ++i) {
+      CHECK(record->reach[i] >= options.reach_margin);  // a 0-radius pinch and blade: the margin
+      CHECK(record->tools[i] == 2);                     // both tools' positions
+      CHECK(r.cut_step_seconds[i] >= 0.1);
+      CHECK(r.cut_complete_seconds[i] >= r.cut_step_seconds[i] + 0.29);
+    }
+    CHECK(r.loop.watchdog_ticks == 0);
+    CHECK(r.loop.model_swaps >= 4);  // each step's first response and its completion
+  }
+  SECTION("one phase: the hook is asked for the complete table at once") {
+    options.first_response = false;
+    Session session(b.mesh, b.table, load_action_script_from_string(kHoldScript), options);
+    const SessionResult r = session.run();
+    CHECK(r.cuts == 2);
+    REQUIRE(r.cut_complete_seconds.size() == 2);
+    CHECK(r.cut_complete_seconds == r.cut_step_seconds);
+    std::lock_guard<std::mutex> g(record->lock);
+    CHECK(record->completions == 0);
+    for (double reach : record->reach) CHECK(reach == 0.0);
   }
 }
 

@@ -96,6 +96,8 @@ nlohmann::json report_json(const bemsurg::haptics::SessionResult& r, const bemsu
   j["max_tick_change_fraction"] = r.felt.max_tick_change_fraction;
   j["max_tick_change_time"] = r.felt.max_tick_change_time;
   j["cut_step_seconds"] = r.cut_step_seconds;
+  j["cut_complete_seconds"] = r.cut_complete_seconds;
+  j["cut_steps_waited"] = r.cut_steps_waited;
   j["ticks"] = s.ticks;
   j["dropped_packets"] = s.dropped_packets;
   j["model_swaps"] = s.model_swaps;

@@ -33,11 +33,24 @@ CutHook surface_cut_hook() {
       state->system->begin_cut();
       state->action = r.action;
     }
+    const auto refused = [&r](const std::string& reason) {
+      return ContactError("cut action " + std::to_string(r.action) + ", step " + std::to_string(r.step + 1) + " refused: " + reason);
+    };
+    if (r.reach > 0.0) {  // two phases: the first response now, the complete table when the session asks
+      std::shared_ptr<const GreensTable> first;
+      const CutStepResult step = state->system->cut_first(r.from, r.direction, r.tools, r.reach, first);
+      if (!step.accepted) throw refused(step.reason);
+      auto complete = [state] {
+        state->system->complete_step();
+        state->returned = state->system->table();
+        return state->returned;
+      };
+      return {first->mesh(), first, complete};
+    }
     const CutStepResult step = state->system->cut(r.from, r.direction, CutUpdateMethod::Exact);
-    if (!step.accepted)
-      throw ContactError("cut action " + std::to_string(r.action) + ", step " + std::to_string(r.step + 1) + " refused: " + step.reason);
+    if (!step.accepted) throw refused(step.reason);
     state->returned = state->system->table();
-    return {state->returned->mesh(), state->returned};
+    return {state->returned->mesh(), state->returned, {}};
   };
 }
 

@@ -7,6 +7,7 @@
 // viewer's headless mode all run sessions through this class.
 #pragma once
 
+#include <chrono>
 #include <functional>
 #include <map>
 #include <memory>
@@ -31,12 +32,19 @@ struct CutRequest {
   Eigen::Vector3d direction = Eigen::Vector3d::UnitX();
   int step = 0;
   int action = 0;  // index into ActionScript::actions
+  /// A first response is wanted (reach > 0): the table may first cover only the region elements within
+  /// `reach` of these tool positions, and CutResult::complete then makes the whole one.
+  std::vector<Eigen::Vector3d> tools = {};
+  double reach = 0.0;
 };
 /// The new snapshots after the cut (new objects: the old ones stay valid for whoever holds them).
 /// \ingroup haptics
 struct CutResult {
   std::shared_ptr<const TriangleMesh> mesh;
   std::shared_ptr<const GreensTable> table;
+  /// Set when `table` is a first response (docs/cutting.md, "First response"): computes the complete
+  /// table of the same step. The session calls it once, before the next cut step, off the haptic thread.
+  std::function<std::shared_ptr<const GreensTable>()> complete = nullptr;
 };
 /// The cutting module's entry point for sessions. Unset: a session refuses scripts with cuts.
 using CutHook = std::function<CutResult(const CutRequest&)>;
@@ -64,6 +72,13 @@ struct SessionOptions {
   /// Real-time sessions: background work gets cores - 1 threads while the loop runs
   /// (BackgroundThreadBudget), so the haptic thread keeps a core.
   bool limit_background_threads = true;
+  /// Cut steps answer in two phases (docs/haptics.md, "Feeling through a cut"): first the table columns
+  /// of the elements within reach of the tools (each tool's radius times 1 + slide_margin_radii, plus
+  /// reach_margin, from where it is when the step is requested), handed to the loop at once; then the
+  /// complete table, before the next cut step starts. false: one phase (the complete table only).
+  bool first_response = true;
+  /// How far a tool may move while a step completes, beyond its own reach (m).
+  double reach_margin = 0.01;
   /// A background step running longer than this is taken as hung: the heartbeat stops (the
   /// watchdog fades the force within loop.stale_after_s + loop.ramp_s) and the session ends with
   /// an error.
@@ -97,7 +112,13 @@ struct SessionResult {
   std::vector<double> peak_force;  // per tool, N (model force)
   int models_built = 0;
   int cuts = 0;
-  std::vector<double> cut_step_seconds;  // wall time of each cut step (the hook), in order
+  /// Wall time of each cut step from its request to its first response delivered to the loop (the complete
+  /// table, without first responses), in order.
+  std::vector<double> cut_step_seconds;
+  /// Wall time of each cut step from its request to its complete table delivered to the loop, in order.
+  std::vector<double> cut_complete_seconds;
+  /// Cut steps whose time came while the step before was still completing: they waited for it.
+  int cut_steps_waited = 0;
   int field_updates = 0;
   Percentiles field_ms;  // time of one displacement-field update (graphics side), in ms
   double session_seconds = 0.0;
@@ -139,6 +160,7 @@ class Session {
     int action;
     int step;
     bool done = false;
+    bool waited = false;  // its time came while the step before was still completing
   };
   ToolSpec contact_spec(int tool) const;
   void build_keyframes();
@@ -147,6 +169,8 @@ class Session {
   void drain(HapticLoop& loop, SessionObserver* observer);
   void run_cuts(double now, SessionObserver* observer, SessionResult& result);
   void apply_cut(const CutResult& r, const ScheduledCut& c, SessionObserver* observer, SessionResult& result);
+  void complete_cut(const CutResult& r, ScheduledCut& c, SessionResult& result);
+  std::vector<Eigen::Vector3d> reach_points(double& reach) const;
   void finish_metrics(SessionResult& result) const;
 
   std::shared_ptr<const TriangleMesh> mesh_;
@@ -160,6 +184,8 @@ class Session {
   BackgroundTask<CutResult> cut_task_;
   std::size_t cut_in_flight_ = 0;  // index into cuts_ of the step cut_task_ computes
   double cut_started_ = 0.0;       // wall seconds of the step in line
+  bool completing_ = false;        // cut_task_ computes the complete table of the step in flight
+  std::chrono::steady_clock::time_point cut_requested_{};
   bool in_realtime_ = false;
   int thread_budget_ = 0;  // OpenMP threads for a background step (0: unchanged)
   bool hung_ = false;
