@@ -120,6 +120,8 @@ nlohmann::json run_json(const Run& r) {
           {"max_force_jump_fraction", r.result.max_force_jump_fraction},
           {"cuts", r.result.cuts},
           {"cut_step_seconds", r.result.cut_step_seconds},
+          {"cut_complete_seconds", r.result.cut_complete_seconds},
+          {"cut_steps_waited", r.result.cut_steps_waited},
           {"peak_model_force", r.result.peak_force.empty() ? 0.0 : r.result.peak_force[0]}};
 }
 
@@ -161,6 +163,7 @@ int main(int argc, char** argv) {
       o.background_steps = false;
       o.limit_background_threads = false;
       o.loop.blend_s = 0.0;
+      o.first_response = false;  // one phase, as before issue 39
       o.loop.realtime_priority = 0;
     }
     return o;
@@ -205,7 +208,7 @@ int main(int argc, char** argv) {
   nlohmann::json summary = nlohmann::json::array();
   for (const std::string configuration : {"empty", "before", "after"})
     for (const std::string load : {"quiet", "loaded"}) {
-      std::vector<double> rate, overruns, ratio, change, steps;
+      std::vector<double> rate, overruns, ratio, change, steps, completes;
       for (const nlohmann::json& r : j_runs)
         if (r["configuration"] == configuration && r["load"] == load) {
           rate.push_back(r["rate_hz"]);
@@ -213,6 +216,7 @@ int main(int argc, char** argv) {
           ratio.push_back(r["min_delivered_force_ratio"]);
           change.push_back(r["max_tick_change_fraction"]);
           for (double x : r["cut_step_seconds"]) steps.push_back(x);
+          for (double x : r["cut_complete_seconds"]) completes.push_back(x);
         }
       if (rate.empty()) continue;
       summary.push_back({{"configuration", configuration},
@@ -226,6 +230,7 @@ int main(int argc, char** argv) {
                          {"cut_step_seconds_median", steps.empty() ? 0.0 : bench::median(steps)},
                          {"cut_step_seconds_min", steps.empty() ? 0.0 : *std::min_element(steps.begin(), steps.end())},
                          {"cut_step_seconds_max", steps.empty() ? 0.0 : *std::max_element(steps.begin(), steps.end())},
+                         {"cut_complete_seconds_median", completes.empty() ? 0.0 : bench::median(completes)},
                          {"cut_steps", steps.size()}});
       std::printf("summary %-7s %-7s %d runs: rate median %s Hz (min %s), overruns/s median %s, min D/M %s %%, max dD %s %%\n",
                   configuration.c_str(), load.c_str(), static_cast<int>(rate.size()), fixed_text(bench::median(rate), 1).c_str(),

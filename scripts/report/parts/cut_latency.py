@@ -96,7 +96,7 @@ def _chart(ctx, rows, fits):
     ax.set_xlabel("equations n")
     ax.set_ylabel("seconds per cut step")
     ax.set_title("Exact cut-step latency against n (median over 6 steps of one cut)", fontsize=9)
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=7, loc="lower right")
     rl.save(fig, ctx.image("cut_latency"))
 
 

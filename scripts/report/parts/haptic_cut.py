@@ -7,7 +7,8 @@ as the rate baseline (benchmarks/bench_cut_continuity.cpp).
 
 Data: DIR/haptic_cut/bench_cut_continuity.json (per run: configuration, load, rate_hz,
 overruns_per_s, min_delivered_force_ratio, max_tick_change_fraction, max_force_jump_fraction,
-watchdog_ticks, cuts, cut_step_seconds; cut_times, blend_s, stale_after_s) and
+watchdog_ticks, cuts, cut_step_seconds (to the first response), cut_complete_seconds; cut_times,
+blend_s, stale_after_s) and
 trace_<configuration>_<load>.csv (time, model, delivered, watchdog_gain, blend_weight,
 model_version: the probe, every tick).
 """
@@ -73,16 +74,19 @@ def _table(j):
     rows = j["summary"]
     empty = {r["load"]: r for r in rows if r["configuration"] == "empty"}
     lines = ["| configuration | load | runs | rate, median (min) Hz | overruns / s, median | delivered / model, min | "
-             "largest tick change | cut step, median (min–max over the runs' steps) | targets |",
-             "|---|---|---|---|---|---|---|---|---|"]
+             "largest tick change | cut step to first response, median (min–max over the runs' steps) | "
+             "to the complete table, median | targets |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         target = "baseline" if r["configuration"] == "empty" else _verdict(r, empty.get(r["load"]))
         step = (rl.spread_text(r["cut_step_seconds_median"], r.get("cut_step_seconds_min"), r.get("cut_step_seconds_max"),
                                r.get("cut_steps")).replace(" runs)", " steps)")
                 if r["configuration"] != "empty" else "–")
+        complete = (rl.seconds_text(r["cut_complete_seconds_median"])
+                    if r["configuration"] != "empty" and "cut_complete_seconds_median" in r else "–")
         lines.append(f"| {r['configuration']} | {r['load']} | {r['runs']} | {r['rate_hz_median']:.1f} ({r['rate_hz_min']:.1f}) | "
                      f"{r['overruns_per_s_median']:.2f} | {100 * r['min_delivered_force_ratio']:.1f} % | "
-                     f"{100 * r['max_tick_change_fraction']:.2f} % | {step} | {target} |")
+                     f"{100 * r['max_tick_change_fraction']:.2f} % | {step} | {complete} | {target} |")
     cuts = [r["cuts"] for r in j["runs"] if r["configuration"] != "empty"]
     prio = sorted({r["realtime_priority"] for r in j["runs"] if r["configuration"] == "after"})
     made = f"all {max(cuts)}" if min(cuts) == max(cuts) else f"{min(cuts)} to {max(cuts)}"
