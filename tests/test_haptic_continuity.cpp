@@ -161,7 +161,7 @@ TEST_CASE("a cut step answers first within the tools' reach, then completes befo
     CHECK(r.cut_steps_waited == 1);
     for (std::size_t i = 0; i < 2; ++i) {
       CHECK(record->reach[i] >= options.reach_margin);  // a 0-radius pinch and blade: the margin
-      CHECK(record->tools[i] == 2);                     // both tools' positions
+      CHECK(record->tools[i] == 3);                     // both tools' tips and where the pinch holds
       CHECK(r.cut_step_seconds[i] >= 0.1);
       CHECK(r.cut_complete_seconds[i] >= r.cut_step_seconds[i] + 0.29);
     }

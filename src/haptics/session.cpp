@@ -281,12 +281,14 @@ std::unique_ptr<ContactModel> Session::build_model() {
       case ScriptToolShape::Flat:
         if (e.placed) s.place(t, e.at, e.direction);
         break;
+      // Missed the body: nothing held. Not while a cut step completes: the first response's table
+      // covers only the tools' reach, and the complete one (a rebuild follows) decides.
       case ScriptToolShape::Point:
       case ScriptToolShape::Pinch:
-        if (e.active && !s.engage(t, e.at, e.direction)) e.active = false;  // missed the body: nothing held
+        if (e.active && !s.engage(t, e.at, e.direction) && !completing_) e.active = false;
         break;
       case ScriptToolShape::Plate:
-        if (e.active && !s.engage(t, centroid(tool.polygon), tool.direction)) e.active = false;
+        if (e.active && !s.engage(t, centroid(tool.polygon), tool.direction) && !completing_) e.active = false;
         break;
       case ScriptToolShape::Blade: break;
     }
@@ -354,6 +356,8 @@ std::vector<Eigen::Vector3d> Session::reach_points(double& reach) const {
   for (std::size_t t = 0; t < script_.tools.size(); ++t) {
     const ScriptTool& tool = script_.tools[t];
     points.push_back(position_[t]);
+    const Engagement& e = engagement_[t];
+    if (e.active || e.placed) points.push_back(e.at);  // what it holds or slides from (a pinch may have pulled away from it)
     reach = std::max(reach, tool.radius * (1.0 + options_.slide_margin_radii) + options_.reach_margin);
     if (tool.polygon.size() < 3) continue;
     reach = std::max(reach, tool.plate_tolerance + options_.reach_margin);
