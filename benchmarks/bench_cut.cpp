@@ -285,7 +285,10 @@ json latency_point(int N) {
       const auto t0 = SteadyClock::now();
       CutChange change = integrate_cut_change(*t->mesh(), *s.mesh, s.delta, t->material(), t->quadrature(), t->gravity());
       const CutTableStep cut(t, s.mesh, s.delta, std::move(change));
-      const Eigen::Vector3d probe = s.mesh->centroid(s.delta.added.front());
+      // A probe where the step cut: its first new element (a cut step always adds some; else its first changed one).
+      const std::vector<Index> changed = s.delta.changed();
+      const Index at = !s.delta.added.empty() ? s.delta.added.front() : !changed.empty() ? changed.front() : 0;
+      const Eigen::Vector3d probe = s.mesh->centroid(at);
       const std::vector<Index> reach = elements_within_reach(*s.mesh, cut.region(), {probe}, kReach);
       early = cut.first_response(reach);
       first_s = seconds_since(t0);

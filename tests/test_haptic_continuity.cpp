@@ -161,7 +161,7 @@ TEST_CASE("a cut step answers first within the tools' reach, then completes befo
     CHECK(r.cut_steps_waited == 1);
     for (std::size_t i = 0; i < 2; ++i) {
       CHECK(record->reach[i] >= options.reach_margin);  // a 0-radius pinch and blade: the margin
-      CHECK(record->tools[i] == 3);                     // both tools' tips and where the pinch holds
+      CHECK(record->tools[i] >= 3);                     // both tools' tips, where the pinch holds, the elements in contact
       CHECK(r.cut_step_seconds[i] >= 0.1);
       CHECK(r.cut_complete_seconds[i] >= r.cut_step_seconds[i] + 0.29);
     }
@@ -179,6 +179,54 @@ TEST_CASE("a cut step answers first within the tools' reach, then completes befo
     CHECK(record->completions == 0);
     for (double reach : record->reach) CHECK(reach == 0.0);
   }
+}
+
+TEST_CASE("a grasp made while a cut step completes waits for the complete table", "[haptics][continuity][cut]") {
+  // The first response's table covers only the tools' reach; a pinch closing meanwhile on an element
+  // outside it (engage refuses an element outside the table's region) used to end the session with
+  // an error. It now waits for the complete table, and holds once that lands.
+  const char* script = R"({
+    "format": "bemsurg-actions", "version": 1, "rate_hz": 1000,
+    "tools": [{"name": "grasper", "shape": "pinch", "start": [0.52, 0.47, 0.9]},
+              {"name": "scalpel", "shape": "blade", "device": 1}],
+    "actions": [
+      {"time": 0.05, "tool": "scalpel", "type": "cut", "from": [0.2, 0.2, 0.5], "direction": [1, 0, 0], "steps": 1},
+      {"time": 0.2, "tool": "grasper", "type": "pinch", "at": [0.52, 0.47, 0.7], "direction": [0, 0, -1]},
+      {"time": 0.2, "tool": "grasper", "type": "move", "to": [0.52, 0.47, 0.501], "duration": 0.4},
+      {"time": 1.1, "tool": "grasper", "type": "release"}
+    ]})";
+  const Block& b = testing::haptic_block();
+  // The first response: the table over the elements left of x = 0.3 only (the grasp is at x = 0.52).
+  std::vector<Index> near;
+  for (Index e : b.table->region())
+    if (b.mesh->centroid(e).x() < 0.3) near.push_back(e);
+  Eigen::MatrixXd columns(b.table->num_dofs(), 3 * static_cast<Index>(near.size()));
+  for (std::size_t i = 0; i < near.size(); ++i)
+    columns.middleCols(3 * static_cast<Index>(i), 3) = b.table->columns().middleCols(3 * b.table->region_slot(near[i]), 3);
+  const auto first = std::make_shared<const GreensTable>(b.table->key(), near, b.table->base_displacement(), b.table->base_traction(),
+                                                         b.table->base_kinds(), columns);
+  SessionOptions options;
+  options.loop.realtime_priority = 0;
+  const auto completions = std::make_shared<std::atomic<int>>(0);
+  const auto asked_first = std::make_shared<std::atomic<bool>>(false);
+  options.cut_hook = [first, completions, asked_first](const CutRequest& r) {  // runs on the background thread: no assertions
+    asked_first->store(r.reach > 0.0);
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    const std::shared_ptr<const GreensTable> complete = r.table;
+    return CutResult{r.mesh, first, [complete, completions] {
+                       std::this_thread::sleep_for(std::chrono::milliseconds(600));
+                       ++*completions;
+                       return complete;
+                     }};
+  };
+  Session session(b.mesh, b.table, load_action_script_from_string(script), options);
+  SessionResult r;
+  REQUIRE_NOTHROW(r = session.run());
+  CHECK(r.cuts == 1);
+  CHECK(asked_first->load());
+  CHECK(*completions == 1);
+  REQUIRE(r.peak_force.size() == 2);
+  CHECK(r.peak_force[0] > 0.0);  // the grasp held once the complete table landed
 }
 
 TEST_CASE("the watchdog still fades the force when the simulation side is gone", "[haptics][continuity][safety]") {

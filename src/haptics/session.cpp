@@ -261,6 +261,16 @@ void Session::build_keyframes() {
   }
 }
 
+bool Session::engage_or_wait(ToolContactSolver& s, int tool, const Eigen::Vector3d& at, const Eigen::Vector3d& direction) const {
+  // True when engaged, or when the engagement waits for a cut step's complete table; false: it missed.
+  try {
+    return s.engage(tool, at, direction) || completing_;
+  } catch (const ContactError&) {
+    if (!completing_) throw;  // outside the region of a complete table: the scene's error, as before
+    return true;
+  }
+}
+
 std::unique_ptr<ContactModel> Session::build_model() {
   auto m = std::make_unique<ContactModel>();
   m->mesh = mesh_;
@@ -282,13 +292,14 @@ std::unique_ptr<ContactModel> Session::build_model() {
         if (e.placed) s.place(t, e.at, e.direction);
         break;
       // Missed the body: nothing held. Not while a cut step completes: the first response's table
-      // covers only the tools' reach, and the complete one (a rebuild follows) decides.
+      // covers only the tools' reach (engage refuses an element outside it), and the complete table
+      // (a rebuild follows) decides.
       case ScriptToolShape::Point:
       case ScriptToolShape::Pinch:
-        if (e.active && !s.engage(t, e.at, e.direction) && !completing_) e.active = false;
+        if (e.active && !engage_or_wait(s, t, e.at, e.direction)) e.active = false;
         break;
       case ScriptToolShape::Plate:
-        if (e.active && !s.engage(t, centroid(tool.polygon), tool.direction) && !completing_) e.active = false;
+        if (e.active && !engage_or_wait(s, t, centroid(tool.polygon), tool.direction)) e.active = false;
         break;
       case ScriptToolShape::Blade: break;
     }
@@ -348,10 +359,13 @@ void Session::complete_cut(const CutResult& r, ScheduledCut& c, SessionResult& r
 }
 
 std::vector<Eigen::Vector3d> Session::reach_points(double& reach) const {
-  // Every tool's tip (and a plate's polygon, sampled finer than the margin, moved with the tool),
-  // and the largest of their reaches: radius x (1 + slide margin) + the margin a tool may move
-  // while the step completes.
+  // Every tool's tip, where it holds or slides from, a plate's polygon (where its elements are
+  // collected, sampled finer than the margin) and the centroid of every element in contact now (a
+  // deep press holds elements along its path), and the largest of their reaches: radius x (1 +
+  // slide margin) + the margin a tool may move while the step completes.
   std::vector<Eigen::Vector3d> points;
+  for (Index e : in_contact_)
+    if (e >= 0 && e < mesh_->num_elements()) points.push_back(mesh_->centroid(e));
   reach = options_.reach_margin;
   for (std::size_t t = 0; t < script_.tools.size(); ++t) {
     const ScriptTool& tool = script_.tools[t];
@@ -361,13 +375,13 @@ std::vector<Eigen::Vector3d> Session::reach_points(double& reach) const {
     reach = std::max(reach, tool.radius * (1.0 + options_.slide_margin_radii) + options_.reach_margin);
     if (tool.polygon.size() < 3) continue;
     reach = std::max(reach, tool.plate_tolerance + options_.reach_margin);
-    const Eigen::Vector3d c = centroid(tool.polygon), shift = position_[t] - c;
+    const Eigen::Vector3d c = centroid(tool.polygon);
     for (std::size_t i = 0; i < tool.polygon.size(); ++i) {  // fan triangles (c, a, b), a barycentric grid on each
       const Eigen::Vector3d a = tool.polygon[i], b = tool.polygon[(i + 1) % tool.polygon.size()];
       const double size = std::max({(a - c).norm(), (b - c).norm(), (b - a).norm()});
       const int k = std::max(1, static_cast<int>(std::ceil(size / std::max(1e-9, options_.reach_margin))));
       for (int u = 0; u <= k; ++u)
-        for (int v = 0; u + v <= k; ++v) points.push_back(shift + c + (double(u) / k) * (a - c) + (double(v) / k) * (b - c));
+        for (int v = 0; u + v <= k; ++v) points.push_back(c + (double(u) / k) * (a - c) + (double(v) / k) * (b - c));
     }
   }
   return points;
@@ -416,16 +430,17 @@ void Session::run_cuts(double now, SessionObserver* observer, SessionResult& res
     if (c.time > now) return;
     const Action& a = script_.actions[static_cast<std::size_t>(c.action)];
     CutRequest req{mesh_, table_, a.from, a.direction, c.step, c.action, {}, 0.0};
-    if (options_.first_response) req.tools = reach_points(req.reach);
+    const bool background = in_realtime_ && options_.background_steps;
+    if (options_.first_response && background) req.tools = reach_points(req.reach);
     cut_requested_ = std::chrono::steady_clock::now();
-    if (in_realtime_ && options_.background_steps) {
+    if (background) {
       cut_in_flight_ = i;
       completing_ = false;
       cut_task_.start([hook = options_.cut_hook, req] { return hook(req); }, thread_budget_);
       return;
     }
-    // In line (virtual clock, or background steps off): both phases at once, so the loop's next
-    // model is built on the complete table (a virtual-clock trace does not depend on the split).
+    // In line (virtual clock, or background steps off): one phase, since nothing could be rendered
+    // between two (a hook that still gives a completion has it run at once).
     const CutResult r = options_.cut_hook(req);
     result.cut_step_seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - cut_requested_).count());
     apply_cut(r, c, observer, result);
@@ -470,6 +485,12 @@ void Session::simulation_step(HapticLoop& loop, SessionObserver* observer, Sessi
       g.direction = direction_[t];
       dirty_ = true;
     }
+  }
+  if (options_.first_response && !cut_task_.busy()) {  // what the tools hold now, for a cut step's first response
+    in_contact_.clear();
+    if (const PublishedContact* pc = loop.latest_contact())
+      in_contact_.assign(pc->elements.begin(),
+                         pc->elements.begin() + std::min<std::ptrdiff_t>(pc->count, std::ptrdiff_t(pc->elements.size())));
   }
   run_cuts(now, observer, result);
   if (dirty_ && !loop.offer_pending()) {

@@ -57,7 +57,7 @@ enum class CutUpdateMethod { Exact, Gmres, BiCgStab, BiCg, Refactor };
 /// limit: bench_stability's updates study (docs/stability.md (f)) finds the updated solution
 /// within round-off (about 1e-14) of a fresh LU of the same system far past it, for random
 /// splits, cuts and the same elements reshaped over and over; it bounds the cost an update adds to
-/// every solve (4 n r flops on top of the LU's 2 n^2) and the memory of U, V, W (3 n r doubles).
+/// every solve (4 n r flops on top of the LU's 2 n^2) and the memory of V and W (2 n r doubles).
 inline Index default_refactor_rank(Index n) { return std::max<Index>(96, n / 10); }
 
 /// Names as `bemsurg cut --update` and report.json write them.
@@ -244,14 +244,16 @@ class CutSystemUpdate {
   bool completion_pending() const { return pending_step_ != nullptr; }
 
   /// The second phase of cut_first(): the complete table, published (table(), solution()) as apply()
-  /// publishes, and the refactorisation policy applied. Its total_seconds count from cut_first's start.
+  /// publishes, and the refactorisation policy applied. Its total_seconds count from cut_first's start;
+  /// its integration and system seconds are cut_first's again (computed once). On an exception nothing
+  /// is published and the step stays pending: complete_step may be called again.
   CutStepResult complete_step() {
     if (!pending_step_) throw InvalidArgumentError("CutSystemUpdate::complete_step: no step is waiting (cut_first)");
-    const std::unique_ptr<CutTableStep> step = std::move(pending_step_);
     CutStepResult r;
     r.delta = pending_delta_;
     GreensTableUpdateResult tr;
-    const std::shared_ptr<const GreensTable> next = step->complete(&tr);
+    const std::shared_ptr<const GreensTable> next = pending_step_->complete(&tr);
+    pending_step_.reset();  // from here on nothing throws
     r.integration_seconds = tr.integration_seconds;
     r.system_seconds = tr.system_seconds;
     r.table_seconds = tr.table_seconds;

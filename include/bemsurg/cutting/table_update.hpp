@@ -30,9 +30,10 @@ struct GreensTableUpdateOptions {
   double join_distance = 0.0;
 };
 
-/// Wall-clock seconds of one table update after a cut step, by phase, and what it left. The three
-/// phases (integration, system, table) add up to the total; the profile below splits the last two
-/// by the kind of work (docs/cutting.md, "Where a step's time goes").
+/// Wall-clock seconds of one table update after a cut step, by phase, and what it left. The profile
+/// below splits the system and table phases by the kind of work (docs/cutting.md, "Where a step's time
+/// goes"). total_seconds: system + table, and integration too when updated_table integrated the change
+/// itself. A CutTableStep's reports repeat the system phase, which its construction took once.
 /// \ingroup cutting
 struct GreensTableUpdateResult {
   double integration_seconds = 0.0;  // rows and columns of the changed elements, both meshes
@@ -43,7 +44,7 @@ struct GreensTableUpdateResult {
   double change_seconds = 0.0;      // the step's terms X, U_s, V_s, the new right-hand side and the fresh columns' right-hand sides
   double solve_seconds = 0.0;       // LU triangular solves (one multi-right-hand-side dgetrs)
   Index solve_columns = 0;          // right-hand sides that went through the LU
-  double correction_seconds = 0.0;  // the accumulated rank: U, V, W and the capacitance grown, Woodbury finish of the solves
+  double correction_seconds = 0.0;  // the accumulated rank: V, W and the capacitance grown, Woodbury finish of the solves
   double snapshot_seconds = 0.0;    // the new table's matrix allocated and the old columns copied in (first touches)
   double gemm_seconds = 0.0;        // the table's products: X T and the Woodbury term (one GEMM each)
   double finish_seconds = 0.0;      // fresh columns placed, finiteness check, reaction rows and slots

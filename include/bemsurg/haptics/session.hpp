@@ -32,8 +32,9 @@ struct CutRequest {
   Eigen::Vector3d direction = Eigen::Vector3d::UnitX();
   int step = 0;
   int action = 0;  // index into ActionScript::actions
-  /// A first response is wanted (reach > 0): the table may first cover only the region elements within
-  /// `reach` of these tool positions, and CutResult::complete then makes the whole one.
+  /// A first response is wanted (reach > 0; real-time sessions with background steps): the table may
+  /// first cover only the region elements within `reach` of these points (the tools, and the elements in
+  /// contact), and CutResult::complete then makes the whole one.
   std::vector<Eigen::Vector3d> tools = {};
   double reach = 0.0;
 };
@@ -117,7 +118,7 @@ struct SessionResult {
   std::vector<double> cut_step_seconds;
   /// Wall time of each cut step from its request to its complete table delivered to the loop, in order.
   std::vector<double> cut_complete_seconds;
-  /// Cut steps whose time came while the step before was still completing: they waited for it.
+  /// Cut steps whose time came while the step before was still being computed (either phase): they waited for it.
   int cut_steps_waited = 0;
   int field_updates = 0;
   Percentiles field_ms;  // time of one displacement-field update (graphics side), in ms
@@ -171,6 +172,7 @@ class Session {
   void apply_cut(const CutResult& r, const ScheduledCut& c, SessionObserver* observer, SessionResult& result);
   void complete_cut(const CutResult& r, ScheduledCut& c, SessionResult& result);
   std::vector<Eigen::Vector3d> reach_points(double& reach) const;
+  bool engage_or_wait(ToolContactSolver& s, int tool, const Eigen::Vector3d& at, const Eigen::Vector3d& direction) const;
   void finish_metrics(SessionResult& result) const;
 
   std::shared_ptr<const TriangleMesh> mesh_;
@@ -185,6 +187,7 @@ class Session {
   std::size_t cut_in_flight_ = 0;  // index into cuts_ of the step cut_task_ computes
   double cut_started_ = 0.0;       // wall seconds of the step in line
   bool completing_ = false;        // cut_task_ computes the complete table of the step in flight
+  std::vector<Index> in_contact_;  // elements in contact when the last cut step was requested
   std::chrono::steady_clock::time_point cut_requested_{};
   bool in_realtime_ = false;
   int thread_budget_ = 0;  // OpenMP threads for a background step (0: unchanged)

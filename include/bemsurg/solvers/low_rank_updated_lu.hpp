@@ -37,7 +37,7 @@ namespace bemsurg {
 struct LowRankUpdateProfile {
   double base_solve_seconds = 0.0;  // K^-1 applied to the step's columns: one multi-right-hand-side dgetrs
   Index base_solve_columns = 0;     // right-hand sides that went through the LU (new dofs' unit columns need none)
-  double correction_seconds = 0.0;  // U, V, W grown by the step's columns and the capacitance C refactorised
+  double correction_seconds = 0.0;  // V and W grown by the step's columns and the capacitance C refactorised
 };
 
 /// The solver of a system a cut has grown and reshaped: the precompute's LU (LuFactors) plus an accumulated low-rank
@@ -55,10 +55,10 @@ class LowRankUpdatedLu {
   Index size() const { return n_; }
   Index base_size() const { return base_ ? base_->size() : 0; }
   /// Rank of the accumulated correction U V^T (columns of U).
-  Index rank() const { return U_.cols(); }
+  Index rank() const { return W_.cols(); }
   const std::shared_ptr<const LuFactors>& base() const { return base_; }
-  /// Bytes held beyond the shared base factorisation: U, V, W (n x r each) and C (r x r, twice).
-  std::size_t bytes() const { return static_cast<std::size_t>(3 * U_.size() + 2 * C_.size()) * sizeof(double); }
+  /// Bytes held beyond the shared base factorisation: V, W (n x r each) and C (r x r, twice).
+  std::size_t bytes() const { return static_cast<std::size_t>(2 * W_.size() + 2 * C_.size()) * sizeof(double); }
 
   /// B <- K^-1 B in place: the LU solve on the first n0 rows (only for the columns that have
   /// anything there), identity on the rest. Returns the number of columns that went through the LU.
@@ -145,7 +145,6 @@ class LowRankUpdatedLu {
       m.rightCols(k) = add;
       return m;
     };
-    out.U_ = grow(U_, Us);
     out.V_ = grow(V_, Vs);
     out.W_ = grow(W_, Ws);
     // C_new = I + V_new^T W_new, grown by blocks: the old block is kept as it was.
@@ -177,8 +176,10 @@ class LowRankUpdatedLu {
 
   std::shared_ptr<const LuFactors> base_;
   Index n_ = 0;
-  Eigen::MatrixXd U_, V_, W_;  // n x r
-  Eigen::MatrixXd C_;          // r x r: I + V^T W
+  // n x r. U itself is not kept: solves need only W = K^-1 U (and V); keeping U cost a copy of n r
+  // doubles per step (the accumulated rank's share of a cut step, docs/cutting.md).
+  Eigen::MatrixXd V_, W_;
+  Eigen::MatrixXd C_;  // r x r: I + V^T W
   Eigen::PartialPivLU<Eigen::MatrixXd> C_lu_;
 };
 

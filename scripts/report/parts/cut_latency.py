@@ -29,7 +29,7 @@ FULL_EQUATIONS = "1584,3000,4752,9000,12000,15000"
 PHASES = [("integration_seconds", "integration (changed rows and columns)", "tab:olive"),
           ("change_seconds", "the step's terms X, U, V and right-hand sides", "tab:cyan"),
           ("solve_seconds", "LU solves (dgetrs)", "tab:blue"),
-          ("correction_seconds", "accumulated rank (U, V, W, capacitance, Woodbury)", "tab:orange"),
+          ("correction_seconds", "accumulated rank (V, W, capacitance, Woodbury)", "tab:orange"),
           ("snapshot_seconds", "new snapshot: allocation and copy (first touches)", "tab:pink"),
           ("gemm_seconds", "table GEMMs (X T, Woodbury term)", "tab:red"),
           ("finish_seconds", "fresh columns, checks, slots", "tab:gray")]
