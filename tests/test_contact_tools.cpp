@@ -80,6 +80,17 @@ SmallBox& small_box() {
   return b;
 }
 
+/// The largest ratio of successive force increments |F_k - F_(k-1)| / |F_(k-1) - F_(k-2)| over a press
+/// in equal depth steps: about 1 while the force grows smoothly, large where it steps.
+double largest_increment_ratio(const std::vector<Eigen::Vector3d>& forces) {
+  double worst = 0.0;
+  for (std::size_t k = 2; k < forces.size(); ++k) {
+    const double before = (forces[k - 1] - forces[k - 2]).norm(), now = (forces[k] - forces[k - 1]).norm();
+    if (before > 0.0) worst = std::max(worst, now / before);
+  }
+  return worst;
+}
+
 }  // namespace
 
 TEST_CASE("frictionless flat punch converges towards Boussinesq 2aEd/(1-nu^2) as the block grows", "[contact][punch]") {
@@ -554,11 +565,7 @@ TEST_CASE("a sphere pressed beside an edge does not take the faces that look awa
   }
   CHECK(side_inside > 0);  // the case arises: side centroids do fall inside the sphere
   // No step: each depth increment changes the force by at most 3 times the one before it.
-  double worst = 0.0;
-  for (std::size_t k = 2; k < forces.size(); ++k) {
-    const double before = (forces[k - 1] - forces[k - 2]).norm(), now = (forces[k] - forces[k - 1]).norm();
-    if (before > 0.0) worst = std::max(worst, now / before);
-  }
+  const double worst = largest_increment_ratio(forces);
   std::cout << "sphere beside an edge: largest ratio of successive force increments " << worst << ", side centroids inside " << side_inside
             << "\n";
   CHECK(worst < 3.0);
@@ -590,11 +597,7 @@ TEST_CASE("a sphere pressed past a face's plane keeps the face it holds", "[cont
     for (Index e : list) held_looking_away += b.mesh.normal(e).dot(b.mesh.centroid(e) - centre) > 0.0 ? 1 : 0;
   }
   CHECK(held_looking_away > 0);  // the crossing happens
-  double worst = 0.0;
-  for (std::size_t k = 2; k < forces.size(); ++k) {
-    const double before = (forces[k - 1] - forces[k - 2]).norm(), now = (forces[k] - forces[k - 1]).norm();
-    if (before > 0.0) worst = std::max(worst, now / before);
-  }
+  const double worst = largest_increment_ratio(forces);
   std::cout << "sphere past a face's plane: largest ratio of successive force increments " << worst << ", held faces looking away "
             << held_looking_away << "\n";
   CHECK(worst < 3.0);

@@ -227,13 +227,11 @@ class CutSystemUpdate {
       pending_delta_ = surface.delta;
       pending_before_.reset();  // the surface step stands
     } catch (const Error& e) {
-      *cutter_ = std::move(*pending_before_);
-      pending_before_.reset();
+      undo_surface();
       first.reset();
       return refused(CutUpdateMethod::Exact, e.what());
     } catch (...) {
-      *cutter_ = std::move(*pending_before_);
-      pending_before_.reset();
+      undo_surface();
       throw;
     }
     r.total_seconds = seconds_since(t0);
@@ -298,10 +296,6 @@ class CutSystemUpdate {
   CutStepResult apply(const CutSurfaceStep& surface, CutUpdateMethod method = CutUpdateMethod::Exact) {
     if (!surface.accepted || !pending_before_ || surface.mesh != cutter_->mesh())
       throw InvalidArgumentError("CutSystemUpdate::apply: not the surface step just taken");
-    const auto undo_surface = [this] {
-      *cutter_ = std::move(*pending_before_);
-      pending_before_.reset();
-    };
     try {
       CutStepResult r = apply(surface.mesh, surface.delta, method);
       pending_before_.reset();
@@ -382,6 +376,12 @@ class CutSystemUpdate {
   }
 
  private:
+  /// Takes back the surface step cut_surface took (the cutter as it was before it).
+  void undo_surface() {
+    *cutter_ = std::move(*pending_before_);
+    pending_before_.reset();
+  }
+
   static CutStepResult refused(CutUpdateMethod method, std::string reason) {
     CutStepResult r;
     r.method = method;

@@ -135,7 +135,7 @@ def _profile_table(rows):
 
 
 def _profile_text(rows):
-    """The largest phase at each size, and the shares of the three the first response cannot skip."""
+    """The largest phase at each size, and the share of the four phases the first response cannot skip."""
     out = []
     for r in rows:
         total = sum(r[k] for k, _, _ in PHASES)
