@@ -68,10 +68,10 @@ def _at(rows, n_goal, key):
 
 
 def _chart(ctx, rows, fits):
-    fig, ax = rl.new_figure(6.8, 4.6)
+    fig, ax = rl.new_figure(6.8, 6.4)
     ns = [r["equations"] for r in rows]
     floor = _floor_key(rows)
-    floor_label = ("arithmetic floor: the step's LU solves at the dgetrs rate + the table's GEMMs at the dgemm rate"
+    floor_label = ("arithmetic floor (LU solves at the dgetrs rate + table GEMMs at the dgemm rate)"
                    if floor == "arithmetic_floor_seconds" else "flop floor: 2 n² d at the measured dgemm rate")
     two_phase = all("first_response_seconds" in r for r in rows)
     series = [("exact_seconds", "exact update to the complete table" + (" (two phases)" if two_phase else " (system + table)"),
@@ -96,7 +96,7 @@ def _chart(ctx, rows, fits):
     ax.set_xlabel("equations n")
     ax.set_ylabel("seconds per cut step")
     ax.set_title("Exact cut-step latency against n (median over 6 steps of one cut)", fontsize=9)
-    ax.legend(fontsize=7, loc="lower right")
+    ax.legend(fontsize=6.5, loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=1)  # below: the series fill the axes
     rl.save(fig, ctx.image("cut_latency"))
 
 
