@@ -269,7 +269,7 @@ json latency_point(int N) {
   double changed = 0.0;
   Index rank = 0;
   std::shared_ptr<const GreensTable> before_last;
-  std::vector<double> first, one_step, reach_count;
+  std::vector<double> first, one_step, reach_count, first_columns;
   double first_agreement = 0.0;
   int index = 0;
   for (const Step& s : steps) {
@@ -290,8 +290,10 @@ json latency_point(int N) {
       const Index at = !s.delta.added.empty() ? s.delta.added.front() : !changed.empty() ? changed.front() : 0;
       const Eigen::Vector3d probe = s.mesh->centroid(at);
       const std::vector<Index> reach = elements_within_reach(*s.mesh, cut.region(), {probe}, kReach);
-      early = cut.first_response(reach);
+      GreensTableUpdateResult early_report;
+      early = cut.first_response(reach, &early_report);
       first_s = seconds_since(t0);
+      first_columns.push_back(double(early_report.solve_columns));
       two = cut.complete(&r);
       two_s = seconds_since(t0);
       reach_count.push_back(double(reach.size()));
@@ -350,6 +352,8 @@ json latency_point(int N) {
           {"first_response_seconds", median(first)},
           {"one_step_seconds", median(one_step)},
           {"reach_elements", median(reach_count)},
+          // The first response's LU right-hand sides: U_s's, the base state's and the fresh columns within reach.
+          {"first_response_solve_columns", median(first_columns)},
           {"reach_metres", kReach},
           {"first_response_agreement", first_agreement},
           {"block", {c[0], c[1], c[2]}},
@@ -572,6 +576,7 @@ bool write_csv_dir(const std::string& dir, const json& report) {
                     "first_response_seconds",
                     "one_step_seconds",
                     "reach_elements",
+                    "first_response_solve_columns",
                     "reach_metres",
                     "first_response_agreement",
                     "integration_seconds",

@@ -28,8 +28,10 @@ void Session::complete_cut(const CutResult& r, ScheduledCut& c, SessionResult& r
   // The second phase of a step: the complete table of the same mesh, handed to the loop (blended in).
   if (!r.table)
     throw ContactError(describe(script_, script_.actions[static_cast<std::size_t>(c.action)]) + ": the cut's completion returned no table");
-  table_ = r.table;
-  dirty_ = true;
+  if (r.table != table_) {  // a first response that covered the whole region is the complete table already
+    table_ = r.table;
+    dirty_ = true;
+  }
   c.done = true;
   completing_ = false;
   result.cut_complete_seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - cut_requested_).count());

@@ -84,14 +84,15 @@ struct CutStepState;
 }
 
 /// One exact table update after a cut step, taken in two phases (docs/cutting.md, "First response";
-/// issue 39). The constructor does what every column of the new table needs: the system's low-rank
-/// update, the step's LU solves (the solves of all the step's columns: Z = A'^-1 U_s) and the base
-/// state. first_response(reach) then makes exact only the columns of the region elements listed (a
-/// table whose region is those elements, in the complete table's order), for the tools' neighbourhood;
-/// complete() makes the whole table, equal to updated_table's. Both are new immutable snapshots
+/// issue 39). The constructor takes the step's cheap parts (conditions, region, right-hand sides).
+/// first_response(reach) then makes exact only the columns of the region elements listed (a table whose
+/// region is those elements, in the complete table's order), for the tools' neighbourhood: it takes the
+/// system's low-rank update (the LU solves of U_s, Z = A'^-1 U_s, and of the base state) and solves
+/// only the fresh columns (reshaped or joining elements) within the reach. complete() solves the fresh
+/// columns left and makes the whole table, equal to updated_table's. Both are new immutable snapshots
 /// (version() + 1) sharing the step's solver; either may be called any number of times, from one
-/// thread at a time. The step holds the table before it, the change and the solves (about
-/// n' x (2d + fresh columns) doubles) until it is destroyed.
+/// thread at a time (a call solves what earlier calls left). The step holds the table before it, the
+/// change and the solves (about n' x (2d + fresh columns) doubles) until it is destroyed.
 /// \ingroup cutting
 class CutTableStep {
  public:
@@ -101,16 +102,17 @@ class CutTableStep {
                CutChange change, const GreensTableUpdateOptions& options = {});
   /// The region after the step: the complete table's elements, in its slots.
   const std::vector<Index>& region() const;
-  /// Integration (as the change says) and the system phase with its profile.
+  /// Integration (as the change says) and the system phase with its profile: the solves taken so far.
   const GreensTableUpdateResult& result() const;
   /// A table over the region elements in `reach` (others ignored; any order): exact for them. `report`
-  /// gets the system phase as result() and this table's phase.
+  /// gets the system phase as result() after this call's solves, and this table's phase.
   std::shared_ptr<const GreensTable> first_response(const std::vector<Index>& reach, GreensTableUpdateResult* report = nullptr) const;
-  /// The complete table (updated_table's result).
+  /// The complete table (updated_table's result), made once: a later call, or a first response whose
+  /// reach covers the whole region, returns the same snapshot (and the report of its making).
   std::shared_ptr<const GreensTable> complete(GreensTableUpdateResult* report = nullptr) const;
 
  private:
-  std::shared_ptr<const detail::CutStepState> state_;
+  std::shared_ptr<detail::CutStepState> state_;  // its solves grow as the phases ask for them
 };
 
 /// The reach rule of a first response: the elements of `region` whose centroid lies within `reach` of

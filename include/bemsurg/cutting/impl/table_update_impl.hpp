@@ -36,10 +36,17 @@ struct CutStepState {
   std::vector<Index> region;         // after the step (the complete table's slots)
   std::vector<Index> fresh_cols;     // FreshColumns::table_cols
   std::vector<Index> fresh_sources;  // FreshColumns::sources
-  Eigen::MatrixXd Z, F;              // A'^-1 U_s; A'^-1 [the fresh columns' right-hand sides, b']
-  std::shared_ptr<const LowRankUpdatedLu> solver;
+  Eigen::MatrixXd Z;                 // A'^-1 U_s
+  // The fresh columns' right-hand sides, then the base state's b' last; solved column by column as
+  // the tables asked for need them (fresh_solved), the base state always with U_s.
+  Eigen::MatrixXd F;
+  std::vector<char> fresh_solved;
+  std::shared_ptr<const LowRankUpdatedLu> solver;  // null until the step's system solve
+  GreensTableUpdateOptions options;
   Eigen::VectorXd rhs;
-  GreensTableUpdateResult timing;  // integration and the system phase with its profile
+  GreensTableUpdateResult timing;               // integration and the system phase with its profile (the solves so far)
+  std::shared_ptr<const GreensTable> complete;  // CutTableStep::complete's table, once made
+  GreensTableUpdateResult complete_report;
 };
 
 /// The cut update's access to a GreensTable's parts (a friend of GreensTable).
@@ -229,47 +236,92 @@ struct GreensTableParts {
     return T;
   }
 
-  /// Takes what every column of the step's new table needs (CutTableStep's construction): the system's
-  /// low-rank update, the step's LU solves, the base state. Fills `s.timing`'s system phase.
+  /// The step's cheap parts, before any solve (CutTableStep's construction): the conditions, region,
+  /// fresh columns and right-hand sides after the step.
   static void prepare(CutStepState& s, const GreensTableUpdateOptions& options) {
     const GreensTable& g = *s.before;
     const CutChange& change = *s.change;
-    const auto t_system = SteadyClock::now();
+    const auto t_change = SteadyClock::now();
+    s.options = options;
     const BoundaryConditions before = g.base_conditions();
     s.bc = conditions_after_cut(before, s.delta);
-    SystemChange system = system_change(change, before, s.bc);
-    // The region after the step and the table's columns to solve afresh come first: their LU solve
-    // rides along with U_s's (one multi-right-hand-side dgetrs). Old elements keep their slots;
-    // added elements near the region join at the end.
+    // Old elements keep their slots; added elements near the region join at the end.
     s.region = region_after_cut(g, *s.after, s.delta, options);
     const FreshColumns fresh = fresh_columns(change, s.region);
     s.fresh_cols = fresh.table_cols;
     s.fresh_sources = fresh.sources;
+    s.fresh_solved.assign(fresh.table_cols.size(), 0);
     s.rhs = rhs_after_cut(change, g.rhs_, before, s.bc);
     s.F = fresh_right_hand_sides(g, change, fresh, s.rhs);
-    const double change_s = seconds_since(t_system);
-    LowRankUpdateProfile lu_profile;  // Z: K^-1 U_s, then A*_after^-1 U_s (push-through: no further LU solve)
-    s.solver = std::make_shared<const LowRankUpdatedLu>(g.solver_->updated(change.n_after, system.Us, system.Vs, &s.Z, &s.F, &lu_profile));
-    const auto t_finish = SteadyClock::now();
-    s.solver->finish_solve(s.Z);
-    s.solver->finish_solve(s.F);  // K^-1 F came with U_s's solve
-    const double finish_solve_s = seconds_since(t_finish);
-    s.X = std::move(system.X);
+    s.timing.integration_seconds = change.integration_seconds;
+    s.timing.change_seconds = seconds_since(t_change);
+    s.timing.system_seconds = s.timing.change_seconds;
+  }
+
+  /// The fresh columns that a table over `slots` (null: all) needs and that are not solved yet.
+  static std::vector<Index> fresh_wanted(const CutStepState& s, const std::vector<Index>* slots) {
+    std::vector<char> in(s.region.size(), slots ? 0 : 1);
+    if (slots)
+      for (Index slot : *slots) in[static_cast<std::size_t>(slot)] = 1;
+    std::vector<Index> out;
+    for (std::size_t i = 0; i < s.fresh_cols.size(); ++i)
+      if (!s.fresh_solved[i] && in[static_cast<std::size_t>(s.fresh_cols[i] / 3)]) out.push_back(static_cast<Index>(i));
+    return out;
+  }
+
+  /// Solves what a table over `slots` (null: all) needs (docs/cutting.md, "First response"). The first
+  /// call takes the system's low-rank update: the LU solves of U_s, with the base state and the wanted
+  /// fresh columns riding along (one multi-right-hand-side dgetrs streams the n^2 factors once); later
+  /// calls solve only the fresh columns not solved yet. A first response therefore leaves the fresh
+  /// columns outside its reach to the completion. Adds to `s.timing`.
+  static void solve_for(CutStepState& s, const std::vector<Index>* slots) {
+    const std::vector<Index> wanted = fresh_wanted(s, slots);
+    if (s.solver && wanted.empty()) return;
+    const auto t_system = SteadyClock::now();
+    const Index n1 = s.change->n_after, nf = static_cast<Index>(s.fresh_cols.size()), k = static_cast<Index>(wanted.size());
+    const bool first = !s.solver;
+    Eigen::MatrixXd B(n1, k + (first ? 1 : 0));
+    for (Index c = 0; c < k; ++c) B.col(c) = s.F.col(wanted[static_cast<std::size_t>(c)]);
+    if (first) B.col(k) = s.F.col(nf);
+    LowRankUpdateProfile lu_profile;
+    double finish_s = 0.0;
+    if (first) {
+      SystemChange system = system_change(*s.change, s.before->base_conditions(), s.bc);
+      s.timing.change_seconds += seconds_since(t_system);
+      // Z: K^-1 U_s, then A*_after^-1 U_s (push-through: no further LU solve).
+      s.solver = std::make_shared<const LowRankUpdatedLu>(s.before->solver_->updated(n1, system.Us, system.Vs, &s.Z, &B, &lu_profile));
+      const auto t_finish = SteadyClock::now();
+      s.solver->finish_solve(s.Z);
+      s.solver->finish_solve(B);  // K^-1 B came with U_s's solve
+      finish_s = seconds_since(t_finish);
+      s.X = std::move(system.X);
+      s.F.col(nf) = B.col(k);
+    } else {
+      const auto t_solve = SteadyClock::now();
+      lu_profile.base_solve_columns = s.solver->apply_base_inverse(B);
+      lu_profile.base_solve_seconds = seconds_since(t_solve);
+      const auto t_finish = SteadyClock::now();
+      s.solver->finish_solve(B);
+      finish_s = seconds_since(t_finish);
+    }
+    for (Index c = 0; c < k; ++c) {
+      const Index i = wanted[static_cast<std::size_t>(c)];
+      s.F.col(i) = B.col(c);
+      s.fresh_solved[static_cast<std::size_t>(i)] = 1;
+    }
     GreensTableUpdateResult& r = s.timing;
-    r.integration_seconds = change.integration_seconds;
-    r.change_seconds = change_s;
-    r.solve_seconds = lu_profile.base_solve_seconds;
-    r.solve_columns = lu_profile.base_solve_columns;
-    r.correction_seconds = lu_profile.correction_seconds + finish_solve_s;
+    r.solve_seconds += lu_profile.base_solve_seconds;
+    r.solve_columns += lu_profile.base_solve_columns;
+    r.correction_seconds += lu_profile.correction_seconds + finish_s;
     r.rank = s.solver->rank();
-    r.added_region_elements = static_cast<Index>(s.region.size() - g.region_.size());
-    r.system_seconds = seconds_since(t_system);
+    r.added_region_elements = static_cast<Index>(s.region.size() - s.before->region_.size());
+    r.system_seconds += seconds_since(t_system);
   }
 
   /// The new table over the region slots `slots` (ascending; null: all, the complete table) from a
   /// prepared step. `report` gets the table phase and its profile (the system phase as prepared).
-  static std::shared_ptr<const GreensTable> table_of(const CutStepState& s, const std::vector<Index>* slots,
-                                                     GreensTableUpdateResult* report) {
+  static std::shared_ptr<const GreensTable> table_of(CutStepState& s, const std::vector<Index>* slots, GreensTableUpdateResult* report) {
+    solve_for(s, slots);
     const auto t_table = SteadyClock::now();
     const GreensTable& g = *s.before;
     const CutChange& change = *s.change;
@@ -435,11 +487,16 @@ BEMSURG_INLINE std::shared_ptr<const GreensTable> CutTableStep::first_response(c
   std::vector<Index> slots;
   for (std::size_t s = 0; s < state_->region.size(); ++s)
     if (wanted[static_cast<std::size_t>(state_->region[s])]) slots.push_back(static_cast<Index>(s));
-  return detail::GreensTableParts::table_of(*state_, &slots, report);
+  if (slots.size() < state_->region.size()) return detail::GreensTableParts::table_of(*state_, &slots, report);
+  // A reach that covers the whole region (a small operating region, a large tool) asks for the
+  // complete table: made once, and complete() hands out the same snapshot.
+  return complete(report);
 }
 
 BEMSURG_INLINE std::shared_ptr<const GreensTable> CutTableStep::complete(GreensTableUpdateResult* report) const {
-  return detail::GreensTableParts::table_of(*state_, nullptr, report);
+  if (!state_->complete) state_->complete = detail::GreensTableParts::table_of(*state_, nullptr, &state_->complete_report);
+  if (report) *report = state_->complete_report;
+  return state_->complete;
 }
 
 BEMSURG_INLINE std::shared_ptr<const GreensTable> updated_table(const GreensTable& table, std::shared_ptr<const TriangleMesh> after,
