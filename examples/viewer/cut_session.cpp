@@ -55,8 +55,9 @@ std::string CutSession::last_refusal() const {
 std::string CutSession::status_line() const {
   const WorkerStatus st = counts();
   char buf[200];
-  std::snprintf(buf, sizeof buf, "cut steps: %d accepted, %d refused; last step %.0f ms surface, %.0f ms tables", accepted(), refused(),
-                1000.0 * st.last_cut_surface_seconds, 1000.0 * st.last_cut_update_seconds);
+  std::snprintf(
+      buf, sizeof buf, "cut steps: %d accepted, %d refused; last step %.0f ms surface, %.0f ms first response, %.0f ms complete tables",
+      accepted(), refused(), 1000.0 * st.last_cut_surface_seconds, 1000.0 * st.last_cut_first_seconds, 1000.0 * st.last_cut_update_seconds);
   std::string s = buf;
   if (!last_refusal().empty()) s += "\nlast refusal: " + last_refusal();
   return s;

@@ -5,9 +5,30 @@
 #include <algorithm>
 #include <cmath>
 
+#include "bemsurg/haptics/session.hpp"
 #include "viewer_state.hpp"
 
 namespace bemsurg::viewer {
+
+void share_cut_reach(App& app, const std::shared_ptr<const PhysicsState>& ph, const ContactSnapshot& c) {
+  // A cut step's first response covers the region elements within reach of the engaged tools' tips
+  // and of the elements they touch, by the rule sessions use (haptics::SessionOptions: radius x (1 +
+  // slide margin) + the margin a tool may move while the step completes; docs/viewer.md).
+  const haptics::SessionOptions rule;
+  std::vector<Eigen::Vector3d> points;
+  double reach = rule.reach_margin;
+  for (const SlotSnapshot& s : c.slots) {
+    if (!s.engaged) continue;
+    points.push_back(s.tip);
+    reach = std::max({reach, s.radius * (1.0 + rule.slide_margin_radii) + rule.reach_margin, s.plate_size + rule.reach_margin});
+  }
+  if (ph && ph->mesh && c.physics_version == ph->version)
+    for (Index i = 0; i < c.count; ++i) {
+      const Index e = c.elements[static_cast<std::size_t>(i)];
+      if (e >= 0 && e < ph->mesh->num_elements()) points.push_back(ph->mesh->centroid(e));
+    }
+  app.worker.set_cut_reach(std::move(points), reach);
+}
 
 void update_field(App& app, const std::shared_ptr<const PhysicsState>& ph, const ContactSnapshot& c) {
   FrameField& f = app.field;

@@ -68,7 +68,10 @@ void model_panel(App& app, const WorkerStatus& st, const std::shared_ptr<const P
     ImGui::Text("table ready (precompute %.1f s)", st.last_precompute_seconds);
   }
   if (ph && ph->cuts > 0) {
-    if (ph->table && st.tables_exact) {
+    if (ph->table && st.first_response) {
+      ImGui::TextColored(ImVec4(0.1f, 0.5f, 0.1f, 1.0f), "exact near the tools (first response, %.0f ms); completing the tables...",
+                         1000.0 * st.last_cut_first_seconds);
+    } else if (ph->table && st.tables_exact) {
       ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(0.1f, 0.5f, 0.1f, 1.0f));
       ImGui::TextWrapped("exact tables in after %d cut steps (delta update, %.0f ms)", ph->cuts, 1000.0 * st.last_cut_update_seconds);
       ImGui::PopStyleColor();

@@ -111,8 +111,8 @@ void print_summary(App& app, const ViewerOptions& o, const double* peak, const h
   if (app.cuts.accepted() > 0) {
     const WorkerStatus st = app.worker.status();
     std::cerr << "bemsurg-viewer: tables after the last cut step: "
-              << "delta update in " << std::setprecision(1) << 1000.0 * st.last_cut_update_seconds << " ms ("
-              << app.worker.state()->mesh->num_elements() << " elements)\n";
+              << "first response in " << std::setprecision(1) << 1000.0 * st.last_cut_first_seconds << " ms, complete in "
+              << 1000.0 * st.last_cut_update_seconds << " ms (" << app.worker.state()->mesh->num_elements() << " elements)\n";
   }
   if (app.contact.message[0]) std::cerr << "bemsurg-viewer: note: " << app.contact.message.data() << "\n";
   if (code == 0) std::cerr << "bemsurg-viewer: wrote " << o.screenshot << "\n";

@@ -138,9 +138,70 @@ void ModelWorker::do_cut(const CutRequest& cut) {
     return;
   }
   const std::shared_ptr<const TriangleMesh>& mesh = surface.mesh;
-  const Index before = loaded_->mesh->num_elements(), after = mesh->num_elements();
-  // New surfaces at once: the previous sag on the old elements, zero on the new walls.
   const auto previous = state();
+  const std::shared_ptr<PhysicsState> s = provisional_state(mesh, previous);
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    status_.tables_exact = false;
+  }
+  publish(s);
+  // The exact tables for the cut surface: the delta update of the kept factorisation (rows and
+  // columns of the changed elements only), in two phases when the tools' places are known.
+  set_status(WorkerPhase::Precomputing, "updating the tables for the cut (" + std::to_string(surface.delta.added.size()) + " new, " +
+                                            std::to_string(surface.delta.modified.size()) + " modified elements)");
+  std::vector<Eigen::Vector3d> points;
+  double reach = 0.0;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    points = reach_points_;
+    reach = reach_;
+  }
+  t0 = now_seconds();
+  std::shared_ptr<const GreensTable> first;
+  const CutStepResult r = reach > 0.0 ? cut_system_->apply_first(surface, points, reach, first) : cut_system_->apply(surface);
+  if (!r.accepted) {  // undone: the model before the step comes back
+    if (previous) publish(std::make_shared<PhysicsState>(*previous));
+    refuse_cut(r.reason);
+    std::lock_guard<std::mutex> lock(mutex_);
+    status_.tables_exact = true;
+    status_.phase = WorkerPhase::Ready;
+    status_.message = "ready";
+    return;
+  }
+  if (first) {
+    // The first response: exact for the region elements within the tools' reach, published at once
+    // (the tools blend into it); the complete table follows on this thread, and a step asked for
+    // meanwhile waits in cuts_pending_.
+    follow_cut(mesh, *s, *first, false);
+    publish(state_for(first));
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      ++status_.cut_first_responses;
+      status_.last_cut_first_seconds = now_seconds() - t0;
+      status_.first_response = true;
+      status_.tables_exact = true;
+    }
+    cut_system_->complete_step();
+  } else {
+    std::lock_guard<std::mutex> lock(mutex_);
+    status_.last_cut_first_seconds = 0.0;
+  }
+  cut_system_->wait_for_refactor();  // headless playback stays deterministic
+  reference_ = cut_system_->table();
+  follow_cut(mesh, *s, *reference_, true);
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++status_.cut_steps_accepted;
+    status_.last_cut_update_seconds = now_seconds() - t0;
+    status_.first_response = false;
+  }
+  do_rescale();
+}
+
+std::shared_ptr<PhysicsState> ModelWorker::provisional_state(const std::shared_ptr<const TriangleMesh>& mesh,
+                                                             const std::shared_ptr<const PhysicsState>& previous) const {
+  // New surfaces at once: the previous sag on the old elements, zero on the new walls.
+  const Index before = loaded_->mesh->num_elements(), after = mesh->num_elements();
   auto s = std::make_shared<PhysicsState>();
   s->model_name = loaded_->name;
   s->mesh = mesh;
@@ -159,44 +220,28 @@ void ModelWorker::do_cut(const CutRequest& cut) {
     const Index n = std::min<Index>(previous->provisional_displacement.size(), 3 * after);
     s->provisional_displacement.head(n) = previous->provisional_displacement.head(n);
   }
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    status_.tables_exact = false;
-  }
-  publish(s);
-  // The exact tables for the cut surface: the delta update of the kept factorisation (rows and
-  // columns of the changed elements only).
-  set_status(WorkerPhase::Precomputing, "updating the tables for the cut (" + std::to_string(surface.delta.added.size()) + " new, " +
-                                            std::to_string(surface.delta.modified.size()) + " modified elements)");
-  t0 = now_seconds();
-  const CutStepResult r = cut_system_->apply(surface, CutUpdateMethod::Exact);
-  if (!r.accepted) {  // undone: the model before the step comes back
-    if (previous) publish(std::make_shared<PhysicsState>(*previous));
-    refuse_cut(r.reason);
-    std::lock_guard<std::mutex> lock(mutex_);
-    status_.tables_exact = true;
-    status_.phase = WorkerPhase::Ready;
-    status_.message = "ready";
-    return;
-  }
-  cut_system_->wait_for_refactor();  // headless playback stays deterministic
-  reference_ = cut_system_->table();
+  return s;
+}
+
+void ModelWorker::follow_cut(const std::shared_ptr<const TriangleMesh>& mesh, const PhysicsState& s, const GreensTable& table,
+                             bool complete) {
   // The scene follows the cut (a later recomputation, e.g. for a new Poisson's ratio, starts from it):
-  // the cut surface, the conditions the cut carried over and the table's region.
+  // the cut surface, the conditions the cut carried over and (`complete`: not a first response's) the
+  // table's region.
   auto l = std::make_shared<Loaded>(*loaded_);
   l->scene.problem.mesh = *mesh;
-  l->scene.problem.boundary_conditions = reference_->base_conditions();
-  if (!l->scene.operating_elements.empty()) l->scene.operating_elements = reference_->region();
+  l->scene.problem.boundary_conditions = table.base_conditions();
+  if (complete && !l->scene.operating_elements.empty()) l->scene.operating_elements = table.region();
   l->mesh = mesh;
-  l->supported = s->supported;
+  l->supported = s.supported;
   loaded_ = l;
-  cuts_ = s->cuts;
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    ++status_.cut_steps_accepted;
-    status_.last_cut_update_seconds = now_seconds() - t0;
-  }
-  do_rescale();
+  cuts_ = s.cuts;
+}
+
+void ModelWorker::set_cut_reach(std::vector<Eigen::Vector3d> points, double reach) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  reach_points_ = std::move(points);
+  reach_ = std::isfinite(reach) && reach > 0.0 ? reach : 0.0;
 }
 
 void ModelWorker::set_young_modulus(double e) {
@@ -455,6 +500,21 @@ void ModelWorker::do_precompute() {
 
 void ModelWorker::do_rescale() {
   if (!loaded_ || !reference_) return;
+  set_status(WorkerPhase::Rescaling, "rescaling the table for E (no recomputation)");
+  const double t0 = now_seconds();
+  auto s = state_for(reference_);
+  publish(s);
+  std::lock_guard<std::mutex> lock(mutex_);
+  status_.last_rescale_seconds = now_seconds() - t0;
+  status_.phase = WorkerPhase::Ready;
+  status_.message = "ready";
+  status_.tables_exact = true;
+  status_.cuts = cuts_;
+}
+
+std::shared_ptr<PhysicsState> ModelWorker::state_for(const std::shared_ptr<const GreensTable>& table) const {
+  // The state the tools and the frame read for `table` (the reference, or a cut step's first
+  // response, computed for the scene's E and gravity), rescaled to the E and gravity asked for.
   const ElastostaticProblem& p = loaded_->scene.problem;
   double young;
   bool gravity_on;
@@ -465,8 +525,6 @@ void ModelWorker::do_rescale() {
     gravity_on = gravity_on_;
     nu = poisson_;
   }
-  set_status(WorkerPhase::Rescaling, "rescaling the table for E (no recomputation)");
-  const double t0 = now_seconds();
   auto s = std::make_shared<PhysicsState>();
   s->model_name = loaded_->name;
   s->mesh = loaded_->mesh;
@@ -479,25 +537,19 @@ void ModelWorker::do_rescale() {
   if (!loaded_->homogeneous) {
     // Computed exactly for these parameters (do_precompute); nothing to scale.
     s->material.young_modulus = reference_young_;
-    s->gravity = reference_->gravity();
-    s->table = reference_;
+    s->gravity = table->gravity();
+    s->table = table;
   } else {
     // Linear elasticity with zero prescribed values: displacement per unit traction and the sag
     // under fixed gravity both scale as 1/E; the reaction tractions of the self-weight do not
     // (GreensTable::with_young_modulus).
     const double g = gravity_on ? 1.0 : 0.0;
-    std::shared_ptr<const GreensTable> table = reference_->with_young_modulus(young, g);
+    std::shared_ptr<const GreensTable> scaled = table->with_young_modulus(young, g);
     s->material.young_modulus = young;
-    s->gravity = table->gravity();
-    s->table = table;
+    s->gravity = scaled->gravity();
+    s->table = scaled;
   }
-  publish(s);
-  std::lock_guard<std::mutex> lock(mutex_);
-  status_.last_rescale_seconds = now_seconds() - t0;
-  status_.phase = WorkerPhase::Ready;
-  status_.message = "ready";
-  status_.tables_exact = true;
-  status_.cuts = cuts_;
+  return s;
 }
 
 }  // namespace bemsurg::viewer

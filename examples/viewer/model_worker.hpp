@@ -68,9 +68,12 @@ struct WorkerStatus {
   bool rescale_exact = true;  // E and gravity rescale without recomputing (zero prescribed values)
   double last_precompute_seconds = 0.0;
   double last_rescale_seconds = 0.0;
-  double last_cut_update_seconds = 0.0;   // the system and table update of the last cut step (CutSystemUpdate)
+  double last_cut_update_seconds = 0.0;   // the system and table update of the last cut step (CutSystemUpdate), to the complete table
+  double last_cut_first_seconds = 0.0;    // the same, to the first response (0: the last step took one phase)
   double last_cut_surface_seconds = 0.0;  // the surface step of the last cut step (SurfaceCutter)
   bool tables_exact = false;              // the table in use was computed for the current mesh
+  bool first_response = false;            // the table in use is a cut step's first response: the complete one is on its way
+  int cut_first_responses = 0;            // cut steps published in two phases so far
   int cuts = 0;                           // accepted cut steps whose mesh is in use
   int cut_steps_accepted = 0;             // every cut step so far (all models)
   int cut_steps_refused = 0;
@@ -101,6 +104,11 @@ class ModelWorker {
   /// surface is published at once (without a table), then the exact tables follow (the delta update of
   /// the kept factorisation). A refused step changes nothing; status() counts it and gives its reason.
   void request_cut_step(bool new_cut, const Eigen::Vector3d& from, const Eigen::Vector3d& direction, double gap_width);
+  /// Where the tools are, for the next cut steps (the viewer sets it every frame): with a positive
+  /// `reach`, a step is published in two phases (docs/cutting.md, "First response"): first the table of
+  /// the region elements within `reach` of the `points` (the tools' tips and the elements they touch),
+  /// then the complete table. A step requested meanwhile waits for the completion. 0: one phase.
+  void set_cut_reach(std::vector<Eigen::Vector3d> points, double reach);
 
   /// Threads the worker's OpenMP regions use from its next job on (0: the default). The
   /// interactive viewer sets cores - 1 while its haptic thread runs (haptics/background_threads.hpp),
@@ -134,7 +142,11 @@ class ModelWorker {
   void do_load(const std::string& path);
   void do_precompute();
   void do_rescale();
+  std::shared_ptr<PhysicsState> state_for(const std::shared_ptr<const GreensTable>& table) const;
   void do_cut(const CutRequest& cut);
+  std::shared_ptr<PhysicsState> provisional_state(const std::shared_ptr<const TriangleMesh>& mesh,
+                                                  const std::shared_ptr<const PhysicsState>& previous) const;
+  void follow_cut(const std::shared_ptr<const TriangleMesh>& mesh, const PhysicsState& s, const GreensTable& table, bool complete);
   bool has_work() const { return pending_.load || pending_.recompute || pending_.rescale || !cuts_pending_.empty(); }
   void publish(std::shared_ptr<PhysicsState> s);
   void set_status(WorkerPhase p, const std::string& message);
@@ -143,7 +155,9 @@ class ModelWorker {
   mutable std::mutex mutex_;
   std::condition_variable wake_, idle_;
   Request pending_;
-  std::vector<CutRequest> cuts_pending_;  // in order
+  std::vector<CutRequest> cuts_pending_;       // in order
+  std::vector<Eigen::Vector3d> reach_points_;  // set_cut_reach
+  double reach_ = 0.0;
   bool busy_ = false;
   bool stop_ = false;
   WorkerStatus status_;

@@ -328,7 +328,8 @@ TEST_CASE("a cut keeps the held force on the uncut model until its tables are re
 TEST_CASE("one cut script through the command line's, a session's and the viewer's door gives identical tables", "[viewer]") {
   // The three doors to a cut (docs/design.md §7): `bemsurg cut` (src/cli/cut_command.cpp: the scene's
   // table, CutSystemUpdate::cut), a session's hook (haptics/surface_cut_hook.hpp) and the viewer's worker
-  // (request_cut_step). One scene with an operating region, one two-step cut; every table bit for bit.
+  // (request_cut_step), the last two also in two phases (a first response, then the complete table).
+  // One scene with an operating region, one two-step cut; every complete table bit for bit.
   const std::string path = write_temp("doors.json", R"({
     "mesh": {"generator": "box", "min": [-0.04, -0.04, 0.0], "max": [0.04, 0.04, 0.04], "divisions": [6, 6, 2]},
     "material": {"young_modulus": 3000.0, "poisson_ratio": 0.45, "density": 1000.0},
@@ -362,19 +363,41 @@ TEST_CASE("one cut script through the command line's, a session's and the viewer
     by_session = r.table;
   }
 
-  // The viewer's door.
-  ModelWorker worker;
-  worker.load(path);
-  worker.wait_idle();
-  REQUIRE(worker.status().error.empty());
-  for (int i = 0; i < steps; ++i) worker.request_cut_step(i == 0, from, direction, 0.0);
-  worker.wait_idle();
-  REQUIRE(worker.status().cut_steps_accepted == steps);
-  const std::shared_ptr<const GreensTable> by_viewer = worker.state()->table;
+  // The same door in two phases (docs/cutting.md, "First response"): a tool 2 cm from the cut's start.
+  const Eigen::Vector3d tool(0.0, 0.02, 0.04);
+  haptics::CutHook hook_two = haptics::surface_cut_hook();
+  std::shared_ptr<const GreensTable> by_session_two = std::make_shared<const GreensTable>(compute_scene_table(scene));
+  mesh = by_session_two->mesh();
+  for (int i = 0; i < steps; ++i) {
+    const haptics::CutResult r = hook_two(haptics::CutRequest{mesh, by_session_two, from, direction, i, 0, {tool}, 0.015});
+    REQUIRE(r.complete);
+    mesh = r.mesh;
+    by_session_two = r.complete();
+    CHECK(!r.table->region().empty());
+    CHECK(r.table->region().size() < by_session_two->region().size());  // the first response covers the reach only
+  }
+
+  // The viewer's door, in one phase and in two (a tool's place given, as the viewer gives it every frame).
+  std::shared_ptr<const GreensTable> by_viewer, by_viewer_two;
+  for (int phases = 1; phases <= 2; ++phases) {
+    ModelWorker worker;
+    worker.load(path);
+    worker.wait_idle();
+    REQUIRE(worker.status().error.empty());
+    if (phases == 2) worker.set_cut_reach({tool}, 0.015);
+    for (int i = 0; i < steps; ++i) worker.request_cut_step(i == 0, from, direction, 0.0);
+    worker.wait_idle();
+    REQUIRE(worker.status().cut_steps_accepted == steps);
+    CHECK(worker.status().cut_first_responses == (phases == 2 ? steps : 0));
+    CHECK(!worker.status().first_response);  // completed
+    (phases == 1 ? by_viewer : by_viewer_two) = worker.state()->table;
+    CHECK(worker.state()->mesh->vertices() == by_cli->mesh()->vertices());
+  }
   REQUIRE(by_viewer);
+  REQUIRE(by_viewer_two);
 
   REQUIRE(by_cli->num_elements() > scene.problem.mesh.num_elements());  // the cut added walls
-  for (const auto& other : {by_session, by_viewer}) {
+  for (const auto& other : {by_session, by_session_two, by_viewer, by_viewer_two}) {
     CHECK(other->num_elements() == by_cli->num_elements());
     CHECK(other->region() == by_cli->region());
     CHECK(other->base_kinds() == by_cli->base_kinds());
@@ -383,6 +406,5 @@ TEST_CASE("one cut script through the command line's, a session's and the viewer
     CHECK(other->base_traction() == by_cli->base_traction());
   }
   CHECK(by_session->mesh()->faces() == by_cli->mesh()->faces());
-  CHECK(worker.state()->mesh->vertices() == by_cli->mesh()->vertices());
   std::remove(path.c_str());
 }

@@ -217,6 +217,7 @@ void draw_frame(App& app, int fbw, int fbh, int width, int height) {
     }
   }
   update_field(app, ph, app.contact);
+  share_cut_reach(app, ph, app.contact);
   for (int i = 0; i < kMaxTools; ++i) {
     auto& p = app.plot[i];
     std::rotate(p.begin(), p.begin() + 1, p.end());

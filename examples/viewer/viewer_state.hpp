@@ -143,6 +143,8 @@ inline double gap_width(const App& app) {
 
 // frame_geometry.cpp: the field of the frame from the model and the contact, and the buffers drawn.
 void update_field(App& app, const std::shared_ptr<const PhysicsState>& ph, const ContactSnapshot& c);
+/// Tells the worker where the tools are, for the first response of the next cut steps.
+void share_cut_reach(App& app, const std::shared_ptr<const PhysicsState>& ph, const ContactSnapshot& c);
 void build_surface(const App& app, SurfaceBuffers& b, float& u_max, float& t_max);
 void build_tools(const App& app, SurfaceBuffers& tools, SurfaceBuffers& arrows, std::vector<float>& lines);
 

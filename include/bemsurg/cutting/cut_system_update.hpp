@@ -209,6 +209,22 @@ class CutSystemUpdate {
     if (pending_step_) throw InvalidArgumentError("CutSystemUpdate::cut_first: the previous step was not completed (complete_step)");
     const CutSurfaceStep surface = cut_surface(from, direction);
     if (!surface.accepted) return refused(CutUpdateMethod::Exact, surface.reason);
+    return apply_first(surface, tools, reach, first, t0);
+  }
+
+  /// The system half of cut_first() for the surface step cut_surface returned (the viewer shows the new
+  /// surface before the tables follow); complete_step() must come next. `started`: when the step was
+  /// asked for (complete_step's total_seconds count from it).
+  CutStepResult apply_first(const CutSurfaceStep& surface, const std::vector<Eigen::Vector3d>& tools, double reach,
+                            std::shared_ptr<const GreensTable>& first, SteadyClock::time_point started = SteadyClock::now()) {
+    const auto t0 = started;
+    first.reset();
+    if (!surface.accepted || !pending_before_ || surface.mesh != cutter_->mesh())
+      throw InvalidArgumentError("CutSystemUpdate::apply_first: not the surface step just taken");
+    if (A_.size() > 0) {
+      undo_surface();
+      throw InvalidArgumentError("CutSystemUpdate::apply_first: two-phase steps are exact only (this update keeps A*)");
+    }
     CutStepResult r;
     r.delta = surface.delta;
     try {
