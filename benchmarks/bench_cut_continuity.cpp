@@ -16,7 +16,9 @@
 // and the largest tick-to-tick change of the delivered force (haptics/felt_force.hpp), the model
 // force's largest jump, watchdog ticks and each cut step's time; --csv-dir writes the probe's force
 // trace of every run (trace_<configuration>_<load>.csv: time, model, delivered, watchdog_gain,
-// blend_weight, model_version) for the report's before/after chart.
+// blend_weight, model_version) for the report's before/after chart. A full run also profiles the
+// script's cut steps without the loop ("step_profile": where cut_step_seconds and
+// cut_complete_seconds go, issue 39).
 //
 // usage: bench_cut_continuity [--quick] [--json PATH] [--csv-dir DIR] [--repeat N] [--scene FILE] [--script FILE]
 #include <algorithm>
@@ -33,11 +35,14 @@
 #include <thread>
 #include <vector>
 
+#include "bemsurg/cutting/cut_system_update.hpp"
+#include "bemsurg/haptics/background_threads.hpp"
 #include "bemsurg/haptics/session.hpp"
 #include "bemsurg/haptics/surface_cut_hook.hpp"
 #include "bemsurg/io/action_script.hpp"
 #include "bemsurg/io/scene.hpp"
 #include "bemsurg/presolution/greens_table.hpp"
+#include "bemsurg/timing.hpp"
 #include "bench_support.hpp"
 
 using namespace bemsurg;
@@ -123,6 +128,70 @@ nlohmann::json run_json(const Run& r) {
           {"cut_complete_seconds", r.result.cut_complete_seconds},
           {"cut_steps_waited", r.result.cut_steps_waited},
           {"peak_model_force", r.result.peak_force.empty() ? 0.0 : r.result.peak_force[0]}};
+}
+
+/// Where a session's cut step goes (issue 39, item 1): the script's cut steps taken as the session's
+/// hook takes them (CutSystemUpdate: the surface step, the integration, CutTableStep's two phases), on
+/// a thread with the session's background budget (cores - 1), the first response over the region
+/// elements within the session's reach rule of the tools' press points, without the loop beside it.
+nlohmann::json step_profile(const std::shared_ptr<const GreensTable>& table, const ActionScript& script) {
+  const haptics::SessionOptions rule;
+  std::vector<Eigen::Vector3d> points;
+  double reach = rule.reach_margin;
+  for (const Action& a : script.actions)
+    if (a.type == ActionType::Press) {
+      points.push_back(a.at);
+      reach = std::max(reach, script.tools[static_cast<std::size_t>(a.tool)].radius * (1.0 + rule.slide_margin_radii) + rule.reach_margin);
+    }
+  nlohmann::json steps = nlohmann::json::array();
+  const haptics::BackgroundThreadBudget budget;  // the session's: OpenBLAS and OpenMP on cores - 1 threads
+  const int threads = std::max(1, budget.threads());
+  std::thread worker([&] {
+    haptics::enter_background_thread(threads);
+    CutSystemOptions options;
+    options.background_refactor = false;  // as the session's hook
+    CutSystemUpdate system(table, options);
+    for (const Action& a : script.actions) {
+      if (a.type != ActionType::Cut) continue;
+      system.begin_cut();
+      for (int k = 0; k < a.steps; ++k) {
+        const auto t0 = SteadyClock::now();
+        const CutSurfaceStep surface = system.cut_surface(a.from, a.direction);
+        if (!surface.accepted) break;
+        const double surface_s = seconds_since(t0);
+        const std::shared_ptr<const GreensTable> current = system.table();
+        CutChange change = integrate_cut_change(*current->mesh(), *surface.mesh, surface.delta, current->material(), current->quadrature(),
+                                                current->gravity());
+        const CutTableStep step(current, surface.mesh, surface.delta, std::move(change));
+        const std::vector<Index> near = elements_within_reach(*surface.mesh, step.region(), points, reach);
+        GreensTableUpdateResult first, complete;
+        step.first_response(near, &first);
+        const double first_s = seconds_since(t0);
+        step.complete(&complete);
+        const double complete_s = seconds_since(t0);
+        steps.push_back({{"equations", surface.mesh->num_dofs()},
+                         {"region_elements", step.region().size()},
+                         {"reach_elements", near.size()},
+                         {"changed_elements", surface.delta.modified.size() + surface.delta.added.size()},
+                         {"surface_seconds", surface_s},
+                         {"integration_seconds", complete.integration_seconds},
+                         {"change_seconds", complete.change_seconds},
+                         {"first_response_solve_columns", first.solve_columns},
+                         {"solve_columns", complete.solve_columns},
+                         {"solve_seconds", complete.solve_seconds},
+                         {"correction_seconds", complete.correction_seconds},
+                         {"snapshot_seconds", complete.snapshot_seconds},
+                         {"gemm_seconds", complete.gemm_seconds},
+                         {"finish_seconds", complete.finish_seconds},
+                         {"first_response_seconds", first_s},
+                         {"complete_seconds", complete_s},
+                         {"rank", complete.rank}});
+        if (!system.apply(surface).accepted) break;  // the next step starts from this one (untimed: the same update again)
+      }
+    }
+  });
+  worker.join();
+  return {{"threads", threads}, {"reach_metres", reach}, {"tool_points", points.size()}, {"steps", steps}};
 }
 
 }  // namespace
@@ -238,6 +307,19 @@ int main(int argc, char** argv) {
                   fixed_text(100.0 * *std::min_element(ratio.begin(), ratio.end()), 1).c_str(),
                   fixed_text(100.0 * *std::max_element(change.begin(), change.end()), 2).c_str());
     }
+  // The step's profile after the runs (a full run only: seconds per cut step, no loop beside it).
+  const nlohmann::json profile = quick ? nlohmann::json::object() : step_profile(table, script);
+  if (!quick)
+    for (const nlohmann::json& p : profile["steps"])
+      std::printf(
+          "step profile (%d thread): n %ld, reach %ld of %ld elements: surface %s, integration %s, solves %s (%ld rhs, %ld in the "
+          "first response), correction %s, table %s s; first response %s s, complete %s s\n",
+          profile["threads"].get<int>(), p["equations"].get<long>(), p["reach_elements"].get<long>(), p["region_elements"].get<long>(),
+          fixed_text(p["surface_seconds"].get<double>(), 3).c_str(), fixed_text(p["integration_seconds"].get<double>(), 3).c_str(),
+          fixed_text(p["solve_seconds"].get<double>(), 3).c_str(), p["solve_columns"].get<long>(),
+          p["first_response_solve_columns"].get<long>(), fixed_text(p["correction_seconds"].get<double>(), 3).c_str(),
+          fixed_text(p["snapshot_seconds"].get<double>() + p["gemm_seconds"].get<double>() + p["finish_seconds"].get<double>(), 3).c_str(),
+          fixed_text(p["first_response_seconds"].get<double>(), 3).c_str(), fixed_text(p["complete_seconds"].get<double>(), 3).c_str());
   std::vector<double> cut_times;
   for (const Action& a : script.actions)
     if (a.type == ActionType::Cut)
@@ -251,6 +333,7 @@ int main(int argc, char** argv) {
                         {"cut_times", cut_times},
                         {"script_seconds", script.duration},
                         {"runs", j_runs},
-                        {"summary", summary}};
+                        {"summary", summary},
+                        {"step_profile", profile}};
   return bench::write_json_file(json_path, out, "bench_cut_continuity") ? 0 : 1;
 }

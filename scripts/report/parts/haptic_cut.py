@@ -8,7 +8,9 @@ as the rate baseline (benchmarks/bench_cut_continuity.cpp).
 Data: DIR/haptic_cut/bench_cut_continuity.json (per run: configuration, load, rate_hz,
 overruns_per_s, min_delivered_force_ratio, max_tick_change_fraction, max_force_jump_fraction,
 watchdog_ticks, cuts, cut_step_seconds (to the first response), cut_complete_seconds; cut_times,
-blend_s, stale_after_s) and
+blend_s, stale_after_s; step_profile, full runs only: per cut step of the script without the loop,
+surface, integration, solve (and right-hand sides), correction, snapshot, gemm and finish seconds,
+first_response_seconds, complete_seconds) and
 trace_<configuration>_<load>.csv (time, model, delivered, watchdog_gain, blend_weight,
 model_version: the probe, every tick).
 """
@@ -97,6 +99,33 @@ def _table(j):
     return "\n".join(lines)
 
 
+def _profile(j):
+    """Where a session's cut step goes (issue 39): the script's steps without the loop, on the
+    session's background thread budget (bench_cut_continuity's "step_profile", full runs only)."""
+    p = j.get("step_profile") or {}
+    if not p.get("steps"):
+        return ""
+    lines = [f"Where a cut step of this session goes, the script's steps taken by the session's cut entry point "
+             f"without the loop beside them, on {p['threads']} thread(s) as the session's background work runs "
+             f"(first response over the region elements within {1e3 * p['reach_metres']:.0f} mm of the probe; "
+             "seconds from the request; `bench_cut_continuity.json`, `step_profile`):", "",
+             "| step | n | reach / region | surface | integration | LU solves (right-hand sides: first response / all) "
+             "| accumulated rank | table | first response | complete |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
+    for k, r in enumerate(p["steps"]):
+        table = r["snapshot_seconds"] + r["gemm_seconds"] + r["finish_seconds"]
+        lines.append(f"| {k + 1} | {r['equations']:,} | {r['reach_elements']} / {r['region_elements']} | "
+                     f"{r['surface_seconds']:.3f} | {r['integration_seconds']:.3f} | {r['solve_seconds']:.3f} "
+                     f"({r['first_response_solve_columns']} / {r['solve_columns']}) | {r['correction_seconds']:.3f} | "
+                     f"{table:.3f} | {r['first_response_seconds']:.3f} | {r['complete_seconds']:.3f} |")
+    whole = all(r["reach_elements"] == r["region_elements"] for r in p["steps"])
+    lines += ["", ("The reach covers the whole operating region here, so the first response is the complete table (made "
+                   "once). " if whole else "") +
+              "The session's `cut_step_seconds` above add what the loop beside the step takes from it (the haptic "
+              "thread's core, memory bandwidth, the frame's field)."]
+    return "\n".join(lines)
+
+
 def render(ctx):
     d = ctx.part_dir(NAME)
     j = json.loads((d / "bench_cut_continuity.json").read_text())
@@ -122,6 +151,8 @@ def render(ctx):
         f"![the last cut step](images/{zoom}.png)",
         "",
         _table(j),
+        "",
+        _profile(j),
         "",
         f"Targets (issue 26): delivered force ≥ {100 * TARGET_RATIO:.0f} % of the model's, no tick-to-tick change above "
         f"{100 * TARGET_CHANGE:.0f} %, ≥ {TARGET_RATE:.0f} Hz, all 4 cut steps made, and no more overruns per second than the "
