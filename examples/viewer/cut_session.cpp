@@ -59,6 +59,7 @@ std::string CutSession::status_line() const {
       buf, sizeof buf, "cut steps: %d accepted, %d refused; last step %.0f ms surface, %.0f ms first response, %.0f ms complete tables",
       accepted(), refused(), 1000.0 * st.last_cut_surface_seconds, 1000.0 * st.last_cut_first_seconds, 1000.0 * st.last_cut_update_seconds);
   std::string s = buf;
+  if (st.cut_steps_waited > 0) s += "; " + std::to_string(st.cut_steps_waited) + " waited for the step before";
   if (!last_refusal().empty()) s += "\nlast refusal: " + last_refusal();
   return s;
 }

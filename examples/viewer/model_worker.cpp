@@ -103,6 +103,7 @@ void ModelWorker::request_cut_step(bool new_cut, const Eigen::Vector3d& from, co
   {
     std::lock_guard<std::mutex> lock(mutex_);
     cuts_pending_.push_back({new_cut, from, direction, gap_width});
+    if (cutting_) ++status_.cut_steps_waited;
     busy_ = true;
   }
   wake_.notify_all();
@@ -238,6 +239,11 @@ void ModelWorker::follow_cut(const std::shared_ptr<const TriangleMesh>& mesh, co
   cuts_ = s.cuts;
 }
 
+void ModelWorker::set_cutting(bool on) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  cutting_ = on;
+}
+
 void ModelWorker::set_cut_reach(std::vector<Eigen::Vector3d> points, double reach) {
   std::lock_guard<std::mutex> lock(mutex_);
   reach_points_ = std::move(points);
@@ -361,7 +367,9 @@ void ModelWorker::run() {
         do_load(r.path);
         do_precompute();
       }
+      set_cutting(!cuts.empty());  // steps asked for from now on wait for these
       for (const CutRequest& c : cuts) do_cut(c);
+      set_cutting(false);
       if (!r.load) {
         if (r.recompute)
           do_precompute();
@@ -376,6 +384,7 @@ void ModelWorker::run() {
     }
     {
       std::lock_guard<std::mutex> lock(mutex_);
+      cutting_ = false;  // also after a failed step
       if (!has_work()) {
         busy_ = false;
         idle_.notify_all();

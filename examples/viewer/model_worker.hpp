@@ -77,6 +77,7 @@ struct WorkerStatus {
   int cuts = 0;                           // accepted cut steps whose mesh is in use
   int cut_steps_accepted = 0;             // every cut step so far (all models)
   int cut_steps_refused = 0;
+  int cut_steps_waited = 0;      // steps asked for while an earlier step was still computing (they wait for it)
   std::string last_cut_refusal;  // the last refused step's reason, "" if none
 };
 
@@ -144,6 +145,7 @@ class ModelWorker {
   void do_rescale();
   std::shared_ptr<PhysicsState> state_for(const std::shared_ptr<const GreensTable>& table) const;
   void do_cut(const CutRequest& cut);
+  void set_cutting(bool on);
   std::shared_ptr<PhysicsState> provisional_state(const std::shared_ptr<const TriangleMesh>& mesh,
                                                   const std::shared_ptr<const PhysicsState>& previous) const;
   void follow_cut(const std::shared_ptr<const TriangleMesh>& mesh, const PhysicsState& s, const GreensTable& table, bool complete);
@@ -156,6 +158,7 @@ class ModelWorker {
   std::condition_variable wake_, idle_;
   Request pending_;
   std::vector<CutRequest> cuts_pending_;       // in order
+  bool cutting_ = false;                       // a cut step is being computed (under mutex_)
   std::vector<Eigen::Vector3d> reach_points_;  // set_cut_reach
   double reach_ = 0.0;
   bool busy_ = false;
