@@ -7,7 +7,9 @@ steps, then changed_elements_per_step, changed_columns, exact_seconds, integrati
 system_seconds, table_seconds, refactor_seconds, precompute_seconds, agreement, final_rank,
 dgemm_gflops, the profile change_seconds, solve_seconds, solve_columns, correction_seconds,
 snapshot_seconds, gemm_seconds, finish_seconds, table_gemm_flops, snapshot_bytes, solve_base_size,
-dgetrs_gflops, and solve_floor_seconds, gemm_floor_seconds, arithmetic_floor_seconds) and
+dgetrs_gflops, and solve_floor_seconds, gemm_floor_seconds, arithmetic_floor_seconds; from issue 39
+also first_response_seconds, one_step_seconds, reach_elements, first_response_solve_columns and the
+same for a probe beside the cut, first_response_beside_seconds and _solve_columns, beside_metres) and
 DIR/cut_latency/run.csv. Data of a run before the profile (flop_floor_seconds: 2 n^2 d at the dgemm
 rate) still render, without the profile.
 """
@@ -77,8 +79,10 @@ def _chart(ctx, rows, fits):
     series = [("exact_seconds", "exact update to the complete table" + (" (two phases)" if two_phase else " (system + table)"),
                "tab:red", "o", "-")]
     if two_phase:
-        series += [("first_response_seconds", "first response (columns within 2 cm of the probe)", "tab:blue", "D", "-"),
-                   ("one_step_seconds", "the same step in one call (before the split)", "tab:orange", "x", "--")]
+        series += [("first_response_seconds", "first response (columns within 2 cm of the probe)", "tab:blue", "D", "-")]
+        if all("first_response_beside_seconds" in r for r in rows):
+            series += [("first_response_beside_seconds", "first response, probe 5 cm beside the cut", "tab:cyan", "d", "-.")]
+        series += [("one_step_seconds", "the same step in one call (before the split)", "tab:orange", "x", "--")]
     series += [(floor, floor_label, "black", "v", ":"),
                ("refactor_seconds", "refactorisation (assembly, LU, table)", "tab:gray", "s", "--")]
     for key, label, colour, marker, style in series:
@@ -245,6 +249,14 @@ def render(ctx):
                     ", ".join(f"{a:.2g} at n = {n:,}" for a, n in zip(firsts, ns)) + f"); the complete table in two phases / one "
                     f"call: {min(completes):.2g}–{max(completes):.2g}. The first response's columns and the complete table agree with "
                     f"the one-call step to ≤ {worst_first:.1e} (max relative difference).")
+        if all("first_response_beside_seconds" in r for r in rows):
+            besides = [r["first_response_beside_seconds"] / r["one_step_seconds"] for r in rows]
+            text.append(f"With the probe {100 * rows[0]['beside_metres']:.0f} cm beside the cut, its reach holds fewer of the "
+                        "step's fresh columns (the rest are left to the completion): the first response takes "
+                        + ", ".join(f"{r['first_response_beside_solve_columns']:.0f}" for r in rows)
+                        + " LU right-hand sides instead of " + ", ".join(f"{r['first_response_solve_columns']:.0f}" for r in rows)
+                        + f", and {min(besides):.2g}–{max(besides):.2g} of the one-call step's time (" +
+                        ", ".join(f"{a:.2g} at n = {n:,}" for a, n in zip(besides, ns)) + ").")
     text += _goal_text(rows)
     text.append(_load_text(run))
     worst = max(r["agreement"] for r in rows)
