@@ -84,6 +84,8 @@ COMPILED_PARTS = {
                                                  "(SuiteSparse), which the header-only core does not link",
     "src/presolution/table_file.cpp": "Green's-table files: compiled file I/O (the format, its checksum, "
                                       "the linked library's version in every file), not numerics",
+    "src/elastostatics/hierarchical_solver.cpp": "the hierarchical-matrix backend links hmat-oss (optional, "
+                                                 "GPL-2.0-or-later: library bemsurg_hmatrix), which the header-only core does not",
 }
 # What the consumers may include besides library headers: areas as classify_target names them.
 CONSUMERS = {

@@ -60,6 +60,9 @@ if [ "$mode" = address ]; then
   # lighter cases beside them.
   heavy+='|test_io:A conform rule holds its region|test_io:refine_rim refines along'
   heavy+='|test_mesh:A graded remesh keeps the flat face of a cut ball|test_mesh:A graded remesh of the brain keeps its underside'
+  # The hierarchical backend's accuracy study (1,280 elements, dense and H-LU at two tolerances): its
+  # block callbacks run here in test_cli's smaller hmatrix case.
+  heavy+='|test_solvers:the hierarchical backend solves a body resting'
   ctest --output-on-failure -j"${JOBS:-2}" --timeout 900 -E "$heavy"
 else
   cmake --build "$BUILD_DIR" -j"${JOBS:-2}" --target test_haptics test_cutting test_cli test_viewer_core bemsurg_cli

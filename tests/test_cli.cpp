@@ -19,10 +19,12 @@
 #include <vector>
 
 #include "bemsurg/elastostatics/elastostatic_solver.hpp"
+#include "bemsurg/elastostatics/hierarchical_solver.hpp"
 #include "bemsurg/memory_budget.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/meshing/mesh_io.hpp"
 #include "support/cli_run.hpp"
+#include "support/skip.hpp"
 #include "support/temp_dir.hpp"
 #include "support/test_constants.hpp"
 
@@ -281,6 +283,7 @@ TEST_CASE("solve writes surface.vtk and a complete report.json", "[cli]") {
   CHECK(solver.at("iterations").get<int>() >= 1);
   // Converged means a true residual at most the scene's tolerance 1e-10 (measured 6.2e-11).
   CHECK(solver.at("relative_residual").get<double>() <= 1e-10);
+  CHECK(report.at("backend") == nlohmann::json({{"name", "dense"}}));
   CHECK(report.at("bemsurg_version").is_string());
   // What each rule held (issue 38): the bottom face (a normal selector: no region), the top face
   // (a box region, which also holds 0.1 mm of each side: 0.01 + 4 x 0.1 x 1e-4 m^2 of surface).
@@ -419,4 +422,54 @@ TEST_CASE("press: --direction is any finite nonzero vector, however large or sma
                           dir);
     CHECK(r.exit_code == 2);
   }
+}
+
+TEST_CASE("solve with method hmatrix answers as lu does and says what the hierarchical backend did", "[cli][hmatrix]") {
+  // docs/solvers.md, "Hierarchical matrices": the same scene by "lu" and by "hmatrix" (320 elements,
+  // compressed at 1e-6), elements.csv compared, and report.json's "backend" for each.
+  TempDir dir;
+  const std::string body = R"({"mesh": {"generator": "brain", "size": [0.16, 0.13, 0.085], "subdivisions": 2},
+    "material": {"young_modulus": 3000.0, "poisson_ratio": 0.45, "density": 1040.0}, "gravity": [0, 0, -9.81],
+    "boundary_conditions": {"rules": [{"select": {"plane": {"point": [0, 0, 0], "normal": [0, 0, 1], "tolerance": 1e-6}},
+                                       "displacement": [0, 0, 0]}]}, "solver": )";
+  const std::string dense = dir.write("dense.json", body + R"({"method": "lu"}})");
+  const std::string hmatrix = dir.write("hmatrix.json", body + R"({"method": "hmatrix", "compression_tolerance": 1e-6}})");
+  const Run h = run_cli("solve '" + hmatrix + "' -o '" + dir.file("h") + "'", dir);
+  if (!hierarchical_backend_available()) {
+    CHECK(h.exit_code != 0);
+    CHECK_THAT(h.err, Catch::Contains("without hmat-oss"));
+    bemsurg::testing::skip_unless(false, "built without hmat-oss (libhmat-oss-dev): solve refuses the method, as checked");
+  }
+  INFO(h.err);
+  REQUIRE(h.exit_code == 0);
+  CHECK_THAT(h.out, Catch::Contains("solver hmatrix (compression tolerance 1e-06)") && Catch::Contains("of dense storage"));
+  REQUIRE(run_cli("solve '" + dense + "' -o '" + dir.file("d") + "'", dir).exit_code == 0);
+  const Table a = read_table(dir.file("h/elements.csv")), b = read_table(dir.file("d/elements.csv"));
+  REQUIRE(a.header == b.header);
+  REQUIRE(a.rows.size() == 320);
+  REQUIRE(b.rows.size() == 320);
+  // Each column (element, centroid, displacement, traction) against its own largest entry: measured
+  // at most 2e-6 (tolerance 1e-6; the bound leaves room for ACA+'s sampling).
+  for (std::size_t k = 0; k < a.rows.front().size(); ++k) {
+    double worst = 0.0, largest = 0.0;
+    for (std::size_t i = 0; i < a.rows.size(); ++i) {
+      worst = std::max(worst, std::abs(a.rows[i][k] - b.rows[i][k]));
+      largest = std::max(largest, std::abs(b.rows[i][k]));
+    }
+    INFO("column " << k << ": " << worst << " of " << largest);
+    CHECK(worst <= 1e-4 * largest);
+  }
+  const auto report = nlohmann::json::parse(read_text(dir.file("h/report.json")));
+  const auto& backend = report.at("backend");
+  CHECK(backend.at("name") == "hmatrix");
+  CHECK(report.at("solver").at("method") == "hmatrix");
+  CHECK(backend.at("compression_tolerance").get<double>() == 1e-6);
+  CHECK(backend.at("dense_entries").get<double>() == 960.0 * 960.0);
+  CHECK(backend.at("stored_entries").get<double>() <= backend.at("dense_entries").get<double>());
+  CHECK(backend.at("compression_ratio").get<double>() ==
+        Approx(backend.at("stored_entries").get<double>() / backend.at("dense_entries").get<double>()));
+  CHECK(backend.at("largest_rank").get<int>() >= 0);
+  CHECK(backend.at("factorization_seconds").get<double>() > 0.0);
+  CHECK(report.at("solver").at("relative_residual").get<double>() <= 1e-4);
+  CHECK(nlohmann::json::parse(read_text(dir.file("d/report.json"))).at("backend").at("name") == "dense");
 }

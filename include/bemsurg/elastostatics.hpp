@@ -7,6 +7,8 @@
 /// Headers (each can be included on its own for faster builds):
 /// - elastostatic_problem.hpp
 /// - elastostatic_solver.hpp
+/// - hierarchical_solver.hpp
 
 #include "bemsurg/elastostatics/elastostatic_problem.hpp"
 #include "bemsurg/elastostatics/elastostatic_solver.hpp"
+#include "bemsurg/elastostatics/hierarchical_solver.hpp"

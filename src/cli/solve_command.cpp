@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "bemsurg/elastostatics/elastostatic_solver.hpp"
+#include "bemsurg/elastostatics/hierarchical_solver.hpp"
 #include "bemsurg/io/results_io.hpp"
 #include "bemsurg/io/scene.hpp"
 #include "bemsurg/meshing/mesh_io.hpp"
@@ -31,7 +32,8 @@ constexpr const char* kSolveUsage =
     "                 where the node variant of bc.csv gives prescribed values; docs/elements.md)\n"
     "  surface.vtk    the surface with displacement and traction fields\n"
     "  solved_mesh.obj  the mesh solved (after refine and remesh): the elements warnings name\n"
-    "  report.json    sizes, time per phase, peak memory, solver method, iterations and residual\n"
+    "  report.json    sizes, time per phase, peak memory, solver method, iterations and residual, and the\n"
+    "                 backend (dense, or hmatrix with its compression: docs/solvers.md)\n"
     "\n"
     "The scene format is described in docs/scene-format.md.\n";
 
@@ -51,6 +53,26 @@ void print_held_areas(const bemsurg::Scene& scene) {
                               bemsurg::general_text(100.0 * r.area / r.region_area, 3) + " %)"
                         : std::string())
                 << "\n";
+}
+
+/// The run's last lines: the solver (or the hierarchical backend), the phases and what was written.
+void print_summary(const bemsurg::RunResult& report, const std::filesystem::path& out, bool interior, bool linear) {
+  using namespace bemsurg;
+  const LinearSolveResult& s = report.solver;
+  const HierarchicalResult& h = report.hierarchical;
+  if (report.backend == SolverBackend::HMatrix)
+    std::cout << std::setprecision(3) << "  hmatrix: " << h.compression_ratio << " of dense storage, largest rank " << h.largest_rank
+              << ", assembly " << h.assembly_seconds << " s, H-LU " << h.factorization_seconds << " s, relative residual "
+              << h.relative_residual << "\n";
+  else
+    std::cout << std::setprecision(3) << "  solver " << to_string(s.method) << " (" << to_string(s.preconditioner)
+              << "): " << to_string(s.status) << ", " << s.iterations << " iterations, relative residual " << s.relative_residual << "\n";
+  std::cout << std::setprecision(3) << "  time: load " << report.timings.load << " s, assembly " << report.timings.assembly << " s, system "
+            << report.timings.system << " s, solve " << report.timings.solve << " s, post " << report.timings.post << " s, total "
+            << report.timings.total << " s; peak memory " << report.peak_memory_mb << " MiB\n"
+            << "  wrote " << (out / "elements.csv").string() << (interior ? ", " + (out / "interior.csv").string() : std::string())
+            << (linear ? ", " + (out / "corners.csv").string() + ", " + (out / "nodes.csv").string() : std::string()) << ", "
+            << (out / "surface.vtk").string() << ", " << (out / "report.json").string() << "\n";
 }
 
 }  // namespace
@@ -82,13 +104,20 @@ int run_solve(int argc, char** argv) {
   // The mesh solved, before the solve: the element numbers of every warning refer to it.
   write_obj((fs::path(options.output) / "solved_mesh.obj").string(), scene.problem.mesh);
 
+  const bool hierarchical = scene.solver.backend == SolverBackend::HMatrix;
   if (!options.quiet)
     std::cout << "bemsurg solve: " << scene.problem.mesh.num_elements() << " " << to_string(scene.problem.elements) << " elements, "
               << 3 * nodes_per_element(scene.problem.elements) * scene.problem.mesh.num_elements() << " equations, mesh "
-              << scene.mesh_source << ", solver " << to_string(scene.solver.method) << std::endl;
+              << scene.mesh_source << ", solver "
+              << (hierarchical ? std::string("hmatrix (compression tolerance ") + number_text(scene.solver.compression_tolerance) + ")"
+                               : std::string(to_string(scene.solver.method)))
+              << std::endl;
   if (!options.quiet) print_held_areas(scene);
 
-  const ElastostaticSolution solution = solve_elastostatic(scene.problem, scene.solver);
+  // The dense backend (the reference) or the hierarchical one (docs/solvers.md, "Hierarchical matrices").
+  HierarchicalResult backend;
+  const ElastostaticSolution solution = hierarchical ? solve_elastostatic_hierarchical(scene.problem, scene.solver, &backend)
+                                                     : solve_elastostatic(scene.problem, scene.solver);
   // A warning the scene gave at load already (slivers: "mesh: " + the same text) is not repeated.
   std::vector<std::string> solve_warnings;
   for (const std::string& w : solution.report.warnings)
@@ -130,22 +159,13 @@ int run_solve(int argc, char** argv) {
   report.timings.total = seconds_between(start, finished);
   report.peak_memory_mb = peak_memory_mb();
   report.solver = solution.report.solver;
+  report.backend = scene.solver.backend;
+  report.hierarchical = backend;
   report.boundary_rules = scene.boundary_rules;
   report.warnings = scene.warnings;
   report.warnings.insert(report.warnings.end(), solve_warnings.begin(), solve_warnings.end());
   write_report_json((out / "report.json").string(), report);
 
-  if (!options.quiet) {
-    const LinearSolveResult& s = solution.report.solver;
-    std::cout << std::setprecision(3) << "  solver " << to_string(s.method) << " (" << to_string(s.preconditioner)
-              << "): " << to_string(s.status) << ", " << s.iterations << " iterations, relative residual " << s.relative_residual << "\n"
-              << "  time: load " << report.timings.load << " s, assembly " << report.timings.assembly << " s, system "
-              << report.timings.system << " s, solve " << report.timings.solve << " s, post " << report.timings.post << " s, total "
-              << report.timings.total << " s; peak memory " << report.peak_memory_mb << " MiB\n"
-              << "  wrote " << (out / "elements.csv").string()
-              << (scene.has_interior_points ? ", " + (out / "interior.csv").string() : std::string())
-              << (linear ? ", " + (out / "corners.csv").string() + ", " + (out / "nodes.csv").string() : std::string()) << ", "
-              << (out / "surface.vtk").string() << ", " << (out / "report.json").string() << "\n";
-  }
+  if (!options.quiet) print_summary(report, out, scene.has_interior_points, linear);
   return 0;
 }

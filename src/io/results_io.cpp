@@ -194,13 +194,29 @@ void write_report_json(const std::string& path, const RunResult& report) {
                   {"system", number(report.timings.system)}, {"solve", number(report.timings.solve)},
                   {"post", number(report.timings.post)},     {"total", number(report.timings.total)}};
   j["peak_memory_mb"] = number(report.peak_memory_mb);
-  j["solver"] = {{"method", to_string(report.solver.method)},
+  const bool hierarchical = report.backend == SolverBackend::HMatrix;
+  j["solver"] = {{"method", hierarchical ? to_string(report.backend) : to_string(report.solver.method)},
                  {"preconditioner", to_string(report.solver.preconditioner)},
                  {"iterations", report.solver.iterations},
                  {"status", to_string(report.solver.status)},
                  {"relative_residual", number(report.solver.relative_residual)},
                  {"setup_seconds", number(report.solver.setup_seconds)},
                  {"solve_seconds", number(report.solver.solve_seconds)}};
+  j["backend"] = {{"name", to_string(report.backend)}};
+  if (hierarchical) {
+    const HierarchicalResult& h = report.hierarchical;
+    j["backend"]["compression_tolerance"] = number(h.compression_tolerance);
+    j["backend"]["compression_ratio"] = number(h.compression_ratio);
+    j["backend"]["largest_rank"] = h.largest_rank;
+    j["backend"]["stored_entries"] = h.stored_entries;
+    j["backend"]["dense_entries"] = h.dense_entries;
+    j["backend"]["leaves_full"] = h.leaves_full;
+    j["backend"]["leaves_low_rank"] = h.leaves_low_rank;
+    j["backend"]["column_scale"] = number(h.column_scale);
+    j["backend"]["assembly_seconds"] = number(h.assembly_seconds);
+    j["backend"]["factorization_seconds"] = number(h.factorization_seconds);
+    j["backend"]["solve_seconds"] = number(h.solve_seconds);
+  }
   j["boundary_rules"] = nlohmann::ordered_json::array();
   for (const BoundaryRuleArea& r : report.boundary_rules) {
     nlohmann::ordered_json rule;

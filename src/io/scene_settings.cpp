@@ -47,10 +47,23 @@ auto read_name(const JsonReader& v, Parse parse, const std::string& what, const 
 
 LinearSolverOptions load_solver(const JsonReader& s) {
   s.object();
-  s.warn_unknown_keys({"method", "tolerance", "max_iterations", "restart", "preconditioner", "near_field_radius"});
+  s.warn_unknown_keys({"method", "tolerance", "max_iterations", "restart", "preconditioner", "near_field_radius", "compression_tolerance"});
   LinearSolverOptions out;
-  if (const std::optional<JsonReader> v = s.optional("method"))
-    out.method = read_name(*v, parse_solver_method, "method", "lu, gmres, bicgstab or bicg");
+  if (const std::optional<JsonReader> v = s.optional("method")) {
+    // "hmatrix": the hierarchical backend (docs/solvers.md, "Hierarchical matrices"), a direct H-LU.
+    if (v->is_string() && v->string() == to_string(SolverBackend::HMatrix))
+      out.backend = SolverBackend::HMatrix;
+    else
+      out.method = read_name(*v, parse_solver_method, "method", "lu, gmres, bicgstab, bicg or hmatrix");
+  }
+  if (const std::optional<JsonReader> v = s.optional("compression_tolerance")) {
+    // Per far-field block, relative: below 1e-12 ACA+ works at round-off and stores little less than dense;
+    // above 0.1 the answer is not worth having.
+    out.compression_tolerance = v->number();
+    if (!(out.compression_tolerance >= 1e-12 && out.compression_tolerance <= 0.1))
+      v->fail("must lie in [1e-12, 0.1] (ACA+'s relative tolerance per block), got " + v->dump());
+    if (out.backend != SolverBackend::HMatrix) s.fail_at(s.path_of("compression_tolerance"), "applies only to \"method\": \"hmatrix\"");
+  }
   if (const std::optional<JsonReader> v = s.optional("tolerance")) {
     out.tolerance = v->number();
     if (!(out.tolerance > 0.0 && out.tolerance < 1.0)) v->fail("must lie in (0, 1) (a relative residual), got " + v->dump());

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "bemsurg/assembly/linear_system.hpp"
+#include "bemsurg/elastostatics/hierarchical_solver.hpp"
 #include "bemsurg/io/boundary_rule_area.hpp"
 #include "bemsurg/mesh/triangle_mesh.hpp"
 #include "bemsurg/post/interior_evaluator.hpp"
@@ -80,6 +81,8 @@ struct RunResult {
   PhaseTimings timings;
   double peak_memory_mb = 0.0;
   LinearSolveResult solver;
+  SolverBackend backend = SolverBackend::Dense;  // hmatrix: `hierarchical` says what the backend did
+  HierarchicalResult hierarchical;
   std::vector<std::string> warnings;             // the scene's and the solve's (docs/stability.md), in that order
   std::vector<BoundaryRuleArea> boundary_rules;  // what each rule held (Scene::boundary_rules)
 };
@@ -92,7 +95,10 @@ double peak_memory_mb();
 
 /// report.json: {"element_type", "elements", "equations", "interior_points", "timings": {load, assembly, system,
 /// solve, post, total}, "peak_memory_mb", "solver": {method, preconditioner, iterations, status,
-/// relative_residual, setup_seconds, solve_seconds}, "boundary_rules": [{"rule", "area", "region_area" (where the
+/// relative_residual, setup_seconds, solve_seconds}, "backend": {"name": "dense"} or {"name": "hmatrix",
+/// "compression_tolerance", "compression_ratio", "largest_rank", "stored_entries", "dense_entries",
+/// "leaves_full", "leaves_low_rank", "column_scale", "assembly_seconds", "factorization_seconds",
+/// "solve_seconds"}, "boundary_rules": [{"rule", "area", "region_area" (where the
 /// selectors describe a region), "conform", "refine_rim"}, ...], "warnings": [text, ...], "scene", "mesh", "bemsurg_version"}.
 void write_report_json(const std::string& path, const RunResult& report);
 

@@ -16,6 +16,13 @@ namespace bemsurg {
 /// The method for A* x = b: direct LU, or a Krylov method (the paper's Table 1 re-solves).
 /// \ingroup solvers
 enum class SolverMethod { Lu, Gmres, BiCgStab, BiCg };
+/// Where the system lives (docs/solvers.md): dense (A* in full, the reference) or hierarchical (a
+/// compressed H-matrix, factorised by H-LU: elastostatics/hierarchical_solver.hpp, compiled component).
+/// \ingroup solvers
+enum class SolverBackend { Dense, HMatrix };
+/// "dense", "hmatrix".
+inline const char* to_string(SolverBackend backend) { return backend == SolverBackend::HMatrix ? "hmatrix" : "dense"; }
+
 /// The preconditioner of a Krylov method (docs/solvers.md).
 /// \ingroup solvers
 enum class PreconditionerKind { None, BlockJacobi, NearField };
@@ -55,6 +62,9 @@ inline PreconditionerKind parse_preconditioner(const std::string& name) {
 /// restart length, and the preconditioner (block-Jacobi by default) with its near-field radius.
 /// \ingroup solvers
 struct LinearSolverOptions {
+  /// Dense (method below) or hierarchical (scene "method": "hmatrix"; then `method` is not used).
+  SolverBackend backend = SolverBackend::Dense;
+  double compression_tolerance = 1e-4;  // hierarchical: ACA+'s relative tolerance per far-field block
   SolverMethod method = SolverMethod::Lu;
   double tolerance = 1e-10;  // relative residual ||b - A x|| / ||b|| for Krylov methods
   int max_iterations = 1000;
