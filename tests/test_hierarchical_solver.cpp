@@ -11,8 +11,12 @@
 #include "bemsurg/elastostatics/hierarchical_solver.hpp"
 #include "bemsurg/error.hpp"
 #include "bemsurg/io/scene.hpp"
+#include "bemsurg/memory_budget.hpp"
+#include "bemsurg/mesh/mesh_generators.hpp"
+#include "bemsurg/meshing/mesh_io.hpp"
 #include "bemsurg/number_text.hpp"
 #include "support/skip.hpp"
+#include "support/temp_dir.hpp"
 
 using namespace bemsurg;
 
@@ -92,4 +96,31 @@ TEST_CASE("a scene asks for the hierarchical backend by name, and the dense solv
   ElastostaticProblem linear = scene.problem;
   linear.elements = ElementType::Linear;
   CHECK_THROWS_AS(solve_elastostatic_hierarchical(linear, scene.solver), SolverError);
+}
+
+TEST_CASE("a mesh file too large for the dense solve loads when the scene asks for the hierarchical one", "[hmatrix]") {
+  // The loader's memory check follows the backend (docs/solvers.md): a 20,480-element sphere (61,440
+  // unknowns: about 56 GiB of dense H and G, about 4 GiB by the hierarchical estimate).
+  const bemsurg_test::TempDir dir("bemsurg_hmatrix_");
+  const TriangleMesh sphere = icosphere_mesh(Eigen::Vector3d::Zero(), 0.05, 5);
+  REQUIRE(sphere.num_elements() == 20480);
+  write_obj(dir.file("sphere.obj"), sphere);
+  const auto scene_with = [&](const std::string& solver) {
+    return R"({"mesh": {"file": "sphere.obj"}, "material": {"young_modulus": 3000.0, "poisson_ratio": 0.45},
+      "boundary_conditions": {"rules": [{"select": {"normal": {"direction": [0, 0, -1], "min_cos": 0.9}}, "displacement": [0, 0, 0]}]},
+      "solver": )" +
+           solver + "}";
+  };
+  const double limit = default_memory_limit_bytes();
+  const double dense = estimate_elastostatic_bytes(20480), hierarchical = estimate_hierarchical_bytes(20480);
+  INFO("dense " << dense << " B, hierarchical " << hierarchical << " B, limit " << limit << " B");
+  CHECK(hierarchical < 0.1 * dense);
+  if (dense > limit)
+    CHECK_THROWS_WITH(load_scene_from_string(scene_with(R"({"method": "lu"})"), dir.path.string(), "dense"),
+                      Catch::Contains("the dense solve needs about"));
+  if (hierarchical <= limit) {
+    const Scene scene = load_scene_from_string(scene_with(R"({"method": "hmatrix"})"), dir.path.string(), "hmatrix");
+    CHECK(scene.problem.mesh.num_elements() == 20480);
+    CHECK(scene.solver.backend == SolverBackend::HMatrix);
+  }
 }

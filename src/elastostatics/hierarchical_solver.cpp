@@ -155,15 +155,6 @@ struct HmatObjects {
 constexpr int kLeafUnknowns = 120;
 constexpr double kEta = 2.0;
 
-/// A planning estimate of the peak (docs/solvers.md): the stored fraction of dense A* measured on
-/// organ meshes, 0.41 at 1,778 elements falling as E^-0.74 (0.126 at 9,344), twice (the H-LU's
-/// factors and the copy the residual needs), plus the near-field block rows a leaf assembles.
-double estimate_bytes(Index elements) {
-  const double n = 3.0 * double(elements);
-  const double fraction = std::min(1.0, 0.41 * std::pow(std::max<double>(double(elements), 1.0) / 1778.0, -0.74));
-  return 2.0 * 8.0 * n * n * fraction + 64.0 * n * double(kLeafUnknowns);
-}
-
 }  // namespace
 
 bool hierarchical_backend_available() { return true; }
@@ -179,7 +170,7 @@ ElastostaticSolution solve_elastostatic_hierarchical(const ElastostaticProblem& 
     throw SolverError("solver method hmatrix: constant elements only for now (this scene has linear elements); use \"method\": \"lu\"");
   const Index E = problem.mesh.num_elements(), n = 3 * E;
   MemoryNeed memory;
-  memory.bytes = estimate_bytes(E);
+  memory.bytes = estimate_hierarchical_bytes(E);
   memory.refusal = [E](double need, double limit) {
     return "the hierarchical solve of " + std::to_string(E) + " elements needs about " + format_gib(need) +
            " (an estimate from the compression measured on organ meshes), more than " + format_gib(limit) + "; coarsen the mesh";
