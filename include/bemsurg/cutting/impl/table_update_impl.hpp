@@ -42,7 +42,6 @@ struct CutStepState {
   Eigen::MatrixXd F;
   std::vector<char> fresh_solved;
   std::shared_ptr<const LowRankUpdatedLu> solver;  // null until the step's system solve
-  GreensTableUpdateOptions options;
   Eigen::VectorXd rhs;
   GreensTableUpdateResult timing;               // integration and the system phase with its profile (the solves so far)
   std::shared_ptr<const GreensTable> complete;  // CutTableStep::complete's table, once made
@@ -242,7 +241,6 @@ struct GreensTableParts {
     const GreensTable& g = *s.before;
     const CutChange& change = *s.change;
     const auto t_change = SteadyClock::now();
-    s.options = options;
     const BoundaryConditions before = g.base_conditions();
     s.bc = conditions_after_cut(before, s.delta);
     // Old elements keep their slots; added elements near the region join at the end.
