@@ -4,7 +4,7 @@
 # held 3 mm deep while a 4-step cut runs 10 mm beside it (examples/liver-cut-session.json), in real
 # time, twice: through `bemsurg session` and through the viewer's headless mode. Asserted:
 #   * every cut step made (4), the delivered force never below 80 % of the model force and no
-#     tick-to-tick change above 5 % (report.json / the viewer's "felt:" line);
+#     tick-to-tick change above 5 % per loop period (report.json / the viewer's "felt:" line);
 #   * `bemsurg session`: the loop held >= 990 Hz on this machine (a low rate alone is measured once
 #     more before it fails), the watchdog never acted.
 # Run alone (CI runs it as a step of its own), since a rate is measured.

@@ -19,6 +19,7 @@
 #endif
 #include "bemsurg/error.hpp"
 #include "bemsurg/haptics/background_task.hpp"
+#include "bemsurg/haptics/felt_force.hpp"
 #include "bemsurg/haptics/haptic_loop.hpp"
 #include "bemsurg/haptics/session.hpp"
 #include "bemsurg/io/action_script.hpp"
@@ -325,4 +326,35 @@ TEST_CASE("background work gets cores - 1 threads while a loop runs", "[haptics]
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
   while (!failing.ready() && std::chrono::steady_clock::now() < deadline) std::this_thread::sleep_for(std::chrono::milliseconds(1));
   CHECK_THROWS_AS(failing.take(), ContactError);  // the step's error reaches the simulation side
+}
+
+// A stalled scheduler (a 5 ms gap in a 1 kHz loop on a shared machine) moves a scripted press five
+// periods in one tick; the felt figures count changes per period, so the stall does not read as a
+// click, while a real step of the force on a punctual tick still reads at its full size.
+TEST_CASE("the felt tick change is per loop period: a late tick is not a click, a step still is", "[haptics][continuity]") {
+  const double period = 1e-3;
+  auto ramp = [&](FeltForceRecorder& r, double stall_at, double stall_periods, double step_at) {
+    double t = 0.0;
+    while (t < 1.0 + 1e-12) {
+      double f = t;  // 1 N/s: 0..1 N
+      if (t >= step_at) f *= 1.1;
+      r.add(0, t, Vec3(0, 0, f), Vec3(0, 0, f));
+      t += (std::abs(t - stall_at) < 0.5 * period) ? stall_periods * period : period;
+    }
+  };
+  // Independently: over ticks above 10 % of the 1 N peak, a steady ramp changes most at its first
+  // pair, 1 ms / 101 ms (~0.99 %); the stall at 0.2 s would otherwise read 5 ms / 205 ms (~2.4 %).
+  const double steady = 0.001 / 0.101;
+  FeltForceRecorder per_period(1, 3.3, period), as_is(1, 3.3);
+  ramp(per_period, 0.2, 5.0, 2.0);
+  ramp(as_is, 0.2, 5.0, 2.0);
+  CHECK(per_period.result().max_tick_change_fraction == Approx(steady).epsilon(0.02));
+  CHECK(as_is.result().max_tick_change_fraction == Approx(0.005 / 0.205).epsilon(0.02));
+  CHECK(as_is.result().max_tick_change_time == Approx(0.205).margin(1e-9));
+  // A 10 % step at 0.5 s on a punctual tick: (0.5005 * 1.1 - 0.4995) / 0.5505, about 9.3 %.
+  FeltForceRecorder stepped(1, 3.3, period);
+  ramp(stepped, -1.0, 1.0, 0.5);
+  const FeltForce felt = stepped.result();
+  CHECK(felt.max_tick_change_fraction > 0.09);
+  CHECK(felt.max_tick_change_time == Approx(0.5).margin(1.5 * period));
 }

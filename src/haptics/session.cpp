@@ -183,7 +183,7 @@ Session::Session(std::shared_ptr<const TriangleMesh> mesh, std::shared_ptr<const
       table_(std::move(table)),
       script_(std::move(script)),
       options_(std::move(options)),
-      felt_(static_cast<int>(script_.tools.size()), options_.loop.max_force) {
+      felt_(static_cast<int>(script_.tools.size()), options_.loop.max_force, 1.0 / script_.rate_hz) {
   if (!mesh_ || !table_) throw InvalidArgumentError("Session: the mesh or the table is missing");
   if (!(options_.simulation_hz > 0.0) || options_.graphics_hz < 0.0 || !(options_.slide_margin_radii >= 0.0))
     throw InvalidArgumentError("Session: simulation_hz must be positive, graphics_hz and slide_margin_radii non-negative");
@@ -204,6 +204,7 @@ Session::Session(std::shared_ptr<const TriangleMesh> mesh, std::shared_ptr<const
   direction_.assign(n, -Eigen::Vector3d::UnitZ());
   last_force_.assign(n, Eigen::Vector3d::Zero());
   have_last_.assign(n, false);
+  last_time_.assign(n, 0.0);
   peak_.assign(n, 0.0);
   build_keyframes();
   for (std::size_t t = 0; t < n; ++t) {
@@ -320,13 +321,17 @@ void Session::drain(HapticLoop& loop, SessionObserver* observer) {
         const double prev = last_force_[t].norm();
         const double big = std::max(mag, prev);
         if (big > 0.0) {
-          jumps_.emplace_back((f - last_force_[t]).norm() / big, std::min(mag, prev));
+          // Per loop period, as the felt figures (felt_force.hpp): a late tick's change is shared
+          // over the periods it spans.
+          const double spans = FeltForceRecorder::periods_spanned(sample.time - last_time_[t], 1.0 / script_.rate_hz);
+          jumps_.emplace_back((f - last_force_[t]).norm() / big / spans, std::min(mag, prev));
           jump_tool_.push_back(static_cast<int>(t));
           jump_time_.push_back(sample.time);
         }
       }
       felt_.add(static_cast<int>(t), sample.time, f, c.force);
       last_force_[t] = f;
+      last_time_[t] = sample.time;
       have_last_[t] = true;
     }
   }

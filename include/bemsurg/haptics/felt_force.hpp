@@ -4,6 +4,9 @@
 // as a ratio near 0) and the largest tick-to-tick change of the delivered force relative to the
 // model force (a drop to zero counts as 1). The older max_force_jump_fraction looks at the model
 // force alone and skips ticks below 10 % of the peak on either side, so it cannot see a fade.
+// Both are changes per loop period: a change across a late tick (a stalled scheduler on a shared
+// machine, the gap g since the tool's previous tick longer than the period T) counts as the
+// change times T / g, since the script moved on in real time while the model did not step.
 // Sessions (`bemsurg session`'s report.json) and the viewer's headless mode both report these.
 #pragma once
 
@@ -29,9 +32,14 @@ struct FeltForce {
 class FeltForceRecorder {
  public:
   /// `max_force`: the device's magnitude limit (N). The model force counts up to it: clamping is
-  /// a safety stage, not a fade.
-  explicit FeltForceRecorder(int tools, double max_force)
-      : max_force_(max_force), peak_(static_cast<std::size_t>(tools), 0.0), last_(static_cast<std::size_t>(tools)) {}
+  /// a safety stage, not a fade. `period`: the loop's nominal period (s); 0 takes every change as
+  /// it is, whatever the gap between ticks.
+  explicit FeltForceRecorder(int tools, double max_force, double period = 0.0)
+      : max_force_(max_force), period_(period), peak_(static_cast<std::size_t>(tools), 0.0), last_(static_cast<std::size_t>(tools)) {}
+
+  /// How many nominal periods a tick's gap `gap` spans, at least 1 (the divisor of a late tick's
+  /// change). Shared with the session's model-force metric.
+  static double periods_spanned(double gap, double period) { return period > 0.0 && gap > period ? gap / period : 1.0; }
 
   /// One tick of tool `tool`: the contact model's force and the force delivered to the device.
   void add(int tool, double time, const Eigen::Vector3d& model, const Eigen::Vector3d& delivered) {
@@ -39,8 +47,9 @@ class FeltForceRecorder {
     const double m = model.norm();
     peak_[t] = std::max(peak_[t], m);
     Last& l = last_[t];
-    ticks_.push_back({time, tool, m, delivered.norm(), (delivered - l.delivered).norm(), l.seen ? l.model : -1.0});
-    l = {true, m, delivered};
+    const double spans = l.seen ? periods_spanned(time - l.time, period_) : 1.0;
+    ticks_.push_back({time, tool, m, delivered.norm(), (delivered - l.delivered).norm() / spans, l.seen ? l.model : -1.0});
+    l = {true, time, m, delivered};
   }
 
   FeltForce result() const {
@@ -65,11 +74,13 @@ class FeltForceRecorder {
   struct Tick {
     double time;
     int tool;
-    double model, delivered, change;
+    double model, delivered;
+    double change;        // per nominal period (periods_spanned)
     double model_before;  // -1 on a tool's first tick
   };
   struct Last {
     bool seen = false;
+    double time = 0.0;
     double model = 0.0;
     Eigen::Vector3d delivered = Eigen::Vector3d::Zero();
   };
@@ -80,6 +91,7 @@ class FeltForceRecorder {
     return r;
   }
   double max_force_;
+  double period_;
   std::vector<double> peak_;
   std::vector<Last> last_;
   std::vector<Tick> ticks_;

@@ -102,7 +102,8 @@ class SessionObserver {
 struct SessionResult {
   LoopStatistics loop;
   /// Largest |F_k - F_(k-1)| / max(|F_k|, |F_(k-1)|) of a tool's contact-model force between
-  /// consecutive ticks, over pairs where both magnitudes are at least 10 % of that tool's peak.
+  /// consecutive ticks, over pairs where both magnitudes are at least 10 % of that tool's peak;
+  /// per loop period (a late tick's change divided by the periods its gap spans, felt_force.hpp).
   double max_force_jump_fraction = 0.0;
   double max_force_jump_time = 0.0;  // session time of that jump (s)
   int max_force_jump_tool = -1;
@@ -200,6 +201,7 @@ class Session {
   std::map<std::uint64_t, std::shared_ptr<const GreensTable>> tables_;  // by model version (graphics)
   // continuity tracking
   std::vector<Eigen::Vector3d> last_force_;
+  std::vector<double> last_time_;  // session time of each tool's previous sample
   std::vector<bool> have_last_;
   std::vector<std::pair<double, double>> jumps_;  // (jump fraction, smaller magnitude) per tool pair
   std::vector<double> jump_time_;
