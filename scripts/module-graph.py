@@ -86,6 +86,8 @@ COMPILED_PARTS = {
                                       "the linked library's version in every file), not numerics",
     "src/elastostatics/hierarchical_solver.cpp": "the hierarchical-matrix backend links hmat-oss (optional, "
                                                  "GPL-2.0-or-later: library bemsurg_hmatrix), which the header-only core does not",
+    "src/presolution/hierarchical_table.cpp": "a table on the hierarchical backend: part of library bemsurg_hmatrix, "
+                                              "beside the solve whose factorisation it uses",
 }
 # What the consumers may include besides library headers: areas as classify_target names them.
 CONSUMERS = {

@@ -473,3 +473,48 @@ TEST_CASE("solve with method hmatrix answers as lu does and says what the hierar
   CHECK(report.at("solver").at("relative_residual").get<double>() <= 1e-4);
   CHECK(nlohmann::json::parse(read_text(dir.file("d/report.json"))).at("backend").at("name") == "dense");
 }
+
+TEST_CASE("press on a hierarchical scene computes, keys and reloads its table on that backend", "[cli][hmatrix]") {
+  // docs/solvers.md, "Hierarchical matrices": the same press on "lu" and "hmatrix" scenes (320
+  // elements, region the top within 4 cm) gives the same force; the hierarchical table's file is
+  // read back by its own scene and is stale for the dense one (the key records the backend).
+  TempDir dir;
+  const std::string body = R"({"mesh": {"generator": "brain", "size": [0.16, 0.13, 0.085], "subdivisions": 2},
+    "material": {"young_modulus": 3000.0, "poisson_ratio": 0.45, "density": 1040.0}, "gravity": [0, 0, -9.81],
+    "boundary_conditions": {"rules": [{"select": {"plane": {"point": [0, 0, 0], "normal": [0, 0, 1], "tolerance": 1e-6}},
+                                       "displacement": [0, 0, 0]}]},
+    "operating_region": {"sphere": {"center": [0, 0, 0.085], "radius": 0.04}}, "solver": )";
+  const std::string dense = dir.write("dense.json", body + R"({"method": "lu"}})");
+  const std::string hmatrix = dir.write("hmatrix.json", body + R"({"method": "hmatrix", "compression_tolerance": 1e-6}})");
+  const std::string press = " --tool sphere:0.01 --at 0,0,0.09 --direction 0,0,-1 --depth 0.001 --table '" + dir.file("h.tbl") + "' -o '";
+  const Run h = run_cli("press '" + hmatrix + "'" + press + dir.file("h") + "'", dir);
+  if (!hierarchical_backend_available()) {
+    CHECK(h.exit_code != 0);
+    CHECK_THAT(h.err, Catch::Contains("without hmat-oss"));
+    bemsurg::testing::skip_unless(false, "built without hmat-oss (libhmat-oss-dev): press refuses the method, as checked");
+  }
+  INFO(h.err);
+  REQUIRE(h.exit_code == 0);
+  const Run again = run_cli("press '" + hmatrix + "'" + press + dir.file("h2") + "'", dir);
+  REQUIRE(again.exit_code == 0);
+  const Run d = run_cli("press '" + dense + "'" + press + dir.file("d") + "'", dir);
+  REQUIRE(d.exit_code == 0);
+  CHECK_THAT(d.err, Catch::Contains("stale") && Catch::Contains("hierarchical backend") && Catch::Contains("recomputing"));
+  const auto fh = nlohmann::json::parse(read_text(dir.file("h/force.json")));
+  const auto fh2 = nlohmann::json::parse(read_text(dir.file("h2/force.json")));
+  const auto fd = nlohmann::json::parse(read_text(dir.file("d/force.json")));
+  CHECK(fh.at("table").at("backend") == "hmatrix");
+  CHECK(fh.at("table").at("compression_tolerance").get<double>() == 1e-6);
+  CHECK_FALSE(fh.at("table").at("loaded_from_file").get<bool>());
+  CHECK(fh2.at("table").at("loaded_from_file").get<bool>());
+  CHECK(fd.at("table").at("backend") == "dense");
+  const auto a = fh.at("force").get<std::vector<double>>(), b = fd.at("force").get<std::vector<double>>();
+  const double norm = std::hypot(b[0], b[1], b[2]);
+  REQUIRE(norm > 0.0);
+  CHECK(std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]) <= 1e-5 * norm);
+  CHECK(fh2.at("force") == fh.at("force"));
+  // A cut updates the dense LU: refused on the hierarchical scene, naming the method to use.
+  const Run cut = run_cli("cut '" + hmatrix + "' --from 0,0,0.09 --direction 1,0,0 --steps 1 -o '" + dir.file("c") + "'", dir);
+  CHECK(cut.exit_code == 1);
+  CHECK_THAT(cut.err, Catch::Contains("hmatrix") && Catch::Contains("\"method\": \"lu\""));
+}

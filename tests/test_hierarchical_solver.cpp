@@ -1,7 +1,8 @@
 // test_hierarchical_solver.cpp: the hierarchical backend (elastostatics/hierarchical_solver.hpp,
 // docs/solvers.md "Hierarchical matrices") against the dense solve of the same scene, which is the
 // independent answer here: a brain-like body of 1,280 elements resting on its flat underside under
-// gravity, solved by H-LU at two compression tolerances. And what a scene may ask of it.
+// gravity, solved by H-LU at two compression tolerances; a pre-solution table against the dense
+// backend's, and its file's key. And what a scene may ask of it.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -15,6 +16,8 @@
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/meshing/mesh_io.hpp"
 #include "bemsurg/number_text.hpp"
+#include "bemsurg/presolution/hierarchical_table.hpp"
+#include "bemsurg/presolution/table_file.hpp"
 #include "support/skip.hpp"
 #include "support/temp_dir.hpp"
 
@@ -123,4 +126,61 @@ TEST_CASE("a mesh file too large for the dense solve loads when the scene asks f
     CHECK(scene.problem.mesh.num_elements() == 20480);
     CHECK(scene.solver.backend == SolverBackend::HMatrix);
   }
+}
+
+TEST_CASE("a table on the hierarchical backend equals the dense table to its tolerance, and its file never loads as a dense one",
+          "[hmatrix][presolution]") {
+  // 1,280 elements resting under gravity, the table's region the top within 4 cm: its columns (unit
+  // tractions on the region) and base state from one multi-right-hand-side H-LU solve at 1e-5,
+  // against GreensTable::compute's dense LU (the independent answer). Measured: columns 1.4e-6,
+  // base displacement 1.5e-5, reactions 1.5e-4 of their largest entries, 0.64 of dense storage.
+  std::string json = resting_brain_json(R"({"method": "hmatrix", "compression_tolerance": 1e-5})");
+  json.insert(json.rfind('}'), R"(, "operating_region": {"sphere": {"center": [0, 0, 0.085], "radius": 0.04}})");
+  const Scene scene = load_scene_from_string(json, ".", "hmatrix");
+  REQUIRE(scene.problem.mesh.num_elements() == 1280);
+  REQUIRE(!scene.operating_elements.empty());
+  if (!hierarchical_backend_available()) {
+    CHECK_THROWS_AS(compute_greens_table_hierarchical(scene.problem, scene.operating_elements, scene.solver), SolverError);
+    bemsurg::testing::skip_unless(false, "built without hmat-oss (libhmat-oss-dev): the hierarchical table refuses, as checked");
+  }
+  const GreensTable dense = GreensTable::compute(scene.problem, scene.operating_elements);
+  HierarchicalResult r;
+  const GreensTable h = compute_greens_table_hierarchical(scene.problem, scene.operating_elements, scene.solver, &r);
+  REQUIRE(h.region() == dense.region());
+  const double dc = (h.columns() - dense.columns()).cwiseAbs().maxCoeff() / dense.columns().cwiseAbs().maxCoeff();
+  const double du =
+      (h.base_displacement() - dense.base_displacement()).cwiseAbs().maxCoeff() / dense.base_displacement().cwiseAbs().maxCoeff();
+  const double dr = (h.reactions() - dense.reactions()).cwiseAbs().maxCoeff() / dense.reactions().cwiseAbs().maxCoeff();
+  INFO("columns " << dc << ", base displacement " << du << ", reactions " << dr << ", stored " << r.compression_ratio);
+  CHECK(dc <= 1e-4);
+  CHECK(du <= 1e-4);
+  CHECK(dr <= 1e-3);
+  CHECK(r.relative_residual <= 1e-4);
+  CHECK(r.compression_ratio < 0.8);
+  CHECK(h.key().backend == SolverBackend::HMatrix);
+  CHECK(h.key().compression_tolerance == 1e-5);
+  CHECK(dense.key().backend == SolverBackend::Dense);
+  CHECK(!h.has_factorization());  // cuts need the dense LU
+  CHECK(h.timings().factorization_seconds > 0.0);
+
+  // The file keeps the backend: read back under its own key, stale under the dense one.
+  const bemsurg_test::TempDir dir("bemsurg_hmatrix_table_");
+  save_greens_table(dir.file("h.tbl"), h);
+  const GreensTable back = load_greens_table(dir.file("h.tbl"), h.key(), scene.operating_elements);
+  CHECK(back.columns() == h.columns());
+  CHECK_THROWS_WITH(load_greens_table(dir.file("h.tbl"), dense.key()),
+                    Catch::Contains("stale") && Catch::Contains("hierarchical backend") && Catch::Contains("dense backend"));
+  // The one load-or-compute: a hierarchical scene reads its own file; cuts and a missing compute refuse.
+  TableCacheOptions options;
+  options.backend = SolverBackend::HMatrix;
+  options.compression_tolerance = 1e-5;
+  CHECK_THROWS_AS(load_or_compute_greens_table(scene.problem, scene.operating_elements, dir.file("h.tbl"), options), InvalidArgumentError);
+  options.compute = [&](const ElastostaticProblem&, const std::vector<Index>&) -> GreensTable {
+    FAIL("recomputed");
+    return {};
+  };
+  CHECK(load_or_compute_greens_table(scene.problem, scene.operating_elements, dir.file("h.tbl"), options).loaded_from_file);
+  options.for_cuts = true;
+  CHECK_THROWS_WITH(load_or_compute_greens_table(scene.problem, scene.operating_elements, dir.file("h.tbl"), options),
+                    Catch::Contains("\"method\": \"lu\""));
 }

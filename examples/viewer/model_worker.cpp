@@ -477,8 +477,12 @@ void ModelWorker::do_precompute() {
   Index region = static_cast<Index>(operating.size());
   if (operating.empty())
     for (Index e = 0; e < p.mesh.num_elements(); ++e) region += p.boundary_conditions.is_free(e) ? 1 : 0;
+  // The viewer cuts, and a cut updates the dense backend's LU: a scene's "hmatrix" method (bemsurg
+  // solve, press, session) is not used here, and the status line says so (docs/viewer.md).
+  const bool dense_instead = loaded_->scene.solver.backend == SolverBackend::HMatrix;
   set_status(WorkerPhase::Precomputing, "precomputing the compliance table (" + std::to_string(p.mesh.num_elements()) + " elements, " +
-                                            std::to_string(3 * p.mesh.num_elements()) + " equations)");
+                                            std::to_string(3 * p.mesh.num_elements()) + " equations" +
+                                            (dense_instead ? "; dense backend: cuts need its LU, the scene's hmatrix is not used)" : ")"));
   {
     std::lock_guard<std::mutex> lock(mutex_);
     phase_predicted_ = predict_seconds(p.mesh.num_elements(), region);

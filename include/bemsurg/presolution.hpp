@@ -9,6 +9,7 @@
 /// - contact_tools.hpp
 /// - contact_validity.hpp
 /// - greens_table.hpp
+/// - hierarchical_table.hpp
 /// - paper_lookup_table.hpp
 /// - table_file.hpp
 
@@ -16,5 +17,6 @@
 #include "bemsurg/presolution/contact_tools.hpp"
 #include "bemsurg/presolution/contact_validity.hpp"
 #include "bemsurg/presolution/greens_table.hpp"
+#include "bemsurg/presolution/hierarchical_table.hpp"
 #include "bemsurg/presolution/paper_lookup_table.hpp"
 #include "bemsurg/presolution/table_file.hpp"

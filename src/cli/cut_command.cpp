@@ -142,6 +142,10 @@ int run_cut(int argc, char** argv) {
   const CutCommandOptions& o = *parsed;
   const auto t_start = SteadyClock::now();
   const Scene scene = require_constant_elements(load_scene(o.scene), "bemsurg cut");
+  if (scene.solver.backend == SolverBackend::HMatrix)  // docs/solvers.md, "Hierarchical matrices"
+    throw SceneError(o.scene +
+                     ": solver.method: \"hmatrix\" is not supported by bemsurg cut: a cut updates the dense "
+                     "backend's LU, which the hierarchical backend does not keep; use \"method\": \"lu\"");
   for (const std::string& w : scene.warnings) std::cerr << "bemsurg: warning: " << o.scene << ": " << w << "\n";
   namespace fs = std::filesystem;
   std::error_code ec;

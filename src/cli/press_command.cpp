@@ -207,6 +207,8 @@ int run_press(int argc, char** argv) {
   j["active_set_consistent"] = report.consistent;
   j["equations"] = 3 * E;
   j["table"] = {{"loaded_from_file", loaded},
+                {"backend", bemsurg::to_string(table_ref.key().backend)},
+                {"compression_tolerance", table_ref.key().compression_tolerance},
                 {"assembly_seconds", table_ref.timings().assembly_seconds},
                 {"factorization_seconds", table_ref.timings().factorization_seconds},
                 {"table_seconds", table_ref.timings().table_seconds}};

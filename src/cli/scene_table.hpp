@@ -7,14 +7,24 @@
 #include <string>
 
 #include "bemsurg/io/scene_table.hpp"
+#include "bemsurg/presolution/hierarchical_table.hpp"
 
 namespace bemsurg::cli {
 
 /// load_or_compute_scene_table, printing its warnings and notes (unless `quiet`). `for_cuts`: the table will be
-/// updated after cuts, so it is computed even when a matching file exists.
+/// updated after cuts, so it is computed even when a matching file exists. A scene whose solver method
+/// is "hmatrix" computes (and keys) its table on the hierarchical backend (bemsurg::hmatrix).
 inline CachedGreensTable scene_table(const Scene& scene, const std::string& table_file, bool quiet, bool for_cuts = false) {
   TableCacheOptions options;
   options.for_cuts = for_cuts;
+  if (scene.solver.backend == SolverBackend::HMatrix) {
+    options.backend = SolverBackend::HMatrix;
+    options.compression_tolerance = scene.solver.compression_tolerance;
+    const LinearSolverOptions solver = scene.solver;
+    options.compute = [solver](const ElastostaticProblem& problem, const std::vector<Index>& region) {
+      return compute_greens_table_hierarchical(problem, region, solver);
+    };
+  }
   CachedGreensTable out = load_or_compute_scene_table(scene, table_file, options);
   if (!quiet) {
     for (const std::string& w : out.warnings) std::cerr << "bemsurg: warning: " << w << "\n";

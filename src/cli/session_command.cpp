@@ -82,7 +82,8 @@ nlohmann::json percentiles_json(const bemsurg::haptics::Percentiles& p) {
 
 /// report.json (docs/cli.md "bemsurg session"): the loop's statistics, what a hand felt, the cuts.
 nlohmann::json report_json(const bemsurg::haptics::SessionResult& r, const bemsurg::ActionScript& script,
-                           const std::vector<std::string>& meshes, bool virtual_clock, bemsurg::Index elements, bool loaded) {
+                           const std::vector<std::string>& meshes, bool virtual_clock, bemsurg::Index elements, bool loaded,
+                           bemsurg::SolverBackend table_backend) {
   const auto& s = r.loop;
   nlohmann::json j;
   j["rate_hz"] = s.achieved_rate_hz;
@@ -118,6 +119,7 @@ nlohmann::json report_json(const bemsurg::haptics::SessionResult& r, const bemsu
   j["wall_seconds"] = r.session_seconds;
   j["elements"] = elements;
   j["table_loaded_from_file"] = loaded;
+  j["table_backend"] = bemsurg::to_string(table_backend);
   nlohmann::json tools = nlohmann::json::array();
   for (std::size_t t = 0; t < script.tools.size(); ++t)
     tools.push_back({{"name", script.tools[t].name},
@@ -188,7 +190,7 @@ int run_session(int argc, char** argv) {
   trace.finish();
 
   const auto& s = r.loop;
-  const nlohmann::json j = report_json(r, script, trace.meshes(), virtual_clock, p.mesh.num_elements(), loaded);
+  const nlohmann::json j = report_json(r, script, trace.meshes(), virtual_clock, p.mesh.num_elements(), loaded, table_ptr->key().backend);
   const std::string json_path = (std::filesystem::path(output) / "report.json").string();
   std::ofstream js(json_path);
   if (!js) throw bemsurg::IoError("cannot write " + json_path);

@@ -22,17 +22,35 @@ namespace bemsurg {
 
 #ifndef BEMSURG_HAVE_HMAT
 
-bool hierarchical_backend_available() { return false; }
-
-ElastostaticSolution solve_elastostatic_hierarchical(const ElastostaticProblem&, const LinearSolverOptions&, HierarchicalResult*) {
+namespace {
+[[noreturn]] void missing_backend() {
   throw SolverError(
       "solver method hmatrix: this bemsurg was built without hmat-oss (install libhmat-oss-dev, scripts/setup-deps.sh, and "
       "reconfigure); use \"method\": \"lu\"");
 }
+}  // namespace
+
+struct HierarchicalFactorization::Impl {
+  HierarchicalResult result;
+};
+
+bool hierarchical_backend_available() { return false; }
+
+HierarchicalFactorization::HierarchicalFactorization(const ElastostaticProblem&, double, bool) { missing_backend(); }
+void HierarchicalFactorization::solve_in_place(Eigen::MatrixXd&) { missing_backend(); }
+double HierarchicalFactorization::relative_residual(const Eigen::VectorXd&, const Eigen::VectorXd&) const { missing_backend(); }
+Eigen::VectorXd HierarchicalFactorization::right_hand_side() const { missing_backend(); }
+void HierarchicalFactorization::g_columns(const std::vector<Index>&, Eigen::Ref<Eigen::MatrixXd>) const { missing_backend(); }
+const HierarchicalResult& HierarchicalFactorization::result() const { return impl_->result; }
+
+ElastostaticSolution solve_elastostatic_hierarchical(const ElastostaticProblem&, const LinearSolverOptions&, HierarchicalResult*) {
+  missing_backend();
+}
 
 #else
 
-namespace {
+// Named (not anonymous): HierarchicalFactorization::Impl holds these types.
+namespace hmat_glue {
 
 /// What every block of A* needs: the quadrature, the conditions (which of H or -G a column takes)
 /// and the column scales.
@@ -155,12 +173,142 @@ struct HmatObjects {
 constexpr int kLeafUnknowns = 120;
 constexpr double kEta = 2.0;
 
-}  // namespace
+}  // namespace hmat_glue
+
+using namespace hmat_glue;
 
 bool hierarchical_backend_available() { return true; }
 
-// long: one solve's phases in order (checks, scales, assembly, copy, H-LU, solve, residual, report),
-// each a few lines around an hmat-oss call; apart they would pass the hmat objects around.
+struct HierarchicalFactorization::Impl {
+  Impl(const ElastostaticProblem& p) : problem(p), assembler(p.mesh, p.material, p.quadrature) {}
+  const ElastostaticProblem& problem;
+  InfluenceAssembler assembler;
+  SystemContext context;
+  HmatObjects hm;
+  HierarchicalResult result;
+};
+
+// long: the set-up in the order hmat-oss needs it (scales, cluster tree, admissibility, compression,
+// assembly, the copy, H-LU), each a few lines around one of its calls.
+HierarchicalFactorization::HierarchicalFactorization(const ElastostaticProblem& problem, double compression_tolerance, bool keep_copy) {
+  if (!(compression_tolerance >= 1e-12 && compression_tolerance <= 0.1))
+    throw InvalidArgumentError("solver method hmatrix: the compression tolerance must lie in [1e-12, 0.1], got " +
+                               std::to_string(compression_tolerance));
+  if (problem.elements != ElementType::Constant)
+    throw SolverError("solver method hmatrix: constant elements only for now (this scene has linear elements); use \"method\": \"lu\"");
+  const Index E = problem.mesh.num_elements(), n = 3 * E;
+  impl_ = std::make_unique<Impl>(problem);
+  Impl& m = *impl_;
+  HierarchicalResult& r = m.result;
+  r.compression_tolerance = compression_tolerance;
+  const auto t_assembly = SteadyClock::now();
+  m.context.assembler = &m.assembler;
+  m.context.conditions = &problem.boundary_conditions;
+  // Traction unknowns' columns (-G: about h / mu) scaled to the displacement unknowns' (H: about 1):
+  // without it the unpivoted H-LU of a mixed system lost the answer (19 % off on a hung liver, issue 40).
+  double h = 0.0;
+  for (Index e = 0; e < E; ++e) h += std::sqrt(problem.mesh.area(e));
+  h /= double(E);
+  r.column_scale = problem.material.shear_modulus() / h;
+  m.context.scale.assign(static_cast<std::size_t>(n), 1.0);
+  for (Index k = 0; k < n; ++k)
+    if (problem.boundary_conditions.kind(k) != BcKind::Traction) m.context.scale[static_cast<std::size_t>(k)] = r.column_scale;
+  std::vector<double> coordinates(static_cast<std::size_t>(3 * n));
+  for (Index k = 0; k < n; ++k) {
+    const Eigen::Vector3d c = problem.mesh.centroid(k / 3);
+    for (int d = 0; d < 3; ++d) coordinates[static_cast<std::size_t>(3 * k + d)] = c[d];
+  }
+  HmatObjects& hm = m.hm;
+  hmat_init_default_interface(&hm.hi, HMAT_DOUBLE_PRECISION);
+  hm.median = hmat_create_clustering_median();
+  hm.clustering = hmat_create_clustering_max_dof(hm.median, kLeafUnknowns);
+  hm.tree = hmat_create_cluster_tree(coordinates.data(), 3, static_cast<int>(n), hm.clustering);
+  hm.admissibility = hmat_create_admissibility_standard(kEta);
+  hm.compression = hmat_create_compression_aca_plus(compression_tolerance);
+  if (!hm.tree || !hm.admissibility || !hm.compression)
+    throw SolverError("solver method hmatrix: hmat-oss could not set up the cluster tree");
+  hm.matrix = hm.hi.create_empty_hmatrix_admissibility(hm.tree, hm.tree, 0, hm.admissibility);
+  if (!hm.matrix) throw SolverError("solver method hmatrix: hmat-oss could not create the matrix");
+  // The H-LU's recompressions truncate to the same tolerance as the assembly (hmat-oss's default,
+  // 1e-4, would cap a tighter tolerance's accuracy there).
+  hm.hi.set_low_rank_epsilon(hm.matrix, compression_tolerance);
+  hmat_assemble_context_t assemble;
+  hmat_assemble_context_init(&assemble);
+  assemble.compression = hm.compression;
+  assemble.block_compute = compute_block;
+  assemble.prepare = prepare_block;
+  assemble.user_context = &m.context;
+  assemble.progress = nullptr;
+  if (hm.hi.assemble_generic(hm.matrix, &assemble) != 0) throw SolverError("solver method hmatrix: the assembly failed in hmat-oss");
+  r.assembly_seconds = seconds_since(t_assembly);
+  hmat_info_t info{};
+  hm.hi.get_info(hm.matrix, &info);
+  r.stored_entries = info.compressed_size;
+  r.dense_entries = info.uncompressed_size;
+  r.compression_ratio = info.uncompressed_size > 0 ? double(info.compressed_size) / double(info.uncompressed_size) : 1.0;
+  r.largest_rank = info.largest_rk_mem_rank;
+  r.leaves_full = static_cast<int>(info.full_count);
+  r.leaves_low_rank = static_cast<int>(info.rk_count);
+  if (keep_copy) hm.copy = hm.hi.copy(hm.matrix);
+
+  const auto t_factor = SteadyClock::now();
+  hmat_factorization_context_t factor;
+  hmat_factorization_context_init(&factor);
+  factor.factorization = hmat_factorization_lu;
+  factor.progress = nullptr;
+  if (hm.hi.factorize_generic(hm.matrix, &factor) != 0) throw SolverError("solver method hmatrix: the H-LU factorisation failed");
+  r.factorization_seconds = seconds_since(t_factor);
+}
+
+HierarchicalFactorization::~HierarchicalFactorization() = default;
+HierarchicalFactorization::HierarchicalFactorization(HierarchicalFactorization&&) noexcept = default;
+HierarchicalFactorization& HierarchicalFactorization::operator=(HierarchicalFactorization&&) noexcept = default;
+
+const HierarchicalResult& HierarchicalFactorization::result() const { return impl_->result; }
+
+Eigen::VectorXd HierarchicalFactorization::right_hand_side() const { return hmat_glue::right_hand_side(impl_->assembler, impl_->problem); }
+
+void HierarchicalFactorization::g_columns(const std::vector<Index>& elements, Eigen::Ref<Eigen::MatrixXd> out) const {
+  const Index n = 3 * impl_->problem.mesh.num_elements();
+  if (out.rows() != n || out.cols() != 3 * static_cast<Index>(elements.size()))
+    throw InvalidArgumentError("HierarchicalFactorization::g_columns: the output is " + std::to_string(out.rows()) + " x " +
+                               std::to_string(out.cols()) + ", expected " + std::to_string(n) + " x " +
+                               std::to_string(3 * elements.size()));
+  // 64 elements at a time (n x 192 of H and G each), as right_hand_side.
+  for (std::size_t start = 0; start < elements.size(); start += 64) {
+    const std::vector<Index> chunk(elements.begin() + static_cast<std::ptrdiff_t>(start),
+                                   elements.begin() + static_cast<std::ptrdiff_t>(std::min(elements.size(), start + 64)));
+    Eigen::MatrixXd H, G;
+    impl_->assembler.assemble_columns(chunk, H, G);
+    out.middleCols(3 * static_cast<Index>(start), G.cols()) = G;
+  }
+}
+
+void HierarchicalFactorization::solve_in_place(Eigen::MatrixXd& B) {
+  Impl& m = *impl_;
+  const auto t_solve = SteadyClock::now();
+  if (B.cols() > 0 && m.hm.hi.solve_systems(m.hm.matrix, B.data(), static_cast<int>(B.cols())) != 0)
+    throw SolverError("solver method hmatrix: the H-LU solve failed");
+  m.result.solve_seconds += seconds_since(t_solve);
+  if (!B.allFinite())
+    throw SolverError("solver method hmatrix: the solution is not finite (a singular system, or a compression tolerance too loose)");
+  for (Index k = 0; k < B.rows(); ++k) B.row(k) *= m.context.scale[static_cast<std::size_t>(k)];
+}
+
+double HierarchicalFactorization::relative_residual(const Eigen::VectorXd& b, const Eigen::VectorXd& x) const {
+  const Impl& m = *impl_;
+  if (!m.hm.copy) return 0.0;
+  // The copy holds the scaled matrix A* S: apply it to S^-1 x.
+  Eigen::VectorXd y = x;
+  for (Index k = 0; k < y.size(); ++k) y(k) /= m.context.scale[static_cast<std::size_t>(k)];
+  Eigen::VectorXd residual = b;
+  double minus_one = -1.0, one = 1.0;
+  if (m.hm.hi.gemv('N', &minus_one, m.hm.copy, y.data(), &one, residual.data(), 1) != 0) return 0.0;
+  const double norm = b.norm();
+  impl_->result.relative_residual = norm > 0.0 ? residual.norm() / norm : residual.norm();
+  return impl_->result.relative_residual;
+}
+
 ElastostaticSolution solve_elastostatic_hierarchical(const ElastostaticProblem& problem, const LinearSolverOptions& options,
                                                      HierarchicalResult* result) {
   if (!(options.compression_tolerance >= 1e-12 && options.compression_tolerance <= 0.1))
@@ -180,85 +328,17 @@ ElastostaticSolution solve_elastostatic_hierarchical(const ElastostaticProblem& 
   out.report.elements = E;
   out.report.equations = n;
   out.report.warnings = check_before_solve(problem, memory, "solve_elastostatic_hierarchical");
-  HierarchicalResult r;
-  r.compression_tolerance = options.compression_tolerance;
 
-  const auto t_assembly = SteadyClock::now();
-  const InfluenceAssembler assembler(problem.mesh, problem.material, problem.quadrature);
-  SystemContext context;
-  context.assembler = &assembler;
-  context.conditions = &problem.boundary_conditions;
-  // Traction unknowns' columns (-G: about h / mu) scaled to the displacement unknowns' (H: about 1):
-  // without it the unpivoted H-LU of a mixed system lost the answer (19 % off on a hung liver, issue 40).
-  double h = 0.0;
-  for (Index e = 0; e < E; ++e) h += std::sqrt(problem.mesh.area(e));
-  h /= double(E);
-  r.column_scale = problem.material.shear_modulus() / h;
-  context.scale.assign(static_cast<std::size_t>(n), 1.0);
-  for (Index k = 0; k < n; ++k)
-    if (problem.boundary_conditions.kind(k) != BcKind::Traction) context.scale[static_cast<std::size_t>(k)] = r.column_scale;
-  std::vector<double> coordinates(static_cast<std::size_t>(3 * n));
-  for (Index k = 0; k < n; ++k) {
-    const Eigen::Vector3d c = problem.mesh.centroid(k / 3);
-    for (int d = 0; d < 3; ++d) coordinates[static_cast<std::size_t>(3 * k + d)] = c[d];
-  }
-  HmatObjects hm;
-  hmat_init_default_interface(&hm.hi, HMAT_DOUBLE_PRECISION);
-  hm.median = hmat_create_clustering_median();
-  hm.clustering = hmat_create_clustering_max_dof(hm.median, kLeafUnknowns);
-  hm.tree = hmat_create_cluster_tree(coordinates.data(), 3, static_cast<int>(n), hm.clustering);
-  hm.admissibility = hmat_create_admissibility_standard(kEta);
-  hm.compression = hmat_create_compression_aca_plus(options.compression_tolerance);
-  if (!hm.tree || !hm.admissibility || !hm.compression)
-    throw SolverError("solver method hmatrix: hmat-oss could not set up the cluster tree");
-  hm.matrix = hm.hi.create_empty_hmatrix_admissibility(hm.tree, hm.tree, 0, hm.admissibility);
-  if (!hm.matrix) throw SolverError("solver method hmatrix: hmat-oss could not create the matrix");
-  // The H-LU's recompressions truncate to the same tolerance as the assembly (hmat-oss's default,
-  // 1e-4, would cap a tighter tolerance's accuracy there).
-  hm.hi.set_low_rank_epsilon(hm.matrix, options.compression_tolerance);
-  hmat_assemble_context_t assemble;
-  hmat_assemble_context_init(&assemble);
-  assemble.compression = hm.compression;
-  assemble.block_compute = compute_block;
-  assemble.prepare = prepare_block;
-  assemble.user_context = &context;
-  assemble.progress = nullptr;
-  if (hm.hi.assemble_generic(hm.matrix, &assemble) != 0) throw SolverError("solver method hmatrix: the assembly failed in hmat-oss");
-  const Eigen::VectorXd rhs = right_hand_side(assembler, problem);
-  r.assembly_seconds = seconds_since(t_assembly);
-  hmat_info_t info{};
-  hm.hi.get_info(hm.matrix, &info);
-  r.stored_entries = info.compressed_size;
-  r.dense_entries = info.uncompressed_size;
-  r.compression_ratio = info.uncompressed_size > 0 ? double(info.compressed_size) / double(info.uncompressed_size) : 1.0;
-  r.largest_rank = info.largest_rk_mem_rank;
-  r.leaves_full = static_cast<int>(info.full_count);
-  r.leaves_low_rank = static_cast<int>(info.rk_count);
-  hm.copy = hm.hi.copy(hm.matrix);
-
-  const auto t_factor = SteadyClock::now();
-  hmat_factorization_context_t factor;
-  hmat_factorization_context_init(&factor);
-  factor.factorization = hmat_factorization_lu;
-  factor.progress = nullptr;
-  if (hm.hi.factorize_generic(hm.matrix, &factor) != 0) throw SolverError("solver method hmatrix: the H-LU factorisation failed");
-  r.factorization_seconds = seconds_since(t_factor);
-
-  const auto t_solve = SteadyClock::now();
-  Eigen::VectorXd y = rhs;
-  if (hm.hi.solve_systems(hm.matrix, y.data(), 1) != 0) throw SolverError("solver method hmatrix: the H-LU solve failed");
-  r.solve_seconds = seconds_since(t_solve);
-  if (!y.allFinite())
-    throw SolverError("solver method hmatrix: the solution is not finite (a singular system, or a compression tolerance too loose)");
-  Eigen::VectorXd residual = rhs;
-  double minus_one = -1.0, one = 1.0;
-  if (hm.copy && hm.hi.gemv('N', &minus_one, hm.copy, y.data(), &one, residual.data(), 1) == 0) {
-    const double norm = rhs.norm();
-    r.relative_residual = norm > 0.0 ? residual.norm() / norm : residual.norm();
-  }
-  Eigen::VectorXd x = y;
-  for (Index k = 0; k < n; ++k) x(k) *= context.scale[static_cast<std::size_t>(k)];
-  out.boundary = recover_boundary_solution(problem.boundary_conditions, x);
+  HierarchicalFactorization factors(problem, options.compression_tolerance, true);
+  const auto t_rhs = SteadyClock::now();
+  const Eigen::VectorXd rhs = factors.right_hand_side();
+  const double rhs_seconds = seconds_since(t_rhs);
+  Eigen::MatrixXd x = rhs;
+  factors.solve_in_place(x);
+  factors.relative_residual(rhs, x.col(0));
+  HierarchicalResult r = factors.result();
+  r.assembly_seconds += rhs_seconds;
+  out.boundary = recover_boundary_solution(problem.boundary_conditions, x.col(0));
   LinearSolveResult& s = out.report.solver;
   s.method = SolverMethod::Lu;
   s.preconditioner = PreconditionerKind::None;

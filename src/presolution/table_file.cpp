@@ -18,7 +18,7 @@ namespace bemsurg {
 
 namespace {
 constexpr char kMagic[8] = {'B', 'E', 'M', 'S', 'G', 'T', 'B', 'L'};
-constexpr std::uint32_t kFormat = 1;
+constexpr std::uint32_t kFormat = 2;  // 2: the key records the backend and its compression tolerance
 
 class Writer {
  public:
@@ -68,6 +68,12 @@ class Reader {
 };
 }  // namespace
 
+/// "dense backend" or "hierarchical backend (compression tolerance 0.0001)", for the stale message.
+static std::string backend_text(const GreensTableKey& k) {
+  if (k.backend == SolverBackend::Dense) return "dense backend";
+  return "hierarchical backend (compression tolerance " + number_text(k.compression_tolerance) + ")";
+}
+
 void save_greens_table(const std::string& path, const GreensTable& table) {
   if (table.empty()) throw InvalidArgumentError("save_greens_table: the table is empty");
   Writer w;
@@ -83,6 +89,8 @@ void save_greens_table(const std::string& path, const GreensTable& table) {
   w.pod(k.material.poisson_ratio);
   w.pod(k.material.density);
   w.raw(k.gravity.data(), 3 * sizeof(double));
+  w.pod<std::uint8_t>(k.backend == SolverBackend::HMatrix ? 1 : 0);
+  w.pod(k.compression_tolerance);
   w.pod<std::int64_t>(static_cast<std::int64_t>(table.region().size()));
   for (Index e : table.region()) w.pod<std::int64_t>(e);
   for (BcKind kind : table.base_kinds()) w.pod<std::uint8_t>(static_cast<std::uint8_t>(kind));
@@ -129,6 +137,10 @@ static GreensTable load_checked(const std::string& path, const GreensTableKey& e
   k.material.poisson_ratio = r.pod<double>();
   k.material.density = r.pod<double>();
   r.raw(k.gravity.data(), 3 * sizeof(double));
+  const auto backend = r.pod<std::uint8_t>();
+  if (backend > 1) throw IoError("table file " + path + " is corrupt: bad backend");
+  k.backend = backend == 1 ? SolverBackend::HMatrix : SolverBackend::Dense;
+  k.compression_tolerance = r.pod<double>();
   const std::string stale = "table file " + path + " is stale: it was computed for ";
   if (k.mesh_hash != expected.mesh_hash || k.num_elements != expected.num_elements)
     throw IoError(stale + "a different mesh (" + std::to_string(k.num_elements) + " elements, hash " + std::to_string(k.mesh_hash) +
@@ -140,6 +152,8 @@ static GreensTable load_checked(const std::string& path, const GreensTableKey& e
   if (k.conditions_hash != expected.conditions_hash) throw IoError(stale + "different supports / boundary conditions");
   if (k.gravity != expected.gravity) throw IoError(stale + "a different gravity");
   if (k.quadrature_hash != expected.quadrature_hash) throw IoError(stale + "different quadrature options");
+  if (k.backend != expected.backend || k.compression_tolerance != expected.compression_tolerance)
+    throw IoError(stale + "the " + backend_text(k) + "; the scene asks for the " + backend_text(expected));
   const auto R = r.pod<std::int64_t>();
   if (R < 0 || R > k.num_elements) throw IoError("table file " + path + " is corrupt: bad region size");
   std::vector<Index> region(static_cast<std::size_t>(R));
@@ -179,6 +193,13 @@ GreensTable load_greens_table(const std::string& path, const GreensTableKey& exp
 
 CachedGreensTable load_or_compute_greens_table(const ElastostaticProblem& problem, const std::vector<Index>& region,
                                                const std::string& path, const TableCacheOptions& options) {
+  if (options.backend != SolverBackend::Dense && !options.compute)
+    throw InvalidArgumentError("load_or_compute_greens_table: the " + std::string(to_string(options.backend)) +
+                               " backend computes its table through TableCacheOptions::compute (presolution/hierarchical_table.hpp)");
+  if (options.backend != SolverBackend::Dense && options.for_cuts)
+    throw SolverError(
+        "cuts update the table through the dense backend's LU, which the hierarchical backend does not keep; use "
+        "\"method\": \"lu\" in a scene that cuts");
   CachedGreensTable out;
   std::error_code ec;
   const bool exists = !path.empty() && std::filesystem::exists(path, ec);
@@ -187,8 +208,10 @@ CachedGreensTable load_or_compute_greens_table(const ElastostaticProblem& proble
                         " (a table read from a file keeps no factorisation for the exact updates after a cut)");
   if (exists && !options.for_cuts) {
     try {
-      const GreensTableKey key =
+      GreensTableKey key =
           make_greens_table_key(problem.mesh, problem.material, problem.boundary_conditions, problem.gravity, problem.quadrature);
+      key.backend = options.backend;
+      key.compression_tolerance = options.backend == SolverBackend::Dense ? 0.0 : options.compression_tolerance;
       out.table = load_greens_table(path, key, region);
       out.loaded_from_file = true;
       return out;
@@ -196,7 +219,7 @@ CachedGreensTable load_or_compute_greens_table(const ElastostaticProblem& proble
       out.warnings.push_back(std::string(e.what()) + "; recomputing");
     }
   }
-  out.table = GreensTable::compute(problem, region);
+  out.table = options.compute ? options.compute(problem, region) : GreensTable::compute(problem, region);
   if (!path.empty() && options.save) {
     // A private name per process, renamed into place: rename is atomic, so a reader never sees half a file.
     const std::string temporary = path + ".tmp" + std::to_string(static_cast<long long>(::getpid()));

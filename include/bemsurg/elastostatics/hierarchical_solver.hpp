@@ -7,13 +7,15 @@
 // A compiled component: library bemsurg_hmatrix, CMake target bemsurg::hmatrix, built on hmat-oss
 // when CMake finds it (BEMSURG_WITH_HMATRIX). Built without it, hierarchical_backend_available() is
 // false and solve_elastostatic_hierarchical throws SolverError saying so; the header-only core never
-// needs it. Today it covers solves of constant elements (`bemsurg solve`); tables, cuts, sessions,
-// interior points and linear elements still use the dense backend.
+// needs it. It covers solves and pre-solution tables of constant elements (`bemsurg solve`,
+// presolution/hierarchical_table.hpp for `press` and `session`); cuts, the viewer, interior points and
+// linear elements still use the dense backend.
 #pragma once
 
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <memory>
 #include <string>
 
 #include "bemsurg/elastostatics/elastostatic_problem.hpp"
@@ -49,6 +51,44 @@ inline double estimate_hierarchical_bytes(Index elements) {
   const double fraction = std::min(1.0, 0.41 * std::pow(e / 1778.0, -0.74));
   return 2.0 * 8.0 * n * n * fraction + 64.0 * n * 120.0;
 }
+
+/// A* of a problem (constant elements) assembled block by block, compressed by ACA+ and factorised
+/// by an H-LU on hmat-oss, kept to solve many right-hand sides: the static solve's one, a table's
+/// columns. The traction unknowns' columns are scaled by mu / h inside (solve_in_place takes and
+/// returns unscaled vectors, as the dense LU does). `problem` must outlive it. Move-only.
+/// \ingroup elastostatics
+class HierarchicalFactorization {
+ public:
+  /// Assembles and factorises A* of `problem` at ACA+'s `compression_tolerance` (in [1e-12, 0.1]);
+  /// `keep_copy` keeps the assembled matrix for relative_residual (as much memory again). Throws
+  /// SolverError when the backend is missing, the elements are linear or hmat-oss fails, and
+  /// InvalidArgumentError for a tolerance outside its range. No checks of the problem itself: callers
+  /// run check_before_solve first.
+  HierarchicalFactorization(const ElastostaticProblem& problem, double compression_tolerance, bool keep_copy);
+  ~HierarchicalFactorization();
+  HierarchicalFactorization(HierarchicalFactorization&&) noexcept;
+  HierarchicalFactorization& operator=(HierarchicalFactorization&&) noexcept;
+  HierarchicalFactorization(const HierarchicalFactorization&) = delete;
+  HierarchicalFactorization& operator=(const HierarchicalFactorization&) = delete;
+
+  /// Solves A* X = B in place for all columns of `B` (n x k) at once; adds the time to
+  /// result().solve_seconds. Throws SolverError when hmat-oss fails or the result is not finite.
+  void solve_in_place(Eigen::MatrixXd& B);
+  /// ||b - A* x|| / ||b|| with the assembled copy (0 when `keep_copy` was false).
+  double relative_residual(const Eigen::VectorXd& b, const Eigen::VectorXd& x) const;
+  /// The right-hand side of eq. 6 for the problem's conditions and gravity (G t_known - H u_known plus
+  /// gravity), assembled from the loaded elements' columns only.
+  Eigen::VectorXd right_hand_side() const;
+  /// Columns 3e..3e+2 of G for each element e of `elements`, in order, into `out` (n x 3|elements|):
+  /// a table's right-hand sides, unit tractions on its region.
+  void g_columns(const std::vector<Index>& elements, Eigen::Ref<Eigen::MatrixXd> out) const;
+  /// Compression, phases and (after a solve) the residual of the last relative_residual call.
+  const HierarchicalResult& result() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 /// The static solve of `problem` on the hierarchical backend, with the same checks as
 /// solve_elastostatic (check_before_solve), except memory: the compressed matrix's size is not known

@@ -35,6 +35,7 @@
 #include "bemsurg/mesh/mesh_delta.hpp"
 #include "bemsurg/mesh/triangle_mesh.hpp"
 #include "bemsurg/quadrature/element_quadrature.hpp"
+#include "bemsurg/solvers/linear_solve.hpp"
 #include "bemsurg/solvers/low_rank_updated_lu.hpp"
 #include "bemsurg/solvers/lu_in_place.hpp"
 
@@ -72,6 +73,10 @@ struct GreensTableKey {
   Index num_elements = 0;
   Material material;
   Eigen::Vector3d gravity = Eigen::Vector3d::Zero();
+  /// The backend that solved the columns: a compressed table (hierarchical, its ACA+ tolerance) is a
+  /// different table from the dense one and never loads in its place (issue 40).
+  SolverBackend backend = SolverBackend::Dense;
+  double compression_tolerance = 0.0;  // 0 for the dense backend
 };
 
 /// 64-bit FNV-1a of raw bytes, chained through `seed` (used for keys and file checksums).
@@ -124,6 +129,19 @@ class GreensTable {
   /// The same for a mesh snapshot shared with its other users (no copy of the mesh kept).
   static GreensTable compute(std::shared_ptr<const TriangleMesh> mesh, const Material& material, const BoundaryConditions& base,
                              const GreensTableOptions& options = {});
+
+  /// The table's region as compute() resolves and checks `region` on `base` (empty: every free
+  /// element, in order; repeats dropped): BoundaryConditionError for an element out of range, not
+  /// free, or no free element at all.
+  static std::vector<Index> resolve_region(const BoundaryConditions& base, const std::vector<Index>& region);
+  /// A table from the solution of A* X = [G columns of the region's elements, R_bc + R_G] solved by
+  /// another backend (presolution/hierarchical_table.hpp): `solution` is n x (3|region| + 1), the
+  /// base state last; `region` as resolve_region returns it. The key records `backend` and
+  /// `compression_tolerance`. It keeps no factorisation (has_factorization() is false): a cut needs
+  /// the dense backend's table.
+  static GreensTable from_solution(std::shared_ptr<const TriangleMesh> mesh, const ElastostaticProblem& problem, std::vector<Index> region,
+                                   Eigen::MatrixXd solution, SolverBackend backend, double compression_tolerance,
+                                   std::vector<std::string> warnings, const PrecomputeTimings& timings);
 
   /// This table computed again from scratch on its own mesh (same region, conditions, version):
   /// what a background refactorisation publishes in place of a table whose correction rank grew.

@@ -3,12 +3,14 @@
 //
 // Binary, little-endian as written by this machine. Header: magic "BEMSGTBL", format version,
 // library version, then the key: mesh hash, boundary-condition hash, quadrature hash, element
-// count, material (E, nu, rho), gravity; then region, base kinds, base state and the columns;
+// count, material (E, nu, rho), gravity, backend (0 dense, 1 hierarchical) and its compression
+// tolerance (format 2); then region, base kinds, base state and the columns;
 // last a 64-bit FNV-1a checksum of everything before it. A stale file (its key differs from the
 // scene's) or a corrupt one (checksum, size, magic) is rejected with IoError saying which,
 // never used: a silently wrong table gives silently wrong forces (cf. SOFA issue 1809).
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -38,6 +40,15 @@ struct TableCacheOptions {
   /// Save a computed table to the file (written to a private name and renamed into place, so processes that
   /// compute the same table at once never read a half-written file).
   bool save = true;
+  /// The backend the table is computed on (the scene's solver method) and its compression tolerance:
+  /// part of the key a file must match, so a compressed table never loads in place of a dense one.
+  /// Cuts (for_cuts) need the dense backend (SolverError otherwise).
+  SolverBackend backend = SolverBackend::Dense;
+  double compression_tolerance = 0.0;
+  /// Computes the table when no file is read; null: GreensTable::compute (dense). Another backend
+  /// needs its own: compute_greens_table_hierarchical (presolution/hierarchical_table.hpp, in the
+  /// optional library bemsurg::hmatrix, which the header-only core does not link).
+  std::function<GreensTable(const ElastostaticProblem&, const std::vector<Index>&)> compute;
 };
 
 /// What load_or_compute_greens_table did: the table, whether it came from the file, and what a program should tell

@@ -116,24 +116,7 @@ BEMSURG_INLINE GreensTable GreensTable::compute_on(std::shared_ptr<const Triangl
   GreensTable table;
   table.key_ = make_greens_table_key(mesh, material, base, gravity, quadrature);
   table.base_kinds_ = base.kinds();
-  if (region.empty()) {
-    for (Index e = 0; e < E; ++e)
-      if (base.is_free(e)) table.region_.push_back(e);
-  } else {
-    std::vector<char> seen(static_cast<std::size_t>(E), 0);
-    for (Index e : region) {
-      if (e < 0 || e >= E)
-        throw BoundaryConditionError("GreensTable: region element " + std::to_string(e) + " is out of range (the mesh has " +
-                                     std::to_string(E) + " elements)");
-      if (!base.is_free(e))
-        throw BoundaryConditionError("GreensTable: region element " + std::to_string(e) +
-                                     " is not free (a displacement is prescribed on it); tools act on free elements only");
-      if (seen[static_cast<std::size_t>(e)]) continue;
-      seen[static_cast<std::size_t>(e)] = 1;
-      table.region_.push_back(e);
-    }
-  }
-  if (table.region_.empty()) throw BoundaryConditionError("GreensTable: no free element for the table's region");
+  table.region_ = resolve_region(base, region);
   const Index R = static_cast<Index>(table.region_.size());
 
   // The problem's one check, as solve_elastostatic runs it (docs/design.md §5, §6).
@@ -174,6 +157,59 @@ BEMSURG_INLINE GreensTable GreensTable::compute_on(std::shared_ptr<const Triangl
   B.conservativeResize(n, 3 * R);
   if (!B.allFinite()) throw SolverError("GreensTable: the table has non-finite entries");
   table.set_columns_from_solution(std::move(B));
+  table.build_slots();
+  return table;
+}
+
+BEMSURG_INLINE std::vector<Index> GreensTable::resolve_region(const BoundaryConditions& base, const std::vector<Index>& region) {
+  const Index E = base.num_elements();
+  std::vector<Index> out;
+  if (region.empty()) {
+    for (Index e = 0; e < E; ++e)
+      if (base.is_free(e)) out.push_back(e);
+  } else {
+    std::vector<char> seen(static_cast<std::size_t>(E), 0);
+    for (Index e : region) {
+      if (e < 0 || e >= E)
+        throw BoundaryConditionError("GreensTable: region element " + std::to_string(e) + " is out of range (the mesh has " +
+                                     std::to_string(E) + " elements)");
+      if (!base.is_free(e))
+        throw BoundaryConditionError("GreensTable: region element " + std::to_string(e) +
+                                     " is not free (a displacement is prescribed on it); tools act on free elements only");
+      if (seen[static_cast<std::size_t>(e)]) continue;
+      seen[static_cast<std::size_t>(e)] = 1;
+      out.push_back(e);
+    }
+  }
+  if (out.empty()) throw BoundaryConditionError("GreensTable: no free element for the table's region");
+  return out;
+}
+
+BEMSURG_INLINE GreensTable GreensTable::from_solution(std::shared_ptr<const TriangleMesh> mesh, const ElastostaticProblem& problem,
+                                                      std::vector<Index> region, Eigen::MatrixXd solution, SolverBackend backend,
+                                                      double compression_tolerance, std::vector<std::string> warnings,
+                                                      const PrecomputeTimings& timings) {
+  if (!mesh) throw InvalidArgumentError("GreensTable::from_solution: no mesh");
+  const BoundaryConditions& base = problem.boundary_conditions;
+  const Index n = 3 * mesh->num_elements(), R = static_cast<Index>(region.size());
+  if (base.num_elements() != mesh->num_elements() || solution.rows() != n || solution.cols() != 3 * R + 1)
+    throw InvalidArgumentError("GreensTable::from_solution: the solution is " + std::to_string(solution.rows()) + " x " +
+                               std::to_string(solution.cols()) + ", expected " + std::to_string(n) + " x " + std::to_string(3 * R + 1));
+  if (!solution.allFinite()) throw SolverError("GreensTable: the table has non-finite entries");
+  GreensTable table;
+  table.key_ = make_greens_table_key(*mesh, problem.material, base, problem.gravity, problem.quadrature);
+  table.key_.backend = backend;
+  table.key_.compression_tolerance = backend == SolverBackend::Dense ? 0.0 : compression_tolerance;
+  table.base_kinds_ = base.kinds();
+  table.region_ = std::move(region);
+  table.warnings_ = std::move(warnings);
+  table.timings_ = timings;
+  table.quadrature_ = problem.quadrature;
+  table.base_values_ = base.values();
+  table.mesh_ = std::move(mesh);
+  table.set_base_state(base, solution.col(3 * R));
+  solution.conservativeResize(n, 3 * R);
+  table.set_columns_from_solution(std::move(solution));
   table.build_slots();
   return table;
 }

@@ -1,0 +1,54 @@
+// Implementation of bemsurg/presolution/hierarchical_table.hpp: the table's columns and base state
+// as one multi-right-hand-side solve on the hierarchical backend's H-LU (library bemsurg_hmatrix).
+#include "bemsurg/presolution/hierarchical_table.hpp"
+
+#include <memory>
+#include <string>
+#include <utility>
+
+#include "bemsurg/error.hpp"
+#include "bemsurg/memory_budget.hpp"
+#include "bemsurg/timing.hpp"
+
+namespace bemsurg {
+
+GreensTable compute_greens_table_hierarchical(const ElastostaticProblem& problem, const std::vector<Index>& region,
+                                              const LinearSolverOptions& options, HierarchicalResult* result) {
+  if (!hierarchical_backend_available()) solve_elastostatic_hierarchical(problem, options);  // throws, saying what is missing
+  if (problem.boundary_conditions.num_elements() != problem.mesh.num_elements())
+    throw BoundaryConditionError("GreensTable: the boundary conditions are for " +
+                                 std::to_string(problem.boundary_conditions.num_elements()) + " elements, the mesh has " +
+                                 std::to_string(problem.mesh.num_elements()));
+  std::vector<Index> elements = GreensTable::resolve_region(problem.boundary_conditions, region);
+  const Index E = problem.mesh.num_elements(), n = 3 * E, R = static_cast<Index>(elements.size());
+  // The problem's one check (as GreensTable::compute runs it), with the hierarchical estimate (which
+  // counts the copy a residual needs: the right-hand sides of the solve fit in it) plus the table.
+  MemoryNeed memory;
+  memory.bytes = estimate_hierarchical_bytes(E) + 8.0 * double(n) * double(3 * R + 1);
+  memory.refusal = [E, n, R](double need, double limit) {
+    return "the hierarchical precomputation for " + std::to_string(E) + " elements with a region of " + std::to_string(R) +
+           " elements needs about " + format_gib(need) + " (table: " + format_gib(8.0 * double(n) * 3.0 * double(R)) +
+           "), more than the limit of " + format_gib(limit) + "; restrict the region to where tools act, or coarsen the mesh away from it";
+  };
+  std::vector<std::string> warnings = check_before_solve(problem, memory, "GreensTable");
+
+  // The assembled copy is kept for the base state's residual (report.json), as the solve keeps it.
+  HierarchicalFactorization factors(problem, options.compression_tolerance, true);
+  PrecomputeTimings timings;
+  timings.factorization_seconds = factors.result().factorization_seconds;
+  const auto t_rhs = SteadyClock::now();
+  Eigen::MatrixXd X(n, 3 * R + 1);
+  factors.g_columns(elements, X.leftCols(3 * R));
+  const Eigen::VectorXd rhs = factors.right_hand_side();
+  X.col(3 * R) = rhs;
+  timings.assembly_seconds = factors.result().assembly_seconds + seconds_since(t_rhs);
+  const auto t_solve = SteadyClock::now();
+  factors.solve_in_place(X);
+  timings.table_seconds = seconds_since(t_solve);
+  factors.relative_residual(rhs, X.col(3 * R));
+  if (result) *result = factors.result();
+  return GreensTable::from_solution(std::make_shared<const TriangleMesh>(problem.mesh), problem, std::move(elements), std::move(X),
+                                    SolverBackend::HMatrix, options.compression_tolerance, std::move(warnings), timings);
+}
+
+}  // namespace bemsurg
