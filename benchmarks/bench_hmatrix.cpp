@@ -1,0 +1,210 @@
+// bench_hmatrix: the hierarchical backend against the dense one (issue 40, item 5; docs/solvers.md,
+// "Hierarchical matrices"; the report's "Hierarchical matrices" part). A cube of soft tissue resting
+// on its bottom face under gravity, N x N cells per face (12 N^2 constant elements), solved at each
+// size by both backends in the same process: hierarchical first (solve_elastostatic_hierarchical at
+// --tolerance), then dense LU (the reference): wall time of each whole solve (assembly, factorisation,
+// solve), each one's own peak resident memory (the kernel's high-water mark reset before it:
+// /proc/self/clear_refs, "5"), the compression and the hierarchical answer's difference from the
+// dense one. Then, at --sweep-divisions, the hierarchical solve at each of --sweep-tolerances: stored
+// fraction and added error against the tolerance.
+//
+//   bench_hmatrix [--quick] [--json PATH] [--divisions N,N,...] [--tolerance T]
+//                 [--sweep-divisions N] [--sweep-tolerances T,T,...]
+//
+// The JSON's "crossover_elements" is where the hierarchical solve's time falls below the dense
+// one's (log-log interpolation between the sizes on either side; null when it does not within the
+// sizes run), "memory_crossover_elements" the same for peak memory, "time_exponent" the least-squares
+// slope of log time against log n per backend. Built without hmat-oss it says so and writes
+// "available": false.
+
+#include <cmath>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bemsurg/elastostatics/elastostatic_solver.hpp"
+#include "bemsurg/elastostatics/hierarchical_solver.hpp"
+#include "bemsurg/io/results_io.hpp"
+#include "bemsurg/mesh/mesh_generators.hpp"
+#include "bench_support.hpp"
+
+using namespace bemsurg;
+
+namespace {
+
+constexpr double kEdge = 0.1;  // m: the cube's edge
+constexpr double kYoung = 3000.0, kPoisson = 0.45, kDensity = 1000.0, kGravity = 9.81;
+
+ElastostaticProblem resting_cube(int divisions) {
+  ElastostaticProblem p;
+  p.mesh = box_mesh(Eigen::Vector3d::Zero(), Eigen::Vector3d(kEdge, kEdge, kEdge), divisions, divisions, divisions);
+  p.material = Material{kYoung, kPoisson, kDensity};
+  p.gravity = Eigen::Vector3d(0.0, 0.0, -kGravity);
+  p.boundary_conditions = BoundaryConditions(p.mesh.num_elements());
+  for (Index e = 0; e < p.mesh.num_elements(); ++e)
+    if (p.mesh.centroid(e).z() < 1e-9) p.boundary_conditions.prescribe_displacement(e, Eigen::Vector3d::Zero());
+  return p;
+}
+
+/// Resets the kernel's peak-RSS mark of this process (Linux >= 4.0); false when it cannot.
+bool reset_peak_memory() {
+  std::ofstream f("/proc/self/clear_refs");
+  f << "5";
+  return static_cast<bool>(f);
+}
+
+struct Timed {
+  ElastostaticSolution solution;
+  double seconds = 0.0, peak_mb = 0.0;
+};
+
+Timed timed_solve(const ElastostaticProblem& p, bool hierarchical, double tolerance, HierarchicalResult* r) {
+  reset_peak_memory();
+  const auto t0 = bench::Clock::now();
+  Timed out;
+  if (hierarchical) {
+    LinearSolverOptions o;
+    o.backend = SolverBackend::HMatrix;
+    o.compression_tolerance = tolerance;
+    out.solution = solve_elastostatic_hierarchical(p, o, r);
+  } else {
+    out.solution = solve_elastostatic(p, LinearSolverOptions{});
+  }
+  out.seconds = seconds_since(t0);
+  out.peak_mb = peak_memory_mb();
+  return out;
+}
+
+double relative_max(const RowMatrixX3d& a, const RowMatrixX3d& b) {
+  return (a - b).cwiseAbs().maxCoeff() / std::max(b.cwiseAbs().maxCoeff(), 1e-300);
+}
+
+/// Where log(h / d) crosses zero between consecutive sizes, interpolated in log(elements); null if never.
+nlohmann::json crossover(const std::vector<double>& elements, const std::vector<double>& h, const std::vector<double>& d) {
+  for (std::size_t i = 0; i + 1 < elements.size(); ++i) {
+    const double a = std::log(h[i] / d[i]), b = std::log(h[i + 1] / d[i + 1]);
+    if (a > 0.0 && b <= 0.0) {
+      const double s = a / (a - b);
+      return std::exp(std::log(elements[i]) + s * (std::log(elements[i + 1]) - std::log(elements[i])));
+    }
+  }
+  if (!elements.empty() && h.front() <= d.front()) return elements.front();  // faster already at the smallest size
+  return nullptr;
+}
+
+double fit_exponent(const std::vector<double>& n, const std::vector<double>& t) {
+  double mx = 0.0, my = 0.0;
+  for (std::size_t i = 0; i < n.size(); ++i) mx += std::log(n[i]), my += std::log(t[i]);
+  mx /= double(n.size());
+  my /= double(n.size());
+  double sxy = 0.0, sxx = 0.0;
+  for (std::size_t i = 0; i < n.size(); ++i) {
+    sxy += (std::log(n[i]) - mx) * (std::log(t[i]) - my);
+    sxx += (std::log(n[i]) - mx) * (std::log(n[i]) - mx);
+  }
+  return sxx > 0.0 ? sxy / sxx : 0.0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  bool quick = false;
+  std::string json_path;
+  std::vector<int> sizes;
+  std::vector<double> tolerances;
+  double tolerance = 1e-4;
+  int sweep_divisions = 0;
+  auto parser = bench::command_line("bench_hmatrix", "The hierarchical backend against dense LU: time, memory, compression, error.\n",
+                                    quick, json_path);
+  parser.value("--divisions", "N,N,...", sizes, "cells per cube edge at each size (12 N^2 elements)")
+      .at_least(2)
+      .default_text("6,9,13,18,22; --quick: 4,8");
+  parser.value("--tolerance", "T", tolerance, "ACA+'s compression tolerance of the size series").between(1e-12, 0.1);
+  parser.value("--sweep-divisions", "N", sweep_divisions, "the size of the tolerance sweep").default_text("13; --quick: 6");
+  parser.value("--sweep-tolerances", "T,T,...", tolerances, "the tolerances of the sweep")
+      .between(1e-12, 0.1)
+      .default_text("1e-2 ... 1e-8 by decades; --quick: 1e-2,1e-4,1e-6");
+  if (const std::optional<int> status = cli::parse_command_line(parser, argc, argv)) return *status;
+  if (sizes.empty()) sizes = quick ? std::vector<int>{4, 8} : std::vector<int>{6, 9, 13, 18, 22};
+  if (tolerances.empty())
+    tolerances = quick ? std::vector<double>{1e-2, 1e-4, 1e-6} : std::vector<double>{1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8};
+  if (sweep_divisions <= 0) sweep_divisions = quick ? 6 : 13;
+
+  nlohmann::json result;
+  result["benchmark"] = "bench_hmatrix";
+  result["quick"] = quick;
+  result["body"] = "cube of edge 0.1 m resting on its bottom face under gravity (E 3 kPa, nu 0.45, rho 1000 kg/m^3)";
+  result["available"] = hierarchical_backend_available();
+  if (!hierarchical_backend_available()) {
+    std::cout << "bench_hmatrix: built without hmat-oss (libhmat-oss-dev): nothing to measure\n";
+    return bench::write_json_file(json_path, result, "bench_hmatrix") ? 0 : 1;
+  }
+  result["tolerance"] = tolerance;
+  result["peak_memory_resets"] = reset_peak_memory();
+  std::vector<double> elements, th, td, mh, md;
+  nlohmann::json rows = nlohmann::json::array();
+  for (const int N : sizes) {
+    const ElastostaticProblem p = resting_cube(N);
+    HierarchicalResult r;
+    const Timed h = timed_solve(p, true, tolerance, &r);
+    const Timed d = timed_solve(p, false, tolerance, nullptr);
+    const double du = relative_max(h.solution.boundary.displacement, d.solution.boundary.displacement);
+    const double dt = relative_max(h.solution.boundary.traction, d.solution.boundary.traction);
+    const double E = double(p.mesh.num_elements());
+    elements.push_back(E);
+    th.push_back(h.seconds);
+    td.push_back(d.seconds);
+    mh.push_back(h.peak_mb);
+    md.push_back(d.peak_mb);
+    rows.push_back({{"divisions", N},
+                    {"elements", p.mesh.num_elements()},
+                    {"equations", 3 * p.mesh.num_elements()},
+                    {"dense_seconds", d.seconds},
+                    {"hierarchical_seconds", h.seconds},
+                    {"time_ratio", h.seconds / d.seconds},
+                    {"dense_peak_mb", d.peak_mb},
+                    {"hierarchical_peak_mb", h.peak_mb},
+                    {"memory_ratio", h.peak_mb / d.peak_mb},
+                    {"compression_ratio", r.compression_ratio},
+                    {"largest_rank", r.largest_rank},
+                    {"hierarchical_assembly_seconds", r.assembly_seconds},
+                    {"hierarchical_factorization_seconds", r.factorization_seconds},
+                    {"displacement_difference", du},
+                    {"traction_difference", dt}});
+    std::cout << "bench_hmatrix: " << p.mesh.num_elements() << " elements: hierarchical / dense time " << fixed_text(h.seconds, 2) << " / "
+              << fixed_text(d.seconds, 2) << " s (" << fixed_text(h.seconds / d.seconds, 2) << "), peak memory " << fixed_text(h.peak_mb, 0)
+              << " / " << fixed_text(d.peak_mb, 0) << " MB, stored " << fixed_text(r.compression_ratio, 3) << " of dense, displacement "
+              << number_text(du) << " off" << std::endl;
+  }
+  result["sizes"] = rows;
+  std::vector<double> nh(elements.size());
+  for (std::size_t i = 0; i < elements.size(); ++i) nh[i] = 3.0 * elements[i];
+  if (elements.size() >= 2) result["time_exponent"] = {{"dense", fit_exponent(nh, td)}, {"hierarchical", fit_exponent(nh, th)}};
+  result["crossover_elements"] = crossover(elements, th, td);
+  result["memory_crossover_elements"] = crossover(elements, mh, md);
+
+  // The tolerance sweep at one size: the dense answer once, then each tolerance.
+  const ElastostaticProblem p = resting_cube(sweep_divisions);
+  const ElastostaticSolution dense = solve_elastostatic(p, LinearSolverOptions{});
+  nlohmann::json sweep = nlohmann::json::array();
+  for (const double t : tolerances) {
+    HierarchicalResult r;
+    const Timed h = timed_solve(p, true, t, &r);
+    const double du = relative_max(h.solution.boundary.displacement, dense.boundary.displacement);
+    sweep.push_back({{"tolerance", t},
+                     {"compression_ratio", r.compression_ratio},
+                     {"largest_rank", r.largest_rank},
+                     {"seconds", h.seconds},
+                     {"displacement_difference", du},
+                     {"traction_difference", relative_max(h.solution.boundary.traction, dense.boundary.traction)},
+                     {"relative_residual", r.relative_residual}});
+    std::cout << "bench_hmatrix: sweep at " << p.mesh.num_elements() << " elements: tolerance " << number_text(t) << ": stored "
+              << fixed_text(r.compression_ratio, 3) << ", displacement " << number_text(du) << " off, " << fixed_text(h.seconds, 2) << " s"
+              << std::endl;
+  }
+  result["sweep"] = {{"divisions", sweep_divisions}, {"elements", p.mesh.num_elements()}, {"rows", sweep}};
+  return bench::write_json_file(json_path, result, "bench_hmatrix") ? 0 : 1;
+}
