@@ -283,7 +283,7 @@ TEST_CASE("solve writes surface.vtk and a complete report.json", "[cli]") {
   CHECK(solver.at("iterations").get<int>() >= 1);
   // Converged means a true residual at most the scene's tolerance 1e-10 (measured 6.2e-11).
   CHECK(solver.at("relative_residual").get<double>() <= 1e-10);
-  CHECK(report.at("backend") == nlohmann::json({{"name", "dense"}}));
+  CHECK(report.at("backend") == nlohmann::json({{"name", "dense"}, {"chosen_by", "scene"}}));
   CHECK(report.at("bemsurg_version").is_string());
   // What each rule held (issue 38): the bottom face (a normal selector: no region), the top face
   // (a box region, which also holds 0.1 mm of each side: 0.01 + 4 x 0.1 x 1e-4 m^2 of surface).
@@ -471,7 +471,17 @@ TEST_CASE("solve with method hmatrix answers as lu does and says what the hierar
   CHECK(backend.at("largest_rank").get<int>() >= 0);
   CHECK(backend.at("factorization_seconds").get<double>() > 0.0);
   CHECK(report.at("solver").at("relative_residual").get<double>() <= 1e-4);
-  CHECK(nlohmann::json::parse(read_text(dir.file("d/report.json"))).at("backend").at("name") == "dense");
+  const auto dense_report = nlohmann::json::parse(read_text(dir.file("d/report.json")));
+  CHECK(dense_report.at("backend").at("name") == "dense");
+  CHECK(dense_report.at("backend").at("chosen_by") == "scene");
+  // "auto" on these 320 elements: dense LU, said on stderr and in the report.
+  const std::string automatic = dir.write("auto.json", body + R"({"method": "auto"}})");
+  const Run a_run = run_cli("solve '" + automatic + "' -o '" + dir.file("a") + "'", dir);
+  REQUIRE(a_run.exit_code == 0);
+  CHECK_THAT(a_run.err, Catch::Contains("solver method auto: dense LU"));
+  const auto auto_report = nlohmann::json::parse(read_text(dir.file("a/report.json")));
+  CHECK(auto_report.at("backend").at("name") == "dense");
+  CHECK(auto_report.at("backend").at("chosen_by") == "auto");
 }
 
 TEST_CASE("press on a hierarchical scene computes, keys and reloads its table on that backend", "[cli][hmatrix]") {

@@ -184,3 +184,34 @@ TEST_CASE("a table on the hierarchical backend equals the dense table to its tol
   CHECK_THROWS_WITH(load_or_compute_greens_table(scene.problem, scene.operating_elements, dir.file("h.tbl"), options),
                     Catch::Contains("\"method\": \"lu\""));
 }
+
+TEST_CASE("method auto chooses dense LU below the crossover and the hierarchical backend above it, and says why", "[hmatrix]") {
+  // docs/solvers.md: "auto" is resolved per mesh by the command (choose_backend); the scene keeps it.
+  const Scene scene = load_scene_from_string(resting_brain_json(R"({"method": "auto", "compression_tolerance": 1e-5})"), ".", "auto");
+  CHECK(scene.solver.automatic_backend);
+  CHECK(scene.solver.backend == SolverBackend::Dense);
+  CHECK(scene.solver.compression_tolerance == 1e-5);
+  const Index at = kAutoHierarchicalElements;
+  const BackendChoice small = choose_backend(at - 1, ElementType::Constant, false);
+  CHECK(small.backend == SolverBackend::Dense);
+  CHECK_THAT(small.reason, Catch::Contains("dense LU"));
+  const BackendChoice large = choose_backend(at, ElementType::Constant, false);
+  const BackendChoice cut = choose_backend(at, ElementType::Constant, true);
+  const BackendChoice linear = choose_backend(at, ElementType::Linear, false);
+  CHECK(cut.backend == SolverBackend::Dense);
+  CHECK(linear.backend == SolverBackend::Dense);
+  if (!hierarchical_backend_available()) {
+    CHECK(large.backend == SolverBackend::Dense);
+    CHECK_THAT(large.reason, Catch::Contains("without hmat-oss"));
+    return;
+  }
+  CHECK(large.backend == SolverBackend::HMatrix);
+  CHECK_THAT(large.reason, Catch::Contains("hmatrix") && Catch::Contains(std::to_string(at)));
+  CHECK_THAT(cut.reason, Catch::Contains("cut"));
+  CHECK_THAT(linear.reason, Catch::Contains("constant elements only"));
+  // A mesh whose dense solve would not fit goes hierarchical whatever the crossover says.
+  Index too_big = 1000;
+  while (estimate_elastostatic_bytes(too_big) <= default_memory_limit_bytes()) too_big *= 2;
+  CHECK(choose_backend(too_big, ElementType::Constant, false).backend == SolverBackend::HMatrix);
+  CHECK_THAT(choose_backend(too_big, ElementType::Constant, false).reason, Catch::Contains("would need about"));
+}

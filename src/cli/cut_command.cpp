@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "backend_choice.hpp"
 #include "bemsurg/cutting/cut_system_update.hpp"
 #include "bemsurg/io/results_io.hpp"
 #include "bemsurg/io/scene.hpp"
@@ -141,7 +142,7 @@ int run_cut(int argc, char** argv) {
   if (!parsed) return 0;
   const CutCommandOptions& o = *parsed;
   const auto t_start = SteadyClock::now();
-  const Scene scene = require_constant_elements(load_scene(o.scene), "bemsurg cut");
+  const Scene scene = cli::with_chosen_backend(require_constant_elements(load_scene(o.scene), "bemsurg cut"), true, o.quiet, "bemsurg cut");
   if (scene.solver.backend == SolverBackend::HMatrix)  // docs/solvers.md, "Hierarchical matrices"
     throw SceneError(o.scene +
                      ": solver.method: \"hmatrix\" is not supported by bemsurg cut: a cut updates the dense "

@@ -17,6 +17,7 @@
 #include <string_view>
 #include <vector>
 
+#include "backend_choice.hpp"
 #include "bemsurg/io/results_io.hpp"
 #include "bemsurg/io/scene.hpp"
 #include "bemsurg/meshing/mesh_io.hpp"
@@ -128,7 +129,8 @@ int run_press(int argc, char** argv) {
   if (!parsed) return 0;
   const PressOptions& o = *parsed;
   const auto t_start = SteadyClock::now();
-  const bemsurg::Scene scene = bemsurg::require_constant_elements(bemsurg::load_scene(o.scene), "bemsurg press");
+  const bemsurg::Scene scene = bemsurg::cli::with_chosen_backend(
+      bemsurg::require_constant_elements(bemsurg::load_scene(o.scene), "bemsurg press"), false, o.quiet, "bemsurg press");
   if (!o.quiet)
     for (const auto& w : scene.warnings) std::cerr << "bemsurg: warning: " << w << "\n";
   const bemsurg::ElastostaticProblem& p = scene.problem;
@@ -140,8 +142,7 @@ int run_press(int argc, char** argv) {
   const bemsurg::ContactDepthCheck range = bemsurg::check_contact_depth(p.mesh, o.direction, o.depth, o.tool_radius);
   if (!o.quiet && !range.warning.empty()) std::cerr << "bemsurg: warning: press: " << range.warning << "\n";
 
-  // The table: loaded when a matching file is given, else computed on the operating region
-  // (and saved when asked): src/cli/scene_table.hpp.
+  // The table: loaded when a matching file matches, else computed (and saved): scene_table.hpp.
   bemsurg::CachedGreensTable cached = bemsurg::cli::scene_table(scene, o.table_file, o.quiet);
   bemsurg::GreensTable& table = cached.table;
   const bool loaded = cached.loaded_from_file;

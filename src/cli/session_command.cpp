@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "backend_choice.hpp"
 #include "bemsurg/error.hpp"
 #include "bemsurg/haptics/session.hpp"
 #include "bemsurg/haptics/surface_cut_hook.hpp"
@@ -159,7 +160,8 @@ int run_session(int argc, char** argv) {
   }
 
   const bemsurg::ActionScript script = bemsurg::load_action_script(script_path);
-  const bemsurg::Scene scene = bemsurg::require_constant_elements(bemsurg::load_scene(scene_path), "bemsurg session");
+  const bemsurg::Scene scene = bemsurg::cli::with_chosen_backend(
+      bemsurg::require_constant_elements(bemsurg::load_scene(scene_path), "bemsurg session"), script.has_cuts(), quiet, "bemsurg session");
   if (!quiet) {
     for (const auto& w : scene.warnings) std::cerr << "bemsurg: warning: " << w << "\n";
     for (const auto& w : script.warnings) std::cerr << "bemsurg: warning: " << w << "\n";

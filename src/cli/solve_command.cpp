@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "backend_choice.hpp"
 #include "bemsurg/elastostatics/elastostatic_solver.hpp"
 #include "bemsurg/elastostatics/hierarchical_solver.hpp"
 #include "bemsurg/io/results_io.hpp"
@@ -90,7 +91,7 @@ int run_solve(int argc, char** argv) {
   }
   const SteadyClock::time_point start = SteadyClock::now();
 
-  const Scene scene = load_scene(options.scene);
+  const Scene scene = cli::with_chosen_backend(load_scene(options.scene), false, options.quiet, "bemsurg solve");
   for (const std::string& w : scene.warnings) std::cerr << "bemsurg: warning: " << options.scene << ": " << w << "\n";
   const SteadyClock::time_point loaded = SteadyClock::now();
 
@@ -160,6 +161,7 @@ int run_solve(int argc, char** argv) {
   report.peak_memory_mb = peak_memory_mb();
   report.solver = solution.report.solver;
   report.backend = scene.solver.backend;
+  report.backend_automatic = scene.solver.automatic_backend;
   report.hierarchical = backend;
   report.boundary_rules = scene.boundary_rules;
   report.warnings = scene.warnings;

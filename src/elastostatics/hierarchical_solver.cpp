@@ -20,6 +20,30 @@
 
 namespace bemsurg {
 
+BackendChoice choose_backend(Index elements, ElementType type, bool cuts) {
+  BackendChoice c;
+  const std::string count = std::to_string(elements) + " " + to_string(type) + " elements";
+  if (!hierarchical_backend_available()) {
+    c.reason = "dense LU: this bemsurg was built without hmat-oss";
+  } else if (type != ElementType::Constant) {
+    c.reason = "dense LU: " + count + " (the hierarchical backend takes constant elements only)";
+  } else if (cuts) {
+    c.reason = "dense LU: " + count + "; the work cuts, and a cut updates the dense LU";
+  } else if (estimate_elastostatic_bytes(elements, type) > default_memory_limit_bytes()) {
+    c.backend = SolverBackend::HMatrix;
+    c.reason = "hmatrix: " + count + ", whose dense solve would need about " + format_gib(estimate_elastostatic_bytes(elements, type)) +
+               ", more than 80 % of this machine's memory";
+  } else if (elements >= kAutoHierarchicalElements) {
+    c.backend = SolverBackend::HMatrix;
+    c.reason = "hmatrix: " + count + ", at or above " + std::to_string(kAutoHierarchicalElements) +
+               ", where it solves faster than dense LU (docs/solvers.md)";
+  } else {
+    c.reason =
+        "dense LU: " + count + ", below " + std::to_string(kAutoHierarchicalElements) + ", where dense LU is faster (docs/solvers.md)";
+  }
+  return c;
+}
+
 #ifndef BEMSURG_HAVE_HMAT
 
 namespace {

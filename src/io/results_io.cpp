@@ -202,7 +202,7 @@ void write_report_json(const std::string& path, const RunResult& report) {
                  {"relative_residual", number(report.solver.relative_residual)},
                  {"setup_seconds", number(report.solver.setup_seconds)},
                  {"solve_seconds", number(report.solver.solve_seconds)}};
-  j["backend"] = {{"name", to_string(report.backend)}};
+  j["backend"] = {{"name", to_string(report.backend)}, {"chosen_by", report.backend_automatic ? "auto" : "scene"}};
   if (hierarchical) {
     const HierarchicalResult& h = report.hierarchical;
     j["backend"]["compression_tolerance"] = number(h.compression_tolerance);

@@ -51,10 +51,13 @@ LinearSolverOptions load_solver(const JsonReader& s) {
   LinearSolverOptions out;
   if (const std::optional<JsonReader> v = s.optional("method")) {
     // "hmatrix": the hierarchical backend (docs/solvers.md, "Hierarchical matrices"), a direct H-LU.
+    // "auto": dense LU or hmatrix, chosen per mesh by the command (choose_backend, hierarchical_solver.hpp).
     if (v->is_string() && v->string() == to_string(SolverBackend::HMatrix))
       out.backend = SolverBackend::HMatrix;
+    else if (v->is_string() && v->string() == "auto")
+      out.automatic_backend = true;
     else
-      out.method = read_name(*v, parse_solver_method, "method", "lu, gmres, bicgstab, bicg or hmatrix");
+      out.method = read_name(*v, parse_solver_method, "method", "lu, gmres, bicgstab, bicg, hmatrix or auto");
   }
   if (const std::optional<JsonReader> v = s.optional("compression_tolerance")) {
     // Per far-field block, relative: below 1e-12 ACA+ works at round-off and stores little less than dense;
@@ -62,7 +65,8 @@ LinearSolverOptions load_solver(const JsonReader& s) {
     out.compression_tolerance = v->number();
     if (!(out.compression_tolerance >= 1e-12 && out.compression_tolerance <= 0.1))
       v->fail("must lie in [1e-12, 0.1] (ACA+'s relative tolerance per block), got " + v->dump());
-    if (out.backend != SolverBackend::HMatrix) s.fail_at(s.path_of("compression_tolerance"), "applies only to \"method\": \"hmatrix\"");
+    if (out.backend != SolverBackend::HMatrix && !out.automatic_backend)
+      s.fail_at(s.path_of("compression_tolerance"), "applies only to \"method\": \"hmatrix\" or \"auto\"");
   }
   if (const std::optional<JsonReader> v = s.optional("tolerance")) {
     out.tolerance = v->number();

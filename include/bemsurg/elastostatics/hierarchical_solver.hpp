@@ -90,6 +90,27 @@ class HierarchicalFactorization {
   std::unique_ptr<Impl> impl_;
 };
 
+/// Where "method": "auto" switches to the hierarchical backend: from this many constant elements
+/// its whole solve measured faster than dense LU on this project's 2-core machines (bench_hmatrix,
+/// the report's "Hierarchical matrices against dense": a resting cube crossed over at about 2,400
+/// elements, and a brain's table for `bemsurg press` took 0.36 x dense at 5,120); set a little above the crossover,
+/// since near it the two are within their run-to-run spread and dense is the reference.
+inline constexpr Index kAutoHierarchicalElements = 3000;
+
+/// What "method": "auto" chose for a mesh, and why in words (the commands print it).
+/// \ingroup elastostatics
+struct BackendChoice {
+  SolverBackend backend = SolverBackend::Dense;
+  std::string reason;
+};
+
+/// The choice of "method": "auto" for `elements` elements of `type`: the hierarchical backend when
+/// it is built (hierarchical_backend_available()), the elements are constant, the work does not cut
+/// (`cuts`: a cut updates the dense LU) and either elements >= kAutoHierarchicalElements or the
+/// dense solve would not fit in memory (estimate_elastostatic_bytes against 80 % of physical
+/// memory); dense LU otherwise.
+BackendChoice choose_backend(Index elements, ElementType type, bool cuts);
+
 /// The static solve of `problem` on the hierarchical backend, with the same checks as
 /// solve_elastostatic (check_before_solve), except memory: the compressed matrix's size is not known
 /// before assembly. Constant elements only. `options.compression_tolerance` sets ACA+'s tolerance;

@@ -82,6 +82,7 @@ struct RunResult {
   double peak_memory_mb = 0.0;
   LinearSolveResult solver;
   SolverBackend backend = SolverBackend::Dense;  // hmatrix: `hierarchical` says what the backend did
+  bool backend_automatic = false;                // chosen by "method": "auto" (report.json backend.chosen_by)
   HierarchicalResult hierarchical;
   std::vector<std::string> warnings;             // the scene's and the solve's (docs/stability.md), in that order
   std::vector<BoundaryRuleArea> boundary_rules;  // what each rule held (Scene::boundary_rules)
@@ -95,7 +96,7 @@ double peak_memory_mb();
 
 /// report.json: {"element_type", "elements", "equations", "interior_points", "timings": {load, assembly, system,
 /// solve, post, total}, "peak_memory_mb", "solver": {method, preconditioner, iterations, status,
-/// relative_residual, setup_seconds, solve_seconds}, "backend": {"name": "dense"} or {"name": "hmatrix",
+/// relative_residual, setup_seconds, solve_seconds}, "backend": {"name": "dense", "chosen_by"} or {"name": "hmatrix", "chosen_by",
 /// "compression_tolerance", "compression_ratio", "largest_rank", "stored_entries", "dense_entries",
 /// "leaves_full", "leaves_low_rank", "column_scale", "assembly_seconds", "factorization_seconds",
 /// "solve_seconds"}, "boundary_rules": [{"rule", "area", "region_area" (where the

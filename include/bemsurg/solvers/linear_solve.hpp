@@ -64,6 +64,9 @@ inline PreconditionerKind parse_preconditioner(const std::string& name) {
 struct LinearSolverOptions {
   /// Dense (method below) or hierarchical (scene "method": "hmatrix"; then `method` is not used).
   SolverBackend backend = SolverBackend::Dense;
+  /// Scene "method": "auto": a command chooses `backend` per mesh (choose_backend,
+  /// elastostatics/hierarchical_solver.hpp) before it solves; until then `backend` is Dense.
+  bool automatic_backend = false;
   double compression_tolerance = 1e-4;  // hierarchical: ACA+'s relative tolerance per far-field block
   SolverMethod method = SolverMethod::Lu;
   double tolerance = 1e-10;  // relative residual ||b - A x|| / ||b|| for Krylov methods
