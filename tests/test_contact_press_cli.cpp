@@ -162,3 +162,49 @@ TEST_CASE("bemsurg press refuses depths beyond the small-strain range and stays 
                     log, text) == 1);
   CHECK_THAT(text, Catch::Contains("beyond the small-strain range"));
 }
+
+TEST_CASE("bemsurg table writes the table that press then reads without recomputing", "[contact][cli]") {
+  // docs/cli.md "bemsurg table": the scene's table (its operating region) computed into FILE and
+  // report.json; `press --table FILE` reads it (loaded_from_file) and its force equals the force of a
+  // press that computes its own table: the same columns, so the same numbers bit for bit.
+  const bemsurg_test::TempDir temp("bemsurg_test_table_");
+  const fs::path& dir = temp.path;
+  {
+    std::ofstream scene(dir / "scene.json");
+    scene << R"({"mesh": {"generator": "box", "min": [-0.05, -0.05, 0], "max": [0.05, 0.05, 0.05], "divisions": [6, 6, 3]},
+                 "material": {"young_modulus": 3000, "poisson_ratio": 0.45, "density": 1000}, "gravity": [0, 0, -9.81],
+                 "boundary_conditions": {"rules": [{"select": {"plane": {"point": [0, 0, 0], "normal": [0, 0, 1]}},
+                                                    "displacement": [0, 0, 0]}]},
+                 "operating_region": {"sphere": {"center": [0, 0, 0.05], "radius": 0.03}}})";
+  }
+  const std::string scene = (dir / "scene.json").string(), file = (dir / "t.tbl").string();
+  REQUIRE(run_press_cli("table " + scene + " --table " + file + " -o " + (dir / "t").string()) == 0);
+  std::ifstream fr(dir / "t" / "report.json");
+  const nlohmann::json r = nlohmann::json::parse(fr);
+  CHECK(r.at("ranks") == 1);
+  CHECK(r.at("backend") == "dense");
+  CHECK(r.at("columns").get<int>() == 3 * r.at("region_elements").get<int>());
+  CHECK(r.at("region_elements").get<int>() > 0);
+  CHECK(r.at("region_elements").get<int>() < r.at("elements").get<int>());  // the operating region, not every free element
+  CHECK(r.at("equations").get<int>() == 3 * r.at("elements").get<int>());
+  CHECK(r.at("peak_memory_mb_per_rank").size() == 1);
+  CHECK(r.at("peak_memory_mb_per_rank")[0].get<double>() > 0.0);
+  CHECK(r.at("seconds").get<double>() >= r.at("factorization_seconds").get<double>());
+  CHECK(r.at("table_bytes").get<std::uintmax_t>() == fs::file_size(file));
+  const std::string press = "press " + scene + " --tool flat:0.02 --at 0,0,0.05 --direction 0,0,-1 --depth 0.002 -o ";
+  REQUIRE(run_press_cli(press + (dir / "read").string() + " --table " + file) == 0);
+  REQUIRE(run_press_cli(press + (dir / "fresh").string()) == 0);
+  std::ifstream fa(dir / "read" / "force.json"), fb(dir / "fresh" / "force.json");
+  const nlohmann::json a = nlohmann::json::parse(fa), b = nlohmann::json::parse(fb);
+  CHECK(a.at("table").at("loaded_from_file") == true);
+  CHECK(b.at("table").at("loaded_from_file") == false);
+  CHECK(a.at("force") == b.at("force"));
+  // Run again, it replaces the file (the table is its product), and a bad scene path is an error.
+  const auto written = fs::last_write_time(file);
+  REQUIRE(run_press_cli("table " + scene + " --table " + file + " -o " + (dir / "t2").string() + " --quiet") == 0);
+  CHECK(fs::last_write_time(file) >= written);
+  std::ifstream fr2(dir / "t2" / "report.json");
+  CHECK(nlohmann::json::parse(fr2).at("factorization_seconds").get<double>() > 0.0);  // computed, not read
+  CHECK(run_press_cli("table " + (dir / "missing.json").string() + " --table " + file + " -o " + (dir / "t3").string()) == 1);
+  CHECK(run_press_cli("table " + scene + " -o " + (dir / "t4").string()) == 2);  // --table is required
+}

@@ -41,6 +41,9 @@ int run_solve(int argc, char** argv);
 /// bemsurg press ...  (src/cli/press_command.cpp)
 int run_press(int argc, char** argv);
 
+/// bemsurg table SCENE.json --table FILE -o OUTDIR  (src/cli/table_command.cpp)
+int run_table(int argc, char** argv);
+
 /// bemsurg session SCENE.json --script ACTIONS.json -o OUTDIR  (src/cli/session_command.cpp)
 int run_session(int argc, char** argv);
 /// bemsurg cut SCENE.json --from X,Y,Z --direction DX,DY,DZ --steps K ... (src/cli/cut_command.cpp)

@@ -21,6 +21,8 @@ constexpr const char* kUsage =
     "commands:\n"
     "  solve SCENE.json -o OUTDIR   solve a scene; write elements.csv, interior.csv, surface.vtk, report.json\n"
     "  press ...                    press a tool into a scene and report the force (bemsurg press --help)\n"
+    "  table SCENE.json --table FILE -o OUTDIR\n"
+    "                               compute a scene's pre-solution table into FILE (for --table)\n"
     "  session SCENE.json --script ACTIONS.json -o OUTDIR\n"
     "                               run an action script through the haptic loop (bemsurg session --help)\n"
     "  cut ...                      cut a scene step by step, updating system and tables (bemsurg cut --help)\n"
@@ -60,6 +62,7 @@ int main(int argc, char** argv) {
     if (command == "cut" || command == "session") bemsurg::reuse_freed_memory();
     if (command == "solve") return run_solve(argc - 1, argv + 1);
     if (command == "press") return run_press(argc - 1, argv + 1);
+    if (command == "table") return run_table(argc - 1, argv + 1);
     if (command == "session") return run_session(argc - 1, argv + 1);
     if (command == "cut") return run_cut(argc - 1, argv + 1);
     if (command == "prepare") return run_prepare(argc - 1, argv + 1);

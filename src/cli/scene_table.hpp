@@ -14,9 +14,12 @@ namespace bemsurg::cli {
 /// load_or_compute_scene_table, printing its warnings and notes (unless `quiet`). `for_cuts`: the table will be
 /// updated after cuts, so it is computed even when a matching file exists. A scene whose solver method
 /// is "hmatrix" computes (and keys) its table on the hierarchical backend (bemsurg::hmatrix).
-inline CachedGreensTable scene_table(const Scene& scene, const std::string& table_file, bool quiet, bool for_cuts = false) {
+/// `recompute`: compute and replace the file even when it matches (`bemsurg table`).
+inline CachedGreensTable scene_table(const Scene& scene, const std::string& table_file, bool quiet, bool for_cuts = false,
+                                     bool recompute = false) {
   TableCacheOptions options;
   options.for_cuts = for_cuts;
+  options.recompute = recompute;
   if (scene.solver.backend == SolverBackend::HMatrix) {
     options.backend = SolverBackend::HMatrix;
     options.compression_tolerance = scene.solver.compression_tolerance;

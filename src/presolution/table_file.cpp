@@ -206,7 +206,7 @@ CachedGreensTable load_or_compute_greens_table(const ElastostaticProblem& proble
   if (exists && options.for_cuts)
     out.notes.push_back("cuts will update the table, so the table is computed rather than read from " + path +
                         " (a table read from a file keeps no factorisation for the exact updates after a cut)");
-  if (exists && !options.for_cuts) {
+  if (exists && !options.for_cuts && !options.recompute) {
     try {
       GreensTableKey key =
           make_greens_table_key(problem.mesh, problem.material, problem.boundary_conditions, problem.gravity, problem.quadrature);

@@ -37,6 +37,8 @@ struct TableCacheOptions {
   /// Compute even when a matching file exists: the table will be updated after cuts, which needs the
   /// factorisation a file does not keep.
   bool for_cuts = false;
+  /// Compute even when a matching file exists, and replace it (`bemsurg table`: the file is the product).
+  bool recompute = false;
   /// Save a computed table to the file (written to a private name and renamed into place, so processes that
   /// compute the same table at once never read a half-written file).
   bool save = true;
