@@ -141,7 +141,7 @@ nlohmann::json step_profile(const std::shared_ptr<const GreensTable>& table, con
   for (const Action& a : script.actions)
     if (a.type == ActionType::Press) {
       points.push_back(a.at);
-      reach = std::max(reach, script.tools[static_cast<std::size_t>(a.tool)].radius * (1.0 + rule.slide_margin_radii) + rule.reach_margin);
+      reach = std::max(reach, rule.tool_reach(script.tools[static_cast<std::size_t>(a.tool)].radius));
     }
   nlohmann::json steps = nlohmann::json::array();
   const haptics::BackgroundThreadBudget budget;  // the session's: OpenBLAS and OpenMP on cores - 1 threads

@@ -20,7 +20,7 @@ void share_cut_reach(App& app, const std::shared_ptr<const PhysicsState>& ph, co
   for (const SlotSnapshot& s : c.slots) {
     if (!s.engaged) continue;
     points.push_back(s.tip);
-    reach = std::max({reach, s.radius * (1.0 + rule.slide_margin_radii) + rule.reach_margin, s.plate_size + rule.reach_margin});
+    reach = std::max(reach, rule.tool_reach(s.radius, s.plate_size));
   }
   if (ph && ph->mesh && c.physics_version == ph->version)
     for (Index i = 0; i < c.count; ++i) {

@@ -51,9 +51,9 @@ std::vector<Eigen::Vector3d> Session::reach_points(double& reach) const {
     points.push_back(position_[t]);
     const Engagement& e = engagement_[t];
     if (e.active || e.placed) points.push_back(e.at);  // what it holds or slides from (a pinch may have pulled away from it)
-    reach = std::max(reach, tool.radius * (1.0 + options_.slide_margin_radii) + options_.reach_margin);
-    if (tool.polygon.size() < 3) continue;
-    reach = std::max(reach, tool.plate_tolerance + options_.reach_margin);
+    const bool plate = tool.polygon.size() >= 3;
+    reach = std::max(reach, options_.tool_reach(tool.radius, plate ? tool.plate_tolerance : 0.0));
+    if (!plate) continue;
     const Eigen::Vector3d c = centroid(tool.polygon);
     for (std::size_t i = 0; i < tool.polygon.size(); ++i) {  // fan triangles (c, a, b), a barycentric grid on each
       const Eigen::Vector3d a = tool.polygon[i], b = tool.polygon[(i + 1) % tool.polygon.size()];

@@ -7,6 +7,7 @@
 // viewer's headless mode all run sessions through this class.
 #pragma once
 
+#include <algorithm>
 #include <chrono>
 #include <functional>
 #include <map>
@@ -84,6 +85,14 @@ struct SessionOptions {
   /// watchdog fades the force within loop.stale_after_s + loop.ramp_s) and the session ends with
   /// an error.
   double max_step_s = 20.0;
+
+  /// The first response's reach rule for one tool: how far from its tip (or from an element it
+  /// touches) it can act before a cut step completes: radius x (1 + slide_margin_radii) +
+  /// reach_margin, a plate's `plate_size` (its polygon's tolerance or extent) + reach_margin, and
+  /// never less than reach_margin. Sessions, the viewer and bench_cut_continuity share it.
+  double tool_reach(double radius, double plate_size = 0.0) const {
+    return std::max({reach_margin, radius * (1.0 + slide_margin_radii) + reach_margin, plate_size + reach_margin});
+  }
 };
 
 /// Receives what the session produces, on the simulation side's thread.
