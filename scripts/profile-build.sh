@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Profiles a clean Release build of README's test tree (library, CLI, tests, benchmarks, examples,
+# Profiles a clean Release build of README's test tree (library, CLI, tests, the benchmark ctest runs, examples,
 # viewer): the wall time of the build and of each translation unit, heaviest first. The figures in
 # docs/development.md come from it. Usage: scripts/profile-build.sh [BUILD_DIR] (default
 # build-profile; removed first). Packages must be installed (scripts/setup-deps.sh).
