@@ -22,7 +22,7 @@ GreensTable compute_greens_table_hierarchical(const ElastostaticProblem& problem
   std::vector<Index> elements = GreensTable::resolve_region(problem.boundary_conditions, region);
   const Index E = problem.mesh.num_elements(), n = 3 * E, R = static_cast<Index>(elements.size());
   // The problem's one check (as GreensTable::compute runs it), with the hierarchical estimate (which
-  // counts the copy a residual needs: the right-hand sides of the solve fit in it) plus the table.
+  // counts a copy of the compressed matrix, kept only when `result` is asked for) plus the table.
   MemoryNeed memory;
   memory.bytes = estimate_hierarchical_bytes(E) + 8.0 * double(n) * double(3 * R + 1);
   memory.refusal = [E, n, R](double need, double limit) {
@@ -32,8 +32,9 @@ GreensTable compute_greens_table_hierarchical(const ElastostaticProblem& problem
   };
   std::vector<std::string> warnings = check_before_solve(problem, memory, "GreensTable");
 
-  // The assembled copy is kept for the base state's residual (report.json), as the solve keeps it.
-  HierarchicalFactorization factors(problem, options.compression_tolerance, true);
+  // The assembled copy (the compressed matrix again) only when the caller asks for the result,
+  // whose relative_residual is the base state's; the commands do not.
+  HierarchicalFactorization factors(problem, options.compression_tolerance, result != nullptr);
   PrecomputeTimings timings;
   timings.factorization_seconds = factors.result().factorization_seconds;
   const auto t_rhs = SteadyClock::now();

@@ -23,7 +23,8 @@ namespace bemsurg {
 /// tools act, each free; empty: every free element) on the hierarchical backend at
 /// `options.compression_tolerance`. Runs check_before_solve with the hierarchical memory estimate
 /// plus the table's n x 3|region| (its warnings are the table's warnings()); `result` receives the
-/// compression and phases, with the base state's relative residual. Throws as GreensTable::compute
+/// compression and phases, with the base state's relative residual (for which a copy of the
+/// compressed matrix is kept through the factorisation: without `result`, none is). Throws as GreensTable::compute
 /// does for the problem and region, and SolverError when the backend is missing or fails.
 GreensTable compute_greens_table_hierarchical(const ElastostaticProblem& problem, const std::vector<Index>& region,
                                               const LinearSolverOptions& options, HierarchicalResult* result = nullptr);
