@@ -197,6 +197,15 @@ struct HmatObjects {
 constexpr int kLeafUnknowns = 120;
 constexpr double kEta = 2.0;
 
+/// What the backend refuses, whatever the problem's size: a tolerance outside its range, linear elements.
+void check_request(const ElastostaticProblem& problem, double compression_tolerance) {
+  if (!(compression_tolerance >= 1e-12 && compression_tolerance <= 0.1))
+    throw InvalidArgumentError("solver method hmatrix: the compression tolerance must lie in [1e-12, 0.1], got " +
+                               std::to_string(compression_tolerance));
+  if (problem.elements != ElementType::Constant)
+    throw SolverError("solver method hmatrix: constant elements only for now (this scene has linear elements); use \"method\": \"lu\"");
+}
+
 }  // namespace hmat_glue
 
 using namespace hmat_glue;
@@ -215,11 +224,7 @@ struct HierarchicalFactorization::Impl {
 // long: the set-up in the order hmat-oss needs it (scales, cluster tree, admissibility, compression,
 // assembly, the copy, H-LU), each a few lines around one of its calls.
 HierarchicalFactorization::HierarchicalFactorization(const ElastostaticProblem& problem, double compression_tolerance, bool keep_copy) {
-  if (!(compression_tolerance >= 1e-12 && compression_tolerance <= 0.1))
-    throw InvalidArgumentError("solver method hmatrix: the compression tolerance must lie in [1e-12, 0.1], got " +
-                               std::to_string(compression_tolerance));
-  if (problem.elements != ElementType::Constant)
-    throw SolverError("solver method hmatrix: constant elements only for now (this scene has linear elements); use \"method\": \"lu\"");
+  check_request(problem, compression_tolerance);
   const Index E = problem.mesh.num_elements(), n = 3 * E;
   impl_ = std::make_unique<Impl>(problem);
   Impl& m = *impl_;
@@ -335,11 +340,8 @@ double HierarchicalFactorization::relative_residual(const Eigen::VectorXd& b, co
 
 ElastostaticSolution solve_elastostatic_hierarchical(const ElastostaticProblem& problem, const LinearSolverOptions& options,
                                                      HierarchicalResult* result) {
-  if (!(options.compression_tolerance >= 1e-12 && options.compression_tolerance <= 0.1))
-    throw InvalidArgumentError("solver method hmatrix: the compression tolerance must lie in [1e-12, 0.1], got " +
-                               std::to_string(options.compression_tolerance));
-  if (problem.elements != ElementType::Constant)
-    throw SolverError("solver method hmatrix: constant elements only for now (this scene has linear elements); use \"method\": \"lu\"");
+  // Before check_before_solve: a request the backend refuses fails before any other work.
+  check_request(problem, options.compression_tolerance);
   const Index E = problem.mesh.num_elements(), n = 3 * E;
   MemoryNeed memory;
   memory.bytes = estimate_hierarchical_bytes(E);
