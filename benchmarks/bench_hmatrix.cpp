@@ -6,10 +6,14 @@
 // solve), each one's own peak resident memory (the kernel's high-water mark reset before it:
 // /proc/self/clear_refs, "5"), the compression and the hierarchical answer's difference from the
 // dense one. Then, at --sweep-divisions, the hierarchical solve at each of --sweep-tolerances: stored
-// fraction and added error against the tolerance.
+// fraction and added error against the tolerance. Then the cut study (docs/cutting.md, "On either
+// backend"): at each of --cut-divisions, a table kept for cuts (region: the top face within 0.3 edges
+// of its centre) on each backend and --cut-steps exact cut steps along x across the top, from a quarter
+// of the way in: the precompute's and each step's wall time, the factors' memory and the two final
+// tables' difference.
 //
 //   bench_hmatrix [--quick] [--json PATH] [--divisions N,N,...] [--tolerance T]
-//                 [--sweep-divisions N] [--sweep-tolerances T,T,...]
+//                 [--sweep-divisions N] [--sweep-tolerances T,T,...] [--cut-divisions N,N,...] [--cut-steps K]
 //
 // The JSON's "crossover_elements" is where the hierarchical solve's time falls below the dense
 // one's (log-log interpolation between the sizes on either side; null when it does not within the
@@ -20,15 +24,19 @@
 #include <cmath>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "bemsurg/cutting/cut_system_update.hpp"
 #include "bemsurg/elastostatics/elastostatic_solver.hpp"
 #include "bemsurg/elastostatics/hierarchical_solver.hpp"
 #include "bemsurg/io/results_io.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
+#include "bemsurg/presolution/hierarchical_table.hpp"
 #include "bench_support.hpp"
 
 using namespace bemsurg;
@@ -108,6 +116,85 @@ double fit_exponent(const std::vector<double>& n, const std::vector<double>& t) 
   return sxx > 0.0 ? sxy / sxx : 0.0;
 }
 
+/// One backend's table of `p` for cuts (region: `region`) and `steps` exact cut steps across the top
+/// face: the precompute's and each step's wall time, and the final table.
+struct CutRun {
+  double precompute_seconds = 0.0, factor_mb = 0.0;
+  std::vector<double> step_seconds;
+  std::shared_ptr<const GreensTable> table;
+};
+
+CutRun run_cuts(const ElastostaticProblem& p, const std::vector<Index>& region, bool hierarchical, double tolerance, int steps) {
+  CutRun out;
+  const auto t0 = bench::Clock::now();
+  if (hierarchical) {
+    LinearSolverOptions o;
+    o.backend = SolverBackend::HMatrix;
+    o.compression_tolerance = tolerance;
+    out.table = std::make_shared<const GreensTable>(compute_greens_table_hierarchical(p, region, o, nullptr, true));
+  } else {
+    out.table = std::make_shared<const GreensTable>(GreensTable::compute(p, region));
+  }
+  out.precompute_seconds = seconds_since(t0);
+  out.factor_mb = double(out.table->solver()->base()->bytes()) / 1048576.0;
+  CutSystemOptions so;
+  so.background_refactor = false;  // a refactorisation (none within these steps) would land inside a step
+  CutSystemUpdate system(out.table, so);
+  system.begin_cut({});
+  for (int i = 0; i < steps; ++i) {
+    const auto ts = bench::Clock::now();
+    const CutStepResult r =
+        system.cut(Eigen::Vector3d(0.25 * kEdge, 0.5 * kEdge, kEdge + 0.005), Eigen::Vector3d::UnitX(), CutUpdateMethod::Exact);
+    if (!r.accepted) throw std::runtime_error("bench_hmatrix: cut step " + std::to_string(i + 1) + " refused: " + r.reason);
+    out.step_seconds.push_back(seconds_since(ts));
+  }
+  out.table = system.table();
+  return out;
+}
+
+/// The cut study: at each size, the same cut steps on a table kept for cuts on either backend.
+nlohmann::json cut_study(const std::vector<int>& sizes, double tolerance, int steps) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (const int N : sizes) {
+    const ElastostaticProblem p = resting_cube(N);
+    std::vector<Index> region;  // the top face within 0.3 edges of its centre: where the blade and a probe act
+    for (Index e = 0; e < p.mesh.num_elements(); ++e) {
+      const Eigen::Vector3d c = p.mesh.centroid(e);
+      if (c.z() > kEdge - 1e-9 && std::hypot(c.x() - 0.5 * kEdge, c.y() - 0.5 * kEdge) < 0.3 * kEdge) region.push_back(e);
+    }
+    const CutRun h = run_cuts(p, region, true, tolerance, steps);
+    const CutRun d = run_cuts(p, region, false, tolerance, steps);
+    const auto relative = [](const auto& a, const auto& b) { return (a - b).cwiseAbs().maxCoeff() / b.cwiseAbs().maxCoeff(); };
+    const double columns = relative(h.table->columns(), d.table->columns());
+    const double base = relative(h.table->base_displacement(), d.table->base_displacement());
+    const double sh = bench::median(h.step_seconds), sd = bench::median(d.step_seconds);
+    rows.push_back({{"divisions", N},
+                    {"elements", p.mesh.num_elements()},
+                    {"equations", 3 * p.mesh.num_elements()},
+                    {"region_elements", region.size()},
+                    {"steps", steps},
+                    {"elements_after", h.table->num_elements()},
+                    {"dense_step_seconds", d.step_seconds},
+                    {"hierarchical_step_seconds", h.step_seconds},
+                    {"dense_step_median_seconds", sd},
+                    {"hierarchical_step_median_seconds", sh},
+                    {"step_time_ratio", sh / sd},
+                    {"dense_precompute_seconds", d.precompute_seconds},
+                    {"hierarchical_precompute_seconds", h.precompute_seconds},
+                    {"dense_factor_mb", d.factor_mb},
+                    {"hierarchical_factor_mb", h.factor_mb},
+                    {"final_rank", h.table->solver()->rank()},
+                    {"columns_difference", columns},
+                    {"base_displacement_difference", base}});
+    std::cout << "bench_hmatrix: cuts at " << p.mesh.num_elements() << " elements (region " << region.size()
+              << "): step median hierarchical / dense " << fixed_text(sh, 3) << " / " << fixed_text(sd, 3) << " s ("
+              << fixed_text(sh / sd, 2) << "), factors " << fixed_text(h.factor_mb, 0) << " / " << fixed_text(d.factor_mb, 0)
+              << " MB, after " << steps << " steps columns " << number_text(columns) << " and base state " << number_text(base) << " off"
+              << std::endl;
+  }
+  return rows;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -116,7 +203,8 @@ int main(int argc, char** argv) {
   std::vector<int> sizes;
   std::vector<double> tolerances;
   double tolerance = 1e-4;
-  int sweep_divisions = 0;
+  int sweep_divisions = 0, cut_steps = 4;
+  std::vector<int> cut_sizes;
   auto parser = bench::command_line("bench_hmatrix", "The hierarchical backend against dense LU: time, memory, compression, error.\n",
                                     quick, json_path);
   parser.value("--divisions", "N,N,...", sizes, "cells per cube edge at each size (12 N^2 elements)")
@@ -127,7 +215,12 @@ int main(int argc, char** argv) {
   parser.value("--sweep-tolerances", "T,T,...", tolerances, "the tolerances of the sweep")
       .between(1e-12, 0.1)
       .default_text("1e-2 ... 1e-8 by decades; --quick: 1e-2,1e-4,1e-6");
+  parser.value("--cut-divisions", "N,N,...", cut_sizes, "sizes of the cut study (tables kept for cuts on both backends)")
+      .at_least(2)
+      .default_text("9,13,18; --quick: 8");
+  parser.value("--cut-steps", "K", cut_steps, "exact cut steps per size and backend").between(1, 20);
   if (const std::optional<int> status = cli::parse_command_line(parser, argc, argv)) return *status;
+  if (cut_sizes.empty()) cut_sizes = quick ? std::vector<int>{8} : std::vector<int>{9, 13, 18};
   if (sizes.empty()) sizes = quick ? std::vector<int>{4, 8} : std::vector<int>{6, 9, 13, 18, 22};
   if (tolerances.empty())
     tolerances = quick ? std::vector<double>{1e-2, 1e-4, 1e-6} : std::vector<double>{1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8};
@@ -206,5 +299,6 @@ int main(int argc, char** argv) {
               << std::endl;
   }
   result["sweep"] = {{"divisions", sweep_divisions}, {"elements", p.mesh.num_elements()}, {"rows", sweep}};
+  result["cuts"] = cut_study(cut_sizes, tolerance, cut_steps);
   return bench::write_json_file(json_path, result, "bench_hmatrix") ? 0 : 1;
 }

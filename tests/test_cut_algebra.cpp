@@ -17,6 +17,7 @@
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/presolution/greens_table.hpp"
 #include "bemsurg/solvers/low_rank_updated_lu.hpp"
+#include "bemsurg/solvers/lu_factors.hpp"
 #include "bemsurg/solvers/partitioned_inverse.hpp"
 #include "support/synthetic_cuts.hpp"
 #include "support/test_constants.hpp"

@@ -20,6 +20,7 @@
 #include "bemsurg/error.hpp"
 #include "bemsurg/io/scene.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
+#include "bemsurg/presolution/hierarchical_table.hpp"
 
 namespace bemsurg::viewer {
 
@@ -477,12 +478,12 @@ void ModelWorker::do_precompute() {
   Index region = static_cast<Index>(operating.size());
   if (operating.empty())
     for (Index e = 0; e < p.mesh.num_elements(); ++e) region += p.boundary_conditions.is_free(e) ? 1 : 0;
-  // The viewer cuts, and a cut updates the dense backend's LU: a scene's "hmatrix" method (bemsurg
-  // solve, press, session) is not used here, and the status line says so (docs/viewer.md).
-  const bool dense_instead = loaded_->scene.solver.backend == SolverBackend::HMatrix;
+  // The scene's backend: a cut updates whichever factorisation the table keeps, the dense LU or the
+  // H-LU (docs/cutting.md, "On either backend"); the status line names the hierarchical one.
+  const bool hierarchical = loaded_->scene.solver.backend == SolverBackend::HMatrix;
   set_status(WorkerPhase::Precomputing, "precomputing the compliance table (" + std::to_string(p.mesh.num_elements()) + " elements, " +
                                             std::to_string(3 * p.mesh.num_elements()) + " equations" +
-                                            (dense_instead ? "; dense backend: cuts need its LU, the scene's hmatrix is not used)" : ")"));
+                                            (hierarchical ? "; hierarchical backend)" : ")"));
   {
     std::lock_guard<std::mutex> lock(mutex_);
     phase_predicted_ = predict_seconds(p.mesh.num_elements(), region);
@@ -492,15 +493,24 @@ void ModelWorker::do_precompute() {
   options.quadrature = p.quadrature;
   options.region = operating;
   const double t0 = now_seconds();
-  // The shared-mesh form keeps the factorisation and the mesh, so cuts can update the table.
-  auto table = std::make_shared<const GreensTable>(GreensTable::compute(loaded_->mesh, m, p.boundary_conditions, options));
+  // The shared-mesh forms keep the factorisation and the mesh, so cuts can update the table.
+  std::shared_ptr<const GreensTable> table;
+  if (hierarchical) {
+    ElastostaticProblem problem = p;
+    problem.material = m;
+    problem.gravity = g;
+    table = std::make_shared<const GreensTable>(
+        compute_greens_table_hierarchical(loaded_->mesh, problem, operating, loaded_->scene.solver, nullptr, true));
+  } else {
+    table = std::make_shared<const GreensTable>(GreensTable::compute(loaded_->mesh, m, p.boundary_conditions, options));
+  }
   const double seconds = now_seconds() - t0;
-  // Re-fit the cost model from this machine's timings.
+  // Re-fit the cost model (the dense one's n^2, n^3 and n^2 m terms) from this machine's timings.
   const PrecomputeTimings& t = table->timings();
   const double e = double(p.mesh.num_elements()), n = 3.0 * e, mm = 3.0 * double(table->region().size());
-  if (t.assembly_seconds > 0.0) c_assembly_ = t.assembly_seconds / (e * e);
-  if (t.factorization_seconds > 0.0) c_factor_ = t.factorization_seconds / (n * n * n);
-  if (t.table_seconds > 0.0) c_table_ = t.table_seconds / (n * n * mm);
+  if (!hierarchical && t.assembly_seconds > 0.0) c_assembly_ = t.assembly_seconds / (e * e);
+  if (!hierarchical && t.factorization_seconds > 0.0) c_factor_ = t.factorization_seconds / (n * n * n);
+  if (!hierarchical && t.table_seconds > 0.0) c_table_ = t.table_seconds / (n * n * mm);
   cut_system_.reset();  // a new reference: the next cut step starts from it
   reference_ = table;
   reference_young_ = m.young_modulus;

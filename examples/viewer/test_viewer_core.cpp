@@ -2,7 +2,7 @@
 // through the viewer's, the command line's and a session's door, the
 // background worker's exact rescaling for Young's modulus and gravity (docs/viewer.md), the
 // parameters panel's start from the loaded scene, and the
-// haptic tick driving the contact solver through a device.
+// haptic tick driving the contact solver through a device; a hierarchical scene precomputed and cut.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -12,6 +12,7 @@
 #include <string>
 
 #include "bemsurg/cutting/cut_system_update.hpp"
+#include "bemsurg/elastostatics/hierarchical_solver.hpp"
 #include "bemsurg/error.hpp"
 #include "bemsurg/haptics/haptic_device.hpp"
 #include "bemsurg/haptics/scripted_device.hpp"
@@ -406,5 +407,48 @@ TEST_CASE("one cut script through the command line's, a session's and the viewer
     CHECK(other->base_traction() == by_cli->base_traction());
   }
   CHECK(by_session->mesh()->faces() == by_cli->mesh()->faces());
+  std::remove(path.c_str());
+}
+
+TEST_CASE("the viewer precomputes a hierarchical scene on the H-LU and cuts it there", "[viewer][hmatrix]") {
+  // docs/viewer.md: the viewer's table is on the scene's backend; a cut updates the kept H-LU
+  // (docs/cutting.md, "On either backend"). The independent answer: the same two steps on the
+  // dense table (CutSystemUpdate, as `bemsurg cut`), which the compressed one matches to its tolerance.
+  const std::string body = R"({
+    "mesh": {"generator": "box", "min": [-0.04, -0.04, 0.0], "max": [0.04, 0.04, 0.04], "divisions": [6, 6, 2]},
+    "material": {"young_modulus": 3000.0, "poisson_ratio": 0.45, "density": 1000.0},
+    "gravity": [0.0, 0.0, -9.81],
+    "boundary_conditions": {"rules": [
+      {"select": {"plane": {"point": [0, 0, 0], "normal": [0, 0, 1]}}, "displacement": [0, 0, 0]}]},
+    "operating_region": {"box": {"min": [-0.041, -0.041, 0.02], "max": [0.041, 0.041, 0.041]}},
+    "solver": )";
+  const std::string path = write_temp("hmatrix.json", body + R"({"method": "hmatrix", "compression_tolerance": 1e-8}})");
+  const Scene dense_scene = load_scene_from_string(body + R"({"method": "lu"}})", ".", "dense");
+  const Eigen::Vector3d from(-0.015, 0.0, 0.04), direction = Eigen::Vector3d::UnitX();
+  CutSystemUpdate dense(std::make_shared<const GreensTable>(compute_scene_table(dense_scene)));
+  dense.begin_cut();
+  for (int i = 0; i < 2; ++i) REQUIRE(dense.cut(from, direction).accepted);
+  dense.wait_for_refactor();
+
+  ModelWorker worker;
+  worker.load(path);
+  worker.wait_idle();
+  if (!hierarchical_backend_available()) {
+    CHECK_THAT(worker.status().error, Catch::Contains("without hmat-oss"));
+    std::remove(path.c_str());
+    return;
+  }
+  REQUIRE(worker.status().error.empty());
+  REQUIRE(worker.state()->table);
+  CHECK(worker.state()->table->key().backend == SolverBackend::HMatrix);
+  for (int i = 0; i < 2; ++i) worker.request_cut_step(i == 0, from, direction, 0.0);
+  worker.wait_idle();
+  REQUIRE(worker.status().cut_steps_accepted == 2);
+  const std::shared_ptr<const GreensTable> cut = worker.state()->table;
+  CHECK(cut->key().backend == SolverBackend::HMatrix);
+  REQUIRE(cut->num_elements() == dense.table()->num_elements());
+  REQUIRE(cut->region() == dense.table()->region());
+  CHECK(max_relative(cut->columns(), dense.table()->columns()) <= 1e-6);
+  CHECK(max_relative(cut->base_displacement(), dense.table()->base_displacement()) <= 1e-6);
   std::remove(path.c_str());
 }

@@ -21,6 +21,7 @@
 /// - lu_in_place.hpp
 /// - near_field_preconditioner.hpp
 /// - partitioned_inverse.hpp
+/// - system_factorization.hpp
 
 #include "bemsurg/solvers/bicg.hpp"
 #include "bemsurg/solvers/bicgstab.hpp"
@@ -38,3 +39,4 @@
 #include "bemsurg/solvers/lu_in_place.hpp"
 #include "bemsurg/solvers/near_field_preconditioner.hpp"
 #include "bemsurg/solvers/partitioned_inverse.hpp"
+#include "bemsurg/solvers/system_factorization.hpp"

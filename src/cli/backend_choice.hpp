@@ -12,11 +12,10 @@
 
 namespace bemsurg::cli {
 
-/// `scene` with its backend chosen when it says "auto" (unchanged otherwise). `cuts`: the command
-/// will cut (which needs the dense LU).
-inline Scene with_chosen_backend(Scene scene, bool cuts, bool quiet, const std::string& command) {
+/// `scene` with its backend chosen when it says "auto" (unchanged otherwise).
+inline Scene with_chosen_backend(Scene scene, bool quiet, const std::string& command) {
   if (!scene.solver.automatic_backend) return scene;
-  const BackendChoice c = choose_backend(scene.problem.mesh.num_elements(), scene.problem.elements, cuts);
+  const BackendChoice c = choose_backend(scene.problem.mesh.num_elements(), scene.problem.elements);
   scene.solver.backend = c.backend;
   if (!quiet) std::cerr << "bemsurg: note: " << command << ": solver method auto: " << c.reason << "\n";
   return scene;

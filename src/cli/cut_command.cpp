@@ -25,6 +25,7 @@
 #include "bemsurg/presolution/greens_table.hpp"
 #include "bemsurg/timing.hpp"
 #include "commands.hpp"
+#include "scene_table.hpp"
 
 namespace {
 
@@ -142,11 +143,7 @@ int run_cut(int argc, char** argv) {
   if (!parsed) return 0;
   const CutCommandOptions& o = *parsed;
   const auto t_start = SteadyClock::now();
-  const Scene scene = cli::with_chosen_backend(require_constant_elements(load_scene(o.scene), "bemsurg cut"), true, o.quiet, "bemsurg cut");
-  if (scene.solver.backend == SolverBackend::HMatrix)  // docs/solvers.md, "Hierarchical matrices"
-    throw SceneError(o.scene +
-                     ": solver.method: \"hmatrix\" is not supported by bemsurg cut: a cut updates the dense "
-                     "backend's LU, which the hierarchical backend does not keep; use \"method\": \"lu\"");
+  const Scene scene = cli::with_chosen_backend(require_constant_elements(load_scene(o.scene), "bemsurg cut"), o.quiet, "bemsurg cut");
   for (const std::string& w : scene.warnings) std::cerr << "bemsurg: warning: " << o.scene << ": " << w << "\n";
   namespace fs = std::filesystem;
   std::error_code ec;
@@ -164,9 +161,10 @@ int run_cut(int argc, char** argv) {
               << (scene.operating_elements.empty() ? std::string("every free element")
                                                    : std::to_string(scene.operating_elements.size()) + " elements")
               << std::endl;
-  // The table of the scene on its operating region, as press, session and the viewer compute it; computed
-  // (never read from a file) because a cut update needs its factorisation.
-  auto table = std::make_shared<const GreensTable>(compute_scene_table(scene));
+  // The table of the scene on its operating region and its backend, as press, session and the viewer compute
+  // it; computed (never read from a file) because a cut update needs its factorisation (the dense LU or the
+  // H-LU: docs/cutting.md, "On either backend").
+  auto table = std::make_shared<const GreensTable>(cli::scene_table(scene, "", true, true).table);
   CutSystemOptions sopt;
   sopt.krylov = scene.solver;
   sopt.krylov.tolerance = std::min(scene.solver.tolerance, 1e-12);
@@ -206,6 +204,7 @@ int run_cut(int argc, char** argv) {
       {"elements", cut_mesh.num_elements()},
       {"equations", cut_mesh.num_dofs()},
       {"update", to_string(o.update)},
+      {"table_backend", to_string(table->key().backend)},
       {"table_region_elements", final_table->region().size()},
       {"precompute_seconds", table->timings().assembly_seconds + table->timings().factorization_seconds + table->timings().table_seconds},
       {"steps", steps},

@@ -130,7 +130,7 @@ int run_press(int argc, char** argv) {
   const PressOptions& o = *parsed;
   const auto t_start = SteadyClock::now();
   const bemsurg::Scene scene = bemsurg::cli::with_chosen_backend(
-      bemsurg::require_constant_elements(bemsurg::load_scene(o.scene), "bemsurg press"), false, o.quiet, "bemsurg press");
+      bemsurg::require_constant_elements(bemsurg::load_scene(o.scene), "bemsurg press"), o.quiet, "bemsurg press");
   if (!o.quiet)
     for (const auto& w : scene.warnings) std::cerr << "bemsurg: warning: " << w << "\n";
   const bemsurg::ElastostaticProblem& p = scene.problem;

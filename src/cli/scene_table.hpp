@@ -12,8 +12,9 @@
 namespace bemsurg::cli {
 
 /// load_or_compute_scene_table, printing its warnings and notes (unless `quiet`). `for_cuts`: the table will be
-/// updated after cuts, so it is computed even when a matching file exists. A scene whose solver method
-/// is "hmatrix" computes (and keys) its table on the hierarchical backend (bemsurg::hmatrix).
+/// updated after cuts, so it is computed even when a matching file exists, with its factorisation kept. A
+/// scene whose solver method is "hmatrix" computes (and keys) its table on the hierarchical backend
+/// (bemsurg::hmatrix); its cuts update the kept H-LU.
 /// `recompute`: compute and replace the file even when it matches (`bemsurg table`).
 inline CachedGreensTable scene_table(const Scene& scene, const std::string& table_file, bool quiet, bool for_cuts = false,
                                      bool recompute = false) {
@@ -24,8 +25,8 @@ inline CachedGreensTable scene_table(const Scene& scene, const std::string& tabl
     options.backend = SolverBackend::HMatrix;
     options.compression_tolerance = scene.solver.compression_tolerance;
     const LinearSolverOptions solver = scene.solver;
-    options.compute = [solver](const ElastostaticProblem& problem, const std::vector<Index>& region) {
-      return compute_greens_table_hierarchical(problem, region, solver);
+    options.compute = [solver](const ElastostaticProblem& problem, const std::vector<Index>& region, bool cuts) {
+      return compute_greens_table_hierarchical(problem, region, solver, nullptr, cuts);
     };
   }
   CachedGreensTable out = load_or_compute_scene_table(scene, table_file, options);

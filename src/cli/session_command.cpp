@@ -161,7 +161,7 @@ int run_session(int argc, char** argv) {
 
   const bemsurg::ActionScript script = bemsurg::load_action_script(script_path);
   const bemsurg::Scene scene = bemsurg::cli::with_chosen_backend(
-      bemsurg::require_constant_elements(bemsurg::load_scene(scene_path), "bemsurg session"), script.has_cuts(), quiet, "bemsurg session");
+      bemsurg::require_constant_elements(bemsurg::load_scene(scene_path), "bemsurg session"), quiet, "bemsurg session");
   if (!quiet) {
     for (const auto& w : scene.warnings) std::cerr << "bemsurg: warning: " << w << "\n";
     for (const auto& w : script.warnings) std::cerr << "bemsurg: warning: " << w << "\n";

@@ -91,7 +91,7 @@ int run_solve(int argc, char** argv) {
   }
   const SteadyClock::time_point start = SteadyClock::now();
 
-  const Scene scene = cli::with_chosen_backend(load_scene(options.scene), false, options.quiet, "bemsurg solve");
+  const Scene scene = cli::with_chosen_backend(load_scene(options.scene), options.quiet, "bemsurg solve");
   for (const std::string& w : scene.warnings) std::cerr << "bemsurg: warning: " << options.scene << ": " << w << "\n";
   const SteadyClock::time_point loaded = SteadyClock::now();
 

@@ -57,8 +57,7 @@ int run_table(int argc, char** argv) {
   if (!parsed) return 0;
   const TableOptions& o = *parsed;
   const auto t_start = SteadyClock::now();
-  const Scene scene =
-      cli::with_chosen_backend(require_constant_elements(load_scene(o.scene), "bemsurg table"), false, o.quiet, "bemsurg table");
+  const Scene scene = cli::with_chosen_backend(require_constant_elements(load_scene(o.scene), "bemsurg table"), o.quiet, "bemsurg table");
   if (!o.quiet)
     for (const auto& w : scene.warnings) std::cerr << "bemsurg: warning: " << w << "\n";
   std::error_code ec;

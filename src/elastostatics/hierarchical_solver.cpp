@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -20,15 +21,13 @@
 
 namespace bemsurg {
 
-BackendChoice choose_backend(Index elements, ElementType type, bool cuts) {
+BackendChoice choose_backend(Index elements, ElementType type) {
   BackendChoice c;
   const std::string count = std::to_string(elements) + " " + to_string(type) + " elements";
   if (!hierarchical_backend_available()) {
     c.reason = "dense LU: this bemsurg was built without hmat-oss";
   } else if (type != ElementType::Constant) {
     c.reason = "dense LU: " + count + " (the hierarchical backend takes constant elements only)";
-  } else if (cuts) {
-    c.reason = "dense LU: " + count + "; the work cuts, and a cut updates the dense LU";
   } else if (estimate_elastostatic_bytes(elements, type) > default_memory_limit_bytes()) {
     c.backend = SolverBackend::HMatrix;
     c.reason = "hmatrix: " + count + ", whose dense solve would need about " + format_gib(estimate_elastostatic_bytes(elements, type)) +
@@ -43,6 +42,13 @@ BackendChoice choose_backend(Index elements, ElementType type, bool cuts) {
   }
   return c;
 }
+
+namespace {
+const ElastostaticProblem& owned_problem(const std::shared_ptr<const ElastostaticProblem>& problem) {
+  if (!problem) throw InvalidArgumentError("HierarchicalFactorization: no problem");
+  return *problem;
+}
+}  // namespace
 
 #ifndef BEMSURG_HAVE_HMAT
 
@@ -60,12 +66,16 @@ struct HierarchicalFactorization::Impl {
 
 bool hierarchical_backend_available() { return false; }
 
-HierarchicalFactorization::HierarchicalFactorization(const ElastostaticProblem&, double, bool) { missing_backend(); }
-void HierarchicalFactorization::solve_in_place(Eigen::MatrixXd&) { missing_backend(); }
+HierarchicalFactorization::HierarchicalFactorization(std::shared_ptr<const ElastostaticProblem>, const ElastostaticProblem&, double, bool) {
+  missing_backend();
+}
+Index HierarchicalFactorization::size() const { missing_backend(); }
+std::size_t HierarchicalFactorization::bytes() const { missing_backend(); }
+void HierarchicalFactorization::solve_in_place(Eigen::Ref<Eigen::MatrixXd>) const { missing_backend(); }
 double HierarchicalFactorization::relative_residual(const Eigen::VectorXd&, const Eigen::VectorXd&) const { missing_backend(); }
+void HierarchicalFactorization::release_copy() {}
 Eigen::VectorXd HierarchicalFactorization::right_hand_side() const { missing_backend(); }
 void HierarchicalFactorization::g_columns(const std::vector<Index>&, Eigen::Ref<Eigen::MatrixXd>) const { missing_backend(); }
-const HierarchicalResult& HierarchicalFactorization::result() const { return impl_->result; }
 
 ElastostaticSolution solve_elastostatic_hierarchical(const ElastostaticProblem&, const LinearSolverOptions&, HierarchicalResult*) {
   missing_backend();
@@ -213,20 +223,24 @@ using namespace hmat_glue;
 bool hierarchical_backend_available() { return true; }
 
 struct HierarchicalFactorization::Impl {
-  Impl(const ElastostaticProblem& p) : problem(p), assembler(p.mesh, p.material, p.quadrature) {}
+  Impl(std::shared_ptr<const ElastostaticProblem> owner, const ElastostaticProblem& p)
+      : owned(std::move(owner)), problem(p), assembler(p.mesh, p.material, p.quadrature) {}
+  std::shared_ptr<const ElastostaticProblem> owned;  // null when the caller keeps the problem alive
   const ElastostaticProblem& problem;
   InfluenceAssembler assembler;
   SystemContext context;
   HmatObjects hm;
   HierarchicalResult result;
+  std::mutex solve_mutex;  // one hmat-oss solve at a time (the cut worker and a refactorisation share snapshots)
 };
 
 // long: the set-up in the order hmat-oss needs it (scales, cluster tree, admissibility, compression,
 // assembly, the copy, H-LU), each a few lines around one of its calls.
-HierarchicalFactorization::HierarchicalFactorization(const ElastostaticProblem& problem, double compression_tolerance, bool keep_copy) {
+HierarchicalFactorization::HierarchicalFactorization(std::shared_ptr<const ElastostaticProblem> owned, const ElastostaticProblem& problem,
+                                                     double compression_tolerance, bool keep_copy) {
   check_request(problem, compression_tolerance);
   const Index E = problem.mesh.num_elements(), n = 3 * E;
-  impl_ = std::make_unique<Impl>(problem);
+  impl_ = std::make_unique<Impl>(std::move(owned), problem);
   Impl& m = *impl_;
   HierarchicalResult& r = m.result;
   r.compression_tolerance = compression_tolerance;
@@ -287,13 +301,24 @@ HierarchicalFactorization::HierarchicalFactorization(const ElastostaticProblem& 
   factor.progress = nullptr;
   if (hm.hi.factorize_generic(hm.matrix, &factor) != 0) throw SolverError("solver method hmatrix: the H-LU factorisation failed");
   r.factorization_seconds = seconds_since(t_factor);
+  hmat_info_t factored{};
+  hm.hi.get_info(hm.matrix, &factored);
+  r.factor_entries = factored.compressed_size;
 }
 
-HierarchicalFactorization::~HierarchicalFactorization() = default;
-HierarchicalFactorization::HierarchicalFactorization(HierarchicalFactorization&&) noexcept = default;
-HierarchicalFactorization& HierarchicalFactorization::operator=(HierarchicalFactorization&&) noexcept = default;
+Index HierarchicalFactorization::size() const { return static_cast<Index>(impl_->context.scale.size()); }
 
-const HierarchicalResult& HierarchicalFactorization::result() const { return impl_->result; }
+std::size_t HierarchicalFactorization::bytes() const {
+  const Impl& m = *impl_;
+  std::size_t copy_entries = 0;
+  if (m.hm.copy) copy_entries = m.result.stored_entries;
+  return (m.result.factor_entries + copy_entries + m.context.scale.size()) * sizeof(double);
+}
+
+void HierarchicalFactorization::release_copy() {
+  if (impl_->hm.copy) impl_->hm.hi.destroy(impl_->hm.copy);
+  impl_->hm.copy = nullptr;
+}
 
 Eigen::VectorXd HierarchicalFactorization::right_hand_side() const { return hmat_glue::right_hand_side(impl_->assembler, impl_->problem); }
 
@@ -313,11 +338,24 @@ void HierarchicalFactorization::g_columns(const std::vector<Index>& elements, Ei
   }
 }
 
-void HierarchicalFactorization::solve_in_place(Eigen::MatrixXd& B) {
+void HierarchicalFactorization::solve_in_place(Eigen::Ref<Eigen::MatrixXd> B) const {
   Impl& m = *impl_;
+  if (B.rows() != size())
+    throw SolverError("HierarchicalFactorization::solve_in_place: " + std::to_string(B.rows()) + " rows, expected " +
+                      std::to_string(size()));
+  if (B.cols() == 0) return;
+  std::lock_guard<std::mutex> lock(m.solve_mutex);
   const auto t_solve = SteadyClock::now();
-  if (B.cols() > 0 && m.hm.hi.solve_systems(m.hm.matrix, B.data(), static_cast<int>(B.cols())) != 0)
+  // hmat-oss takes columns of exactly n rows: a block of a taller matrix (a cut's grown system) goes through a copy.
+  Eigen::MatrixXd packed;
+  double* data = B.data();
+  if (B.outerStride() != B.rows()) {
+    packed = B;
+    data = packed.data();
+  }
+  if (m.hm.hi.solve_systems(m.hm.matrix, data, static_cast<int>(B.cols())) != 0)
     throw SolverError("solver method hmatrix: the H-LU solve failed");
+  if (packed.size() > 0) B = packed;
   m.result.solve_seconds += seconds_since(t_solve);
   if (!B.allFinite())
     throw SolverError("solver method hmatrix: the solution is not finite (a singular system, or a compression tolerance too loose)");
@@ -378,5 +416,19 @@ ElastostaticSolution solve_elastostatic_hierarchical(const ElastostaticProblem& 
 }
 
 #endif
+
+// Both builds: the public constructors delegate to the one that builds (or refuses, without hmat-oss).
+HierarchicalFactorization::HierarchicalFactorization(const ElastostaticProblem& problem, double compression_tolerance, bool keep_copy)
+    : HierarchicalFactorization(nullptr, problem, compression_tolerance, keep_copy) {}
+
+HierarchicalFactorization::HierarchicalFactorization(std::shared_ptr<const ElastostaticProblem> problem, double compression_tolerance,
+                                                     bool keep_copy)
+    : HierarchicalFactorization(problem, owned_problem(problem), compression_tolerance, keep_copy) {}
+
+HierarchicalFactorization::~HierarchicalFactorization() = default;
+HierarchicalFactorization::HierarchicalFactorization(HierarchicalFactorization&&) noexcept = default;
+HierarchicalFactorization& HierarchicalFactorization::operator=(HierarchicalFactorization&&) noexcept = default;
+
+const HierarchicalResult& HierarchicalFactorization::result() const { return impl_->result; }
 
 }  // namespace bemsurg

@@ -196,10 +196,6 @@ CachedGreensTable load_or_compute_greens_table(const ElastostaticProblem& proble
   if (options.backend != SolverBackend::Dense && !options.compute)
     throw InvalidArgumentError("load_or_compute_greens_table: the " + std::string(to_string(options.backend)) +
                                " backend computes its table through TableCacheOptions::compute (presolution/hierarchical_table.hpp)");
-  if (options.backend != SolverBackend::Dense && options.for_cuts)
-    throw SolverError(
-        "cuts update the table through the dense backend's LU, which the hierarchical backend does not keep; use "
-        "\"method\": \"lu\" in a scene that cuts");
   CachedGreensTable out;
   std::error_code ec;
   const bool exists = !path.empty() && std::filesystem::exists(path, ec);
@@ -219,7 +215,10 @@ CachedGreensTable load_or_compute_greens_table(const ElastostaticProblem& proble
       out.warnings.push_back(std::string(e.what()) + "; recomputing");
     }
   }
-  out.table = options.compute ? options.compute(problem, region) : GreensTable::compute(problem, region);
+  out.table = options.compute ? options.compute(problem, region, options.for_cuts) : GreensTable::compute(problem, region);
+  if (options.for_cuts && !out.table.has_factorization())
+    throw SolverError("load_or_compute_greens_table: the " + std::string(to_string(options.backend)) +
+                      " backend's table kept no factorisation, which the exact updates after a cut need");
   if (!path.empty() && options.save) {
     // A private name per process, renamed into place: rename is atomic, so a reader never sees half a file.
     const std::string temporary = path + ".tmp" + std::to_string(static_cast<long long>(::getpid()));

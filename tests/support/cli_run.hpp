@@ -4,8 +4,11 @@
 
 #include <sys/wait.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -43,6 +46,22 @@ inline CsvTable read_table(const std::string& path) {
     t.rows.push_back(row);
   }
   return t;
+}
+
+/// Per column of two tables of the same shape, max |a - b| over the rows relative to the column's
+/// largest |b| (0 for two all-zero columns, infinity when only b's is all zero).
+inline std::vector<double> column_differences(const CsvTable& a, const CsvTable& b) {
+  std::vector<double> out;
+  if (a.rows.empty() || a.rows.size() != b.rows.size()) return out;
+  for (std::size_t k = 0; k < a.rows.front().size(); ++k) {
+    double worst = 0.0, largest = 0.0;
+    for (std::size_t i = 0; i < a.rows.size(); ++i) {
+      worst = std::max(worst, std::abs(a.rows[i][k] - b.rows[i][k]));
+      largest = std::max(largest, std::abs(b.rows[i][k]));
+    }
+    out.push_back(largest > 0.0 ? worst / largest : (worst > 0.0 ? std::numeric_limits<double>::infinity() : 0.0));
+  }
+  return out;
 }
 
 /// What a run of the program gave: its exit status (-1 when it did not exit normally) and output.

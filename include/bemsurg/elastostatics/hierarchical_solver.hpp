@@ -7,8 +7,9 @@
 // A compiled component: library bemsurg_hmatrix, CMake target bemsurg::hmatrix, built on hmat-oss
 // when CMake finds it (BEMSURG_WITH_HMATRIX). Built without it, hierarchical_backend_available() is
 // false and solve_elastostatic_hierarchical throws SolverError saying so; the header-only core never
-// needs it. It covers solves and pre-solution tables of constant elements (`bemsurg solve`,
-// presolution/hierarchical_table.hpp for `press` and `session`); cuts, the viewer, interior points and
+// needs it. It covers solves, pre-solution tables and cuts of constant elements (`bemsurg solve`;
+// presolution/hierarchical_table.hpp for `table`, `press`, `session` and `cut`, whose exact update
+// runs on top of the kept H-LU: solvers/system_factorization.hpp); the viewer, interior points and
 // linear elements still use the dense backend.
 #pragma once
 
@@ -21,6 +22,7 @@
 #include "bemsurg/elastostatics/elastostatic_problem.hpp"
 #include "bemsurg/elastostatics/elastostatic_solver.hpp"
 #include "bemsurg/solvers/linear_solve.hpp"
+#include "bemsurg/solvers/system_factorization.hpp"
 
 namespace bemsurg {
 
@@ -30,6 +32,7 @@ struct HierarchicalResult {
   double compression_tolerance = 0.0;  // ACA+'s relative tolerance per block (LinearSolverOptions::compression_tolerance)
   std::size_t stored_entries = 0;      // doubles stored by the H-matrix (full and low-rank leaves) before the H-LU
   std::size_t dense_entries = 0;       // n^2: what the dense A* stores
+  std::size_t factor_entries = 0;      // doubles the H-LU's factors store (what a table kept for cuts holds)
   double compression_ratio = 0.0;      // stored / dense
   int largest_rank = 0;                // rank of the largest low-rank block (by memory)
   int leaves_full = 0, leaves_low_rank = 0;
@@ -54,28 +57,40 @@ inline double estimate_hierarchical_bytes(Index elements) {
 
 /// A* of a problem (constant elements) assembled block by block, compressed by ACA+ and factorised
 /// by an H-LU on hmat-oss, kept to solve many right-hand sides: the static solve's one, a table's
-/// columns. The traction unknowns' columns are scaled by mu / h inside (solve_in_place takes and
-/// returns unscaled vectors, as the dense LU does). `problem` must outlive it. Move-only.
+/// columns, and (as a SystemFactorization) the base of a cut's low-rank update. The traction
+/// unknowns' columns are scaled by mu / h inside (solve_in_place takes and returns unscaled vectors,
+/// as the dense LU does). Move-only.
 /// \ingroup elastostatics
-class HierarchicalFactorization {
+class HierarchicalFactorization : public SystemFactorization {
  public:
   /// Assembles and factorises A* of `problem` at ACA+'s `compression_tolerance` (in [1e-12, 0.1]);
   /// `keep_copy` keeps the assembled matrix for relative_residual (as much memory again). Throws
   /// SolverError when the backend is missing, the elements are linear or hmat-oss fails, and
   /// InvalidArgumentError for a tolerance outside its range. No checks of the problem itself: callers
-  /// run check_before_solve first.
+  /// run check_before_solve first. `problem` must outlive it.
   HierarchicalFactorization(const ElastostaticProblem& problem, double compression_tolerance, bool keep_copy);
-  ~HierarchicalFactorization();
+  /// The same, sharing ownership of `problem` (what a table kept for cuts holds: the factorisation
+  /// outlives the caller's problem). InvalidArgumentError for a null problem.
+  HierarchicalFactorization(std::shared_ptr<const ElastostaticProblem> problem, double compression_tolerance, bool keep_copy);
+  ~HierarchicalFactorization() override;
   HierarchicalFactorization(HierarchicalFactorization&&) noexcept;
   HierarchicalFactorization& operator=(HierarchicalFactorization&&) noexcept;
   HierarchicalFactorization(const HierarchicalFactorization&) = delete;
   HierarchicalFactorization& operator=(const HierarchicalFactorization&) = delete;
 
+  /// n, the number of unknowns.
+  Index size() const override;
+  /// Bytes of the H-LU's factors (result().factor_entries), the column scales and, while kept, the copy.
+  std::size_t bytes() const override;
   /// Solves A* X = B in place for all columns of `B` (n x k) at once; adds the time to
-  /// result().solve_seconds. Throws SolverError when hmat-oss fails or the result is not finite.
-  void solve_in_place(Eigen::MatrixXd& B);
-  /// ||b - A* x|| / ||b|| with the assembled copy (0 when `keep_copy` was false).
+  /// result().solve_seconds. Solves are serialised (one hmat-oss solve at a time per factorisation).
+  /// Throws SolverError when hmat-oss fails or the result is not finite.
+  void solve_in_place(Eigen::Ref<Eigen::MatrixXd> B) const override;
+  /// ||b - A* x|| / ||b|| with the assembled copy (0 when `keep_copy` was false or after release_copy).
   double relative_residual(const Eigen::VectorXd& b, const Eigen::VectorXd& x) const;
+  /// Frees the assembled copy (relative_residual returns 0 afterwards): a factorisation kept beyond
+  /// its first solve keeps only its factors.
+  void release_copy();
   /// The right-hand side of eq. 6 for the problem's conditions and gravity (G t_known - H u_known plus
   /// gravity), assembled from the loaded elements' columns only.
   Eigen::VectorXd right_hand_side() const;
@@ -86,6 +101,8 @@ class HierarchicalFactorization {
   const HierarchicalResult& result() const;
 
  private:
+  HierarchicalFactorization(std::shared_ptr<const ElastostaticProblem> owned, const ElastostaticProblem& problem,
+                            double compression_tolerance, bool keep_copy);
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
@@ -105,11 +122,11 @@ struct BackendChoice {
 };
 
 /// The choice of "method": "auto" for `elements` elements of `type`: the hierarchical backend when
-/// it is built (hierarchical_backend_available()), the elements are constant, the work does not cut
-/// (`cuts`: a cut updates the dense LU) and either elements >= kAutoHierarchicalElements or the
-/// dense solve would not fit in memory (estimate_elastostatic_bytes against 80 % of physical
-/// memory); dense LU otherwise.
-BackendChoice choose_backend(Index elements, ElementType type, bool cuts);
+/// it is built (hierarchical_backend_available()), the elements are constant and either elements >=
+/// kAutoHierarchicalElements or the dense solve would not fit in memory (estimate_elastostatic_bytes
+/// against 80 % of physical memory); dense LU otherwise. Cuts do not change it: a cut step on the
+/// H-LU measured faster than on the dense LU from about 1,000 elements (bench_hmatrix's cut study).
+BackendChoice choose_backend(Index elements, ElementType type);
 
 /// The static solve of `problem` on the hierarchical backend, with the same checks as
 /// solve_elastostatic (check_before_solve), except memory: the compressed matrix's size is not known

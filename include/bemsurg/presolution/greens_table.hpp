@@ -17,13 +17,15 @@
 // updated_table (bemsurg/cutting/table_update.hpp) returns a NEW table (an immutable snapshot,
 // version() + 1) for the cut mesh whose base state and columns equal those computed from scratch,
 // integrating only the rows and columns of the changed elements. For that a computed table keeps
-// the LU factors and pivots of A* (n^2 doubles, in estimate_bytes), the right-hand side, the mesh
+// the factorisation of A* (the dense LU's factors and pivots, n^2 doubles, in estimate_bytes; or the
+// hierarchical backend's H-LU, presolution/hierarchical_table.hpp), the right-hand side, the mesh
 // snapshot and the reaction rows (see below); a table read from a file has none of these and
 // cannot be updated (has_factorization() is false).
 #pragma once
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <utility>
@@ -38,6 +40,7 @@
 #include "bemsurg/solvers/linear_solve.hpp"
 #include "bemsurg/solvers/low_rank_updated_lu.hpp"
 #include "bemsurg/solvers/lu_in_place.hpp"
+#include "bemsurg/solvers/system_factorization.hpp"
 
 namespace bemsurg {
 
@@ -91,6 +94,22 @@ GreensTableKey make_greens_table_key(const TriangleMesh& mesh, const Material& m
 BoundaryConditions supported_base_conditions(Index num_elements, const std::vector<Index>& supported);
 
 class GreensTable;
+
+/// How a table is computed again from scratch on a mesh (a background refactorisation after cuts, a
+/// cut step recomputed): on the backend that computed it first. Empty: the dense LU (GreensTable::compute).
+using TableRecompute =
+    std::function<GreensTable(std::shared_ptr<const TriangleMesh> mesh, const Material& material, const BoundaryConditions& base,
+                              const Eigen::Vector3d& gravity, const QuadratureOptions& quadrature, const std::vector<Index>& region)>;
+
+/// What a table solved by another backend keeps for cuts (GreensTable::from_solution): its factorisation of A*
+/// (the base of the cut's low-rank update), R_bc + R_G, and how to compute the table again on that backend.
+/// \ingroup presolution
+struct KeptFactorization {
+  std::shared_ptr<const SystemFactorization> factors;  // null: nothing kept, the table cannot be cut
+  Eigen::VectorXd rhs;
+  TableRecompute recompute;
+};
+
 namespace detail {
 struct GreensTableParts;  // the cutting module's access to a table's parts (cutting/impl/table_update_impl.hpp)
 }  // namespace detail
@@ -137,15 +156,21 @@ class GreensTable {
   /// A table from the solution of A* X = [G columns of the region's elements, R_bc + R_G] solved by
   /// another backend (presolution/hierarchical_table.hpp): `solution` is n x (3|region| + 1), the
   /// base state last; `region` as resolve_region returns it. The key records `backend` and
-  /// `compression_tolerance`. It keeps no factorisation (has_factorization() is false): a cut needs
-  /// the dense backend's table.
+  /// `compression_tolerance`. With `kept.factors` the table keeps that factorisation for cuts
+  /// (has_factorization(); the cut's update runs on it, docs/cutting.md "On either backend") and
+  /// `kept.recompute` for refactorisations; without, it cannot be cut.
   static GreensTable from_solution(std::shared_ptr<const TriangleMesh> mesh, const ElastostaticProblem& problem, std::vector<Index> region,
                                    Eigen::MatrixXd solution, SolverBackend backend, double compression_tolerance,
-                                   std::vector<std::string> warnings, const PrecomputeTimings& timings);
+                                   std::vector<std::string> warnings, const PrecomputeTimings& timings, KeptFactorization kept = {});
 
-  /// This table computed again from scratch on its own mesh (same region, conditions, version):
-  /// what a background refactorisation publishes in place of a table whose correction rank grew.
+  /// This table computed again from scratch on its own mesh (same region, conditions, version, and
+  /// backend): what a background refactorisation publishes in place of a table whose correction rank grew.
   std::shared_ptr<const GreensTable> refactored() const;
+  /// The table of this body's material, gravity and quadrature on `mesh` with `base` and `region`,
+  /// computed from scratch on the backend that computed this one (dense LU unless another backend
+  /// set its TableRecompute); no memory limit (the caller's table already fits).
+  GreensTable recomputed_on(std::shared_ptr<const TriangleMesh> mesh, const BoundaryConditions& base,
+                            const std::vector<Index>& region) const;
   /// The same body with Young's modulus `young_modulus` and gravity scaled by `gravity_factor`: exact without
   /// recomputing, because with zero prescribed displacements every displacement (the table's columns and the
   /// base state) scales as 1/E and the reactions do not, and with zero prescribed tractions the base state is
@@ -243,6 +268,7 @@ class GreensTable {
   std::uint64_t version_ = 0;
   std::shared_ptr<const TriangleMesh> mesh_;
   std::shared_ptr<const LowRankUpdatedLu> solver_;
+  TableRecompute recompute_;  // empty: the dense LU
   QuadratureOptions quadrature_;
   Eigen::VectorXd base_values_;
   Eigen::VectorXd rhs_;

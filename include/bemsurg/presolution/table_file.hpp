@@ -44,13 +44,14 @@ struct TableCacheOptions {
   bool save = true;
   /// The backend the table is computed on (the scene's solver method) and its compression tolerance:
   /// part of the key a file must match, so a compressed table never loads in place of a dense one.
-  /// Cuts (for_cuts) need the dense backend (SolverError otherwise).
   SolverBackend backend = SolverBackend::Dense;
   double compression_tolerance = 0.0;
-  /// Computes the table when no file is read; null: GreensTable::compute (dense). Another backend
-  /// needs its own: compute_greens_table_hierarchical (presolution/hierarchical_table.hpp, in the
-  /// optional library bemsurg::hmatrix, which the header-only core does not link).
-  std::function<GreensTable(const ElastostaticProblem&, const std::vector<Index>&)> compute;
+  /// Computes the table when no file is read (its third argument: for_cuts, keep the factorisation);
+  /// null: GreensTable::compute (dense). Another backend needs its own:
+  /// compute_greens_table_hierarchical (presolution/hierarchical_table.hpp, in the optional library
+  /// bemsurg::hmatrix, which the header-only core does not link). With for_cuts, a table it returns
+  /// without a factorisation is refused (SolverError).
+  std::function<GreensTable(const ElastostaticProblem&, const std::vector<Index>&, bool for_cuts)> compute;
 };
 
 /// What load_or_compute_greens_table did: the table, whether it came from the file, and what a program should tell

@@ -3,7 +3,8 @@
 //
 //   A = K + U V^T,   K = blockdiag(A0, I)
 //
-// A0 (n0 x n0) is the matrix factorised once (LuFactors); dofs added later extend K by identity;
+// A0 (n0 x n0) is the matrix factorised once (a SystemFactorization: the dense backend's LuFactors
+// or the hierarchical backend's H-LU); dofs added later extend K by identity;
 // every change since (new rows and columns: bordering; reshaped elements: their rows and columns
 // replaced) is a term U_s V_s^T appended to U V^T. Solves use Woodbury:
 //   A^-1 b = y - W C^-1 (V^T y),  y = K^-1 b,  W = K^-1 U,  C = I + V^T W (r x r, factorised).
@@ -25,7 +26,7 @@
 #include "bemsurg/dense_storage.hpp"
 #include "bemsurg/error.hpp"
 #include "bemsurg/number_text.hpp"
-#include "bemsurg/solvers/lu_factors.hpp"
+#include "bemsurg/solvers/system_factorization.hpp"
 #include "bemsurg/timing.hpp"
 #include "bemsurg/types.hpp"
 
@@ -40,14 +41,14 @@ struct LowRankUpdateProfile {
   double correction_seconds = 0.0;  // V and W grown by the step's columns and the capacitance C refactorised
 };
 
-/// The solver of a system a cut has grown and reshaped: the precompute's LU (LuFactors) plus an accumulated low-rank
+/// The solver of a system a cut has grown and reshaped: the precompute's factorisation (SystemFactorization) plus an accumulated low-rank
 /// correction A = K + U V^T, solved with Woodbury as described at the top of this header. Immutable: updated() returns a new one.
 /// \ingroup solvers
 class LowRankUpdatedLu {
  public:
   LowRankUpdatedLu() = default;
-  explicit LowRankUpdatedLu(std::shared_ptr<const LuFactors> base) : base_(std::move(base)) {
-    if (!base_ || base_->empty()) throw SolverError("LowRankUpdatedLu: no factorisation");
+  explicit LowRankUpdatedLu(std::shared_ptr<const SystemFactorization> base) : base_(std::move(base)) {
+    if (!base_ || base_->size() == 0) throw SolverError("LowRankUpdatedLu: no factorisation");
     n_ = base_->size();
   }
 
@@ -56,7 +57,7 @@ class LowRankUpdatedLu {
   Index base_size() const { return base_ ? base_->size() : 0; }
   /// Rank of the accumulated correction U V^T (columns of U).
   Index rank() const { return W_.cols(); }
-  const std::shared_ptr<const LuFactors>& base() const { return base_; }
+  const std::shared_ptr<const SystemFactorization>& base() const { return base_; }
   /// Bytes held beyond the shared base factorisation: V, W (n x r each) and C (r x r, twice).
   std::size_t bytes() const { return static_cast<std::size_t>(2 * W_.size() + 2 * C_.size()) * sizeof(double); }
 
@@ -174,7 +175,7 @@ class LowRankUpdatedLu {
                                  std::to_string(n_));
   }
 
-  std::shared_ptr<const LuFactors> base_;
+  std::shared_ptr<const SystemFactorization> base_;
   Index n_ = 0;
   // n x r. U itself is not kept: solves need only W = K^-1 U (and V); keeping U cost a copy of n r
   // doubles per step (the accumulated rank's share of a cut step, docs/cutting.md).

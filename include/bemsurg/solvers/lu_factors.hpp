@@ -17,6 +17,7 @@
 
 #include "bemsurg/error.hpp"
 #include "bemsurg/solvers/dense_lu.hpp"
+#include "bemsurg/solvers/system_factorization.hpp"
 #include "bemsurg/timing.hpp"
 #include "bemsurg/types.hpp"
 
@@ -29,7 +30,7 @@ namespace bemsurg {
 /// A dense LU factorisation that is kept (factors and pivots), so that later right-hand sides and low-rank updates after
 /// a cut reuse it (docs/design.md §7). Takes over A's storage; the singularity test is DenseLu's.
 /// \ingroup solvers
-class LuFactors {
+class LuFactors : public SystemFactorization {
  public:
   LuFactors() = default;
 
@@ -62,14 +63,14 @@ class LuFactors {
     return f;
   }
 
-  Index size() const { return lu_.rows(); }
+  Index size() const override { return lu_.rows(); }
   bool empty() const { return lu_.size() == 0; }
   /// Bytes held: n^2 doubles and n pivots.
-  std::size_t bytes() const { return static_cast<std::size_t>(lu_.size()) * sizeof(double) + pivots_.size() * sizeof(int); }
+  std::size_t bytes() const override { return static_cast<std::size_t>(lu_.size()) * sizeof(double) + pivots_.size() * sizeof(int); }
   const Eigen::MatrixXd& factors() const { return lu_; }
 
   /// B <- A^-1 B (B has size() rows; any number of columns, solved together: BLAS-3).
-  void solve_in_place(Eigen::Ref<Eigen::MatrixXd> B) const {
+  void solve_in_place(Eigen::Ref<Eigen::MatrixXd> B) const override {
     const Index n = size();
     if (B.rows() != n) throw SolverError("LuFactors::solve_in_place: " + std::to_string(B.rows()) + " rows, expected " + std::to_string(n));
     if (B.cols() == 0) return;

@@ -332,6 +332,9 @@ struct GreensTableParts {
     t.solver_ = s.solver;
     t.quadrature_ = g.quadrature_;
     t.key_ = make_greens_table_key(*t.mesh_, g.key_.material, s.bc, g.key_.gravity, g.quadrature_);
+    t.key_.backend = g.key_.backend;  // the update is exact on the base's backend: a compressed table stays one
+    t.key_.compression_tolerance = g.key_.compression_tolerance;
+    t.recompute_ = g.recompute_;
     t.base_kinds_ = s.bc.kinds();
     t.base_values_ = s.bc.values();
     t.rhs_ = s.rhs;
@@ -404,8 +407,7 @@ struct GreensTableParts {
     if (!after) throw InvalidArgumentError("recomputed_table_after: no mesh");
     check_mesh_delta(delta, *g.mesh_, *after);
     const std::vector<Index> region = region_after_cut(g, *after, delta, options);  // before `after` moves
-    auto out = std::make_shared<GreensTable>(GreensTable::compute_on(
-        std::move(after), g.material(), conditions_after_cut(g.base_conditions(), delta), g.gravity(), g.quadrature(), region, 0.0));
+    auto out = std::make_shared<GreensTable>(g.recomputed_on(std::move(after), conditions_after_cut(g.base_conditions(), delta), region));
     out->version_ = g.version_ + 1;
     return out;
   }

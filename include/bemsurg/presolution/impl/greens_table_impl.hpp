@@ -18,6 +18,7 @@
 #include "bemsurg/memory_budget.hpp"
 #include "bemsurg/quadrature/quadrature_cost.hpp"
 #include "bemsurg/solvers/dense_lu.hpp"
+#include "bemsurg/solvers/lu_factors.hpp"
 #include "bemsurg/solvers/lu_in_place.hpp"
 #include "bemsurg/timing.hpp"
 
@@ -188,7 +189,7 @@ BEMSURG_INLINE std::vector<Index> GreensTable::resolve_region(const BoundaryCond
 BEMSURG_INLINE GreensTable GreensTable::from_solution(std::shared_ptr<const TriangleMesh> mesh, const ElastostaticProblem& problem,
                                                       std::vector<Index> region, Eigen::MatrixXd solution, SolverBackend backend,
                                                       double compression_tolerance, std::vector<std::string> warnings,
-                                                      const PrecomputeTimings& timings) {
+                                                      const PrecomputeTimings& timings, KeptFactorization kept) {
   if (!mesh) throw InvalidArgumentError("GreensTable::from_solution: no mesh");
   const BoundaryConditions& base = problem.boundary_conditions;
   const Index n = 3 * mesh->num_elements(), R = static_cast<Index>(region.size());
@@ -211,6 +212,14 @@ BEMSURG_INLINE GreensTable GreensTable::from_solution(std::shared_ptr<const Tria
   solution.conservativeResize(n, 3 * R);
   table.set_columns_from_solution(std::move(solution));
   table.build_slots();
+  if (kept.factors) {
+    if (kept.factors->size() != n || kept.rhs.size() != n)
+      throw InvalidArgumentError("GreensTable::from_solution: the kept factorisation is of order " + std::to_string(kept.factors->size()) +
+                                 " with a right-hand side of " + std::to_string(kept.rhs.size()) + ", expected " + std::to_string(n));
+    table.solver_ = std::make_shared<const LowRankUpdatedLu>(std::move(kept.factors));
+    table.rhs_ = std::move(kept.rhs);
+    table.recompute_ = std::move(kept.recompute);
+  }
   return table;
 }
 
@@ -254,9 +263,15 @@ BEMSURG_INLINE BoundaryConditions GreensTable::base_conditions() const {
 
 BEMSURG_INLINE std::shared_ptr<const GreensTable> GreensTable::refactored() const {
   if (!mesh_) throw InvalidArgumentError("GreensTable::refactored: this table has no mesh (read from a file)");
-  auto out = std::make_shared<GreensTable>(compute_on(mesh_, key_.material, base_conditions(), key_.gravity, quadrature_, region_, 0.0));
+  auto out = std::make_shared<GreensTable>(recomputed_on(mesh_, base_conditions(), region_));
   out->version_ = version_;
   return out;
+}
+
+BEMSURG_INLINE GreensTable GreensTable::recomputed_on(std::shared_ptr<const TriangleMesh> mesh, const BoundaryConditions& base,
+                                                      const std::vector<Index>& region) const {
+  if (recompute_) return recompute_(std::move(mesh), key_.material, base, key_.gravity, quadrature_, region);
+  return compute_on(std::move(mesh), key_.material, base, key_.gravity, quadrature_, region, 0.0);
 }
 
 BEMSURG_INLINE std::shared_ptr<const GreensTable> GreensTable::with_young_modulus(double young_modulus, double gravity_factor) const {
