@@ -223,7 +223,7 @@ TEST_CASE("the force path allocates nothing", "[contact]") {
   CHECK(sum.allFinite());
 }
 
-TEST_CASE("contact on an element outside the region or twice is refused, the set unchanged", "[contact]") {
+TEST_CASE("contact on an element outside the region or twice is refused, the set unchanged, the capacity held to the region", "[contact]") {
   Fixture& f = fixture();
   CapacitanceContact c(f.mesh_ptr, f.table_ptr, 6);
   c.add_bonded(f.top[0]);
@@ -232,6 +232,10 @@ TEST_CASE("contact on an element outside the region or twice is refused, the set
   c.add_bonded(f.top[1]);
   CHECK_THROWS_WITH(c.add_bonded(f.top[2]), Catch::Contains("capacity"));
   CHECK(c.num_rows() == 6);
+  // A capacity beyond every region element bonded (3 rows each) is held there: no row past it can exist.
+  const Index most = 3 * static_cast<Index>(f.table.region().size());
+  CHECK(CapacitanceContact(f.mesh_ptr, f.table_ptr, most + 1000).capacity() == most);
+  CHECK(CapacitanceContact(f.mesh_ptr, f.table_ptr, most - 1).capacity() == most - 1);
 }
 
 TEST_CASE("the table refuses a precomputation that does not fit, with the estimate", "[contact]") {

@@ -48,8 +48,10 @@ struct ContactRow {
 class CapacitanceContact {
  public:
   /// `mesh` gives areas (the force) and must be the table's mesh; both are shared snapshots.
-  /// `capacity`: the most constraint rows at once (bonded elements take 3, frictionless 1).
-  /// Throws ContactError for a null or empty table, a mesh that is not the table's, capacity < 1.
+  /// `capacity`: the most constraint rows at once (bonded elements take 3, frictionless 1), held to
+  /// 3 x the table's region (only region elements can be in contact: more rows could never be used,
+  /// and the five capacity^2 buffers of a large organ would cost gigabytes). Throws ContactError for a
+  /// null or empty table, a mesh that is not the table's, capacity < 1.
   CapacitanceContact(std::shared_ptr<const TriangleMesh> mesh, std::shared_ptr<const GreensTable> table, Index capacity = 300);
 
   Index capacity() const { return capacity_; }

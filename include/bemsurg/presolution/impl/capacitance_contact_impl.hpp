@@ -44,7 +44,8 @@ BEMSURG_INLINE CapacitanceContact::CapacitanceContact(std::shared_ptr<const Tria
   if (mesh.num_elements() != table.num_elements() || hash_mesh(mesh) != table.key().mesh_hash)
     throw ContactError("CapacitanceContact: the mesh is not the one the table was computed for");
   if (capacity < 1) throw ContactError("CapacitanceContact: capacity must be at least 1 row");
-  const auto cap = static_cast<std::size_t>(capacity);
+  capacity_ = std::min<Index>(capacity, 3 * static_cast<Index>(table.region().size()));
+  const auto cap = static_cast<std::size_t>(capacity_);
   rows_.resize(cap);
   rows_of_.assign(static_cast<std::size_t>(mesh.num_elements()), 0);
   P_.assign(cap * cap, 0.0);
