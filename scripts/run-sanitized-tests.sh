@@ -64,7 +64,6 @@ if [ "$mode" = address ]; then
   # tolerances, the table, two cuts): its block callbacks, the table's solve and a cut on a kept
   # H-LU run here in test_cli's smaller hmatrix cases and the 320-element refactorisation case.
   heavy+='|test_solvers:the hierarchical backend solves a body resting|test_solvers:a table on the hierarchical backend'
-  heavy+='|test_solvers:a cut updates a hierarchical table'
   ctest --output-on-failure -j"${JOBS:-2}" --timeout 900 -E "$heavy"
 else
   cmake --build "$BUILD_DIR" -j"${JOBS:-2}" --target test_haptics test_cutting test_cli test_viewer_core bemsurg_cli

@@ -134,70 +134,6 @@ TEST_CASE("a mesh file too large for the dense solve loads when the scene asks f
   }
 }
 
-TEST_CASE("a table on the hierarchical backend equals the dense table to its tolerance, and its file never loads as a dense one",
-          "[hmatrix][presolution]") {
-  // 1,280 elements resting under gravity, the table's region the top within 4 cm: its columns (unit
-  // tractions on the region) and base state from one multi-right-hand-side H-LU solve at 1e-5,
-  // against GreensTable::compute's dense LU (the independent answer). Measured: columns 1.4e-6,
-  // base displacement 1.5e-5, reactions 1.5e-4 of their largest entries, 0.64 of dense storage.
-  std::string json = resting_brain_json(R"({"method": "hmatrix", "compression_tolerance": 1e-5})");
-  json.insert(json.rfind('}'), R"(, "operating_region": {"sphere": {"center": [0, 0, 0.085], "radius": 0.04}})");
-  const Scene scene = load_scene_from_string(json, ".", "hmatrix");
-  REQUIRE(scene.problem.mesh.num_elements() == 1280);
-  REQUIRE(!scene.operating_elements.empty());
-  if (!hierarchical_backend_available()) {
-    CHECK_THROWS_AS(compute_greens_table_hierarchical(scene.problem, scene.operating_elements, scene.solver), SolverError);
-    bemsurg::testing::skip_unless(false, "built without hmat-oss (libhmat-oss-dev): the hierarchical table refuses, as checked");
-  }
-  const GreensTable dense = GreensTable::compute(scene.problem, scene.operating_elements);
-  HierarchicalResult r;
-  const GreensTable h = compute_greens_table_hierarchical(scene.problem, scene.operating_elements, scene.solver, &r);
-  REQUIRE(h.region() == dense.region());
-  const double dc = (h.columns() - dense.columns()).cwiseAbs().maxCoeff() / dense.columns().cwiseAbs().maxCoeff();
-  const double du =
-      (h.base_displacement() - dense.base_displacement()).cwiseAbs().maxCoeff() / dense.base_displacement().cwiseAbs().maxCoeff();
-  const double dr = (h.reactions() - dense.reactions()).cwiseAbs().maxCoeff() / dense.reactions().cwiseAbs().maxCoeff();
-  INFO("columns " << dc << ", base displacement " << du << ", reactions " << dr << ", stored " << r.compression_ratio);
-  CHECK(dc <= 1e-4);
-  CHECK(du <= 1e-4);
-  CHECK(dr <= 1e-3);
-  CHECK(r.relative_residual <= 1e-4);
-  CHECK(r.compression_ratio < 0.8);
-  CHECK(h.key().backend == SolverBackend::HMatrix);
-  CHECK(h.key().compression_tolerance == 1e-5);
-  CHECK(dense.key().backend == SolverBackend::Dense);
-  CHECK(!h.has_factorization());  // cuts need the dense LU
-  CHECK(h.timings().factorization_seconds > 0.0);
-
-  // The file keeps the backend: read back under its own key, stale under the dense one.
-  const bemsurg_test::TempDir dir("bemsurg_hmatrix_table_");
-  save_greens_table(dir.file("h.tbl"), h);
-  const GreensTable back = load_greens_table(dir.file("h.tbl"), h.key(), scene.operating_elements);
-  CHECK(back.columns() == h.columns());
-  CHECK_THROWS_WITH(load_greens_table(dir.file("h.tbl"), dense.key()),
-                    Catch::Contains("stale") && Catch::Contains("hierarchical backend") && Catch::Contains("dense backend"));
-  // The one load-or-compute: a hierarchical scene reads its own file; cuts and a missing compute refuse.
-  TableCacheOptions options;
-  options.backend = SolverBackend::HMatrix;
-  options.compression_tolerance = 1e-5;
-  CHECK_THROWS_AS(load_or_compute_greens_table(scene.problem, scene.operating_elements, dir.file("h.tbl"), options), InvalidArgumentError);
-  options.compute = [&](const ElastostaticProblem&, const std::vector<Index>&, bool) -> GreensTable {
-    FAIL("recomputed");
-    return {};
-  };
-  CHECK(load_or_compute_greens_table(scene.problem, scene.operating_elements, dir.file("h.tbl"), options).loaded_from_file);
-  // For cuts the file is not read: the hook is asked to keep its factorisation, and a table without one is refused.
-  options.for_cuts = true;
-  bool asked_to_keep = false;
-  options.compute = [&](const ElastostaticProblem&, const std::vector<Index>&, bool keep) -> GreensTable {
-    asked_to_keep = keep;
-    return h;
-  };
-  CHECK_THROWS_WITH(load_or_compute_greens_table(scene.problem, scene.operating_elements, dir.file("h.tbl"), options),
-                    Catch::Contains("hmatrix") && Catch::Contains("kept no factorisation"));
-  CHECK(asked_to_keep);
-}
-
 namespace {
 
 /// The resting body with a table region (the top within 4 cm), on the hierarchical backend at 1e-5.
@@ -217,33 +153,85 @@ const Eigen::Vector3d kCutFrom(-0.02, 0.0, 0.09), kCutDirection(1.0, 0.0, 0.0);
 
 }  // namespace
 
-TEST_CASE("a cut updates a hierarchical table on its kept H-LU as it updates the dense LU", "[hmatrix][cut]") {
-  // docs/cutting.md, "On either backend": the Woodbury update needs only solves with the base
-  // factorisation, so the H-LU (tolerance 1e-5) carries it. Two cut steps across the top of the
-  // 1,280-element body, on the hierarchical table and on the dense one; the independent answers are
-  // the dense update and a fresh dense LU of the cut system assembled from scratch. Measured: H-LU
-  // factors 0.64 of dense; after the cuts columns 9.7e-7, base displacement 1.5e-5 and the solve
-  // 2.8e-5 from dense, as before any cut (the table test above).
+TEST_CASE(
+    "a table on the hierarchical backend equals the dense table to its tolerance, its file never loads as a dense one, and "
+    "cuts update it on its kept H-LU as they update the dense LU",
+    "[hmatrix][presolution][cut]") {
+  // 1,280 elements resting under gravity, the table's region the top within 4 cm: its columns (unit
+  // tractions on the region) and base state from one multi-right-hand-side H-LU solve at 1e-5,
+  // against GreensTable::compute's dense LU (the independent answer). Measured: columns 1.4e-6,
+  // base displacement 1.5e-5, reactions 1.5e-4 of their largest entries, 0.64 of dense storage.
+  // Then (docs/cutting.md, "On either backend") two cut steps on both tables: the Woodbury update
+  // needs only solves with its base, so the kept H-LU carries it.
   const Scene scene = cut_scene(3);
   REQUIRE(scene.problem.mesh.num_elements() == 1280);
+  REQUIRE(!scene.operating_elements.empty());
   if (!hierarchical_backend_available()) {
+    CHECK_THROWS_AS(compute_greens_table_hierarchical(scene.problem, scene.operating_elements, scene.solver), SolverError);
     CHECK_THROWS_AS(compute_greens_table_hierarchical(scene.problem, scene.operating_elements, scene.solver, nullptr, true), SolverError);
     bemsurg::testing::skip_unless(false, "built without hmat-oss (libhmat-oss-dev): the hierarchical table refuses, as checked");
   }
+  const GreensTable dense = GreensTable::compute(scene.problem, scene.operating_elements);
   HierarchicalResult r;
-  auto h = std::make_shared<const GreensTable>(
-      compute_greens_table_hierarchical(scene.problem, scene.operating_elements, scene.solver, &r, true));
-  auto d = std::make_shared<const GreensTable>(GreensTable::compute(scene.problem, scene.operating_elements));
-  REQUIRE(h->has_factorization());
-  const double n = static_cast<double>(h->num_dofs());
+  const GreensTable h = compute_greens_table_hierarchical(scene.problem, scene.operating_elements, scene.solver, &r, true);
+  REQUIRE(h.region() == dense.region());
+  const double dc = (h.columns() - dense.columns()).cwiseAbs().maxCoeff() / dense.columns().cwiseAbs().maxCoeff();
+  const double du =
+      (h.base_displacement() - dense.base_displacement()).cwiseAbs().maxCoeff() / dense.base_displacement().cwiseAbs().maxCoeff();
+  const double dr = (h.reactions() - dense.reactions()).cwiseAbs().maxCoeff() / dense.reactions().cwiseAbs().maxCoeff();
+  INFO("columns " << dc << ", base displacement " << du << ", reactions " << dr << ", stored " << r.compression_ratio);
+  CHECK(dc <= 1e-4);
+  CHECK(du <= 1e-4);
+  CHECK(dr <= 1e-3);
+  CHECK(r.relative_residual <= 1e-4);
+  CHECK(r.compression_ratio < 0.8);
+  CHECK(h.key().backend == SolverBackend::HMatrix);
+  CHECK(h.key().compression_tolerance == 1e-5);
+  CHECK(dense.key().backend == SolverBackend::Dense);
+  CHECK(h.timings().factorization_seconds > 0.0);
+  // Kept for cuts: the H-LU, smaller than the dense LU.
+  REQUIRE(h.has_factorization());
+  const double n = static_cast<double>(h.num_dofs());
   INFO("H-LU factors " << double(r.factor_entries) / (n * n) << " of dense");
   CHECK(r.factor_entries > 0);
   CHECK(double(r.factor_entries) < 0.8 * n * n);
-  CHECK(h->solver()->base()->bytes() < d->solver()->base()->bytes());
+  CHECK(h.solver()->base()->bytes() < dense.solver()->base()->bytes());
 
+  // The file keeps the backend: read back under its own key, stale under the dense one.
+  const bemsurg_test::TempDir dir("bemsurg_hmatrix_table_");
+  save_greens_table(dir.file("h.tbl"), h);
+  const GreensTable back = load_greens_table(dir.file("h.tbl"), h.key(), scene.operating_elements);
+  CHECK(back.columns() == h.columns());
+  CHECK(!back.has_factorization());
+  CHECK_THROWS_WITH(load_greens_table(dir.file("h.tbl"), dense.key()),
+                    Catch::Contains("stale") && Catch::Contains("hierarchical backend") && Catch::Contains("dense backend"));
+  // The one load-or-compute: a hierarchical scene reads its own file; cuts and a missing compute refuse.
+  TableCacheOptions options;
+  options.backend = SolverBackend::HMatrix;
+  options.compression_tolerance = 1e-5;
+  CHECK_THROWS_AS(load_or_compute_greens_table(scene.problem, scene.operating_elements, dir.file("h.tbl"), options), InvalidArgumentError);
+  options.compute = [&](const ElastostaticProblem&, const std::vector<Index>&, bool) -> GreensTable {
+    FAIL("recomputed");
+    return {};
+  };
+  CHECK(load_or_compute_greens_table(scene.problem, scene.operating_elements, dir.file("h.tbl"), options).loaded_from_file);
+  // For cuts the file is not read: the hook is asked to keep its factorisation, and a table without one is refused.
+  options.for_cuts = true;
+  bool asked_to_keep = false;
+  options.compute = [&](const ElastostaticProblem&, const std::vector<Index>&, bool keep) -> GreensTable {
+    asked_to_keep = keep;
+    return back;
+  };
+  CHECK_THROWS_WITH(load_or_compute_greens_table(scene.problem, scene.operating_elements, dir.file("h.tbl"), options),
+                    Catch::Contains("hmatrix") && Catch::Contains("kept no factorisation"));
+  CHECK(asked_to_keep);
+
+  // Two cut steps on both tables. The independent answers: the dense update, and a fresh dense LU of
+  // the cut system assembled from scratch. Measured: columns 9.7e-7, base state 1.5e-5 and the
+  // updated solve 2.8e-5 off dense, as before the cut.
   CutSystemOptions so;
   so.background_refactor = false;
-  CutSystemUpdate hs(h, so), ds(d, so);
+  CutSystemUpdate hs(std::make_shared<const GreensTable>(h), so), ds(std::make_shared<const GreensTable>(dense), so);
   hs.begin_cut({});
   ds.begin_cut({});
   for (int step = 1; step <= 2; ++step) {
@@ -256,15 +244,14 @@ TEST_CASE("a cut updates a hierarchical table on its kept H-LU as it updates the
     CHECK(a.rank > 0);
     CHECK_FALSE(a.refactor_started);
   }
-  const std::shared_ptr<const GreensTable> hc = hs.table(), dc = ds.table();
-  REQUIRE(hc->num_dofs() == dc->num_dofs());
-  REQUIRE(hc->num_dofs() > h->num_dofs());
-  REQUIRE(hc->region() == dc->region());
+  const std::shared_ptr<const GreensTable> hc = hs.table(), dc_table = ds.table();
+  REQUIRE(hc->num_dofs() == dc_table->num_dofs());
+  REQUIRE(hc->num_dofs() > h.num_dofs());
+  REQUIRE(hc->region() == dc_table->region());
   CHECK(hc->key().backend == SolverBackend::HMatrix);
   CHECK(hc->key().compression_tolerance == 1e-5);
-  const double columns = relative_entries(hc->columns(), dc->columns());
-  const double base = relative_entries(hc->base_displacement(), dc->base_displacement());
-  // The cut system from scratch (dense): the updated H-LU's solve against it.
+  const double columns = relative_entries(hc->columns(), dc_table->columns());
+  const double base = relative_entries(hc->base_displacement(), dc_table->base_displacement());
   const InfluenceAssembler assembler(*hc->mesh(), hc->material(), hc->quadrature());
   Eigen::VectorXd g;
   InfluenceMatrices hg = assembler.assemble(hc->gravity(), g);
