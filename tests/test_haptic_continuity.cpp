@@ -7,16 +7,19 @@
 // a loaded machine and under the sanitizers.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <thread>
 #include <vector>
 
 #ifdef _OPENMP
 #include <omp.h>
 #endif
+#include "bemsurg/blas_threads.hpp"
 #include "bemsurg/error.hpp"
 #include "bemsurg/haptics/background_task.hpp"
 #include "bemsurg/haptics/felt_force.hpp"
@@ -295,6 +298,32 @@ TEST_CASE("the watchdog still fades the force when the simulation side is gone",
     CHECK(trace.samples.back().channel[0].force.norm() == 0.0);
     CHECK(trace.samples.back().time < 0.45 + 0.2 + 0.25 + 0.05 + 0.1);  // hung at 0.65 s, faded 0.3 s later, then ended
   }
+}
+
+TEST_CASE("BLAS thread caps nest and overlap, the pool takes the smallest live one and gets back what it had", "[haptics][threads]") {
+  // bemsurg/blas_threads.hpp: a haptic loop's budget and an H-LU both cap OpenBLAS's one pool.
+  const int before = blas_threads();
+  if (before == 0) {
+    const BlasThreadCap cap(1);  // not OpenBLAS: nothing to cap, and the cap changes nothing
+    CHECK(blas_threads() == 0);
+    return;
+  }
+  {
+    std::optional<BlasThreadCap> budget(std::in_place, std::max(1, before - 1));
+    CHECK(blas_threads() == std::max(1, before - 1));
+    {
+      const BlasThreadCap serial(1);
+      CHECK(blas_threads() == 1);
+      const BlasThreadCap wide(before + 8);  // a cap above the pool never grows it
+      CHECK(blas_threads() == 1);
+      budget.reset();  // the budget ends first (overlapping, not nested): the H-LU's cap holds
+      CHECK(blas_threads() == 1);
+    }
+    CHECK(blas_threads() == before);
+    const BlasThreadCap none(0);
+    CHECK(blas_threads() == before);
+  }
+  CHECK(blas_threads() == before);
 }
 
 TEST_CASE("background work gets cores - 1 threads while a loop runs", "[haptics][continuity]") {

@@ -7,6 +7,7 @@
 // header-only bemsurg::core (docs/design.md, "Module order").
 #pragma once
 
+#include "bemsurg/blas_threads.hpp"
 #include "bemsurg/config.hpp"
 #include "bemsurg/constants.hpp"
 #include "bemsurg/dense_storage.hpp"

@@ -1,6 +1,8 @@
-// The core module's definitions: the memory budget.
+// The core module's definitions: the memory budget, the BLAS thread caps.
 // Compiled once here under BEMSURG_SEPARATE_COMPILATION (include/bemsurg/config.hpp); header-only
 // programs (bemsurg::core) get the same definitions inline from the headers.
+#include "bemsurg/blas_threads.hpp"
 #include "bemsurg/memory_budget.hpp"
 
+#include "bemsurg/impl/blas_threads_impl.hpp"
 #include "bemsurg/impl/memory_budget_impl.hpp"

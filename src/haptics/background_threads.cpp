@@ -7,13 +7,6 @@
 #include <omp.h>
 #endif
 
-// OpenBLAS's thread controls, declared weak: present when the BLAS bemsurg links is OpenBLAS
-// (Debian's default), null otherwise (reference BLAS, no pool to cap).
-extern "C" {
-void openblas_set_num_threads(int) __attribute__((weak));
-int openblas_get_num_threads(void) __attribute__((weak));
-}
-
 namespace bemsurg::haptics {
 
 int background_thread_count(unsigned cores) noexcept {
@@ -24,10 +17,7 @@ int background_thread_count(unsigned cores) noexcept {
 BackgroundThreadBudget::BackgroundThreadBudget(bool enabled) noexcept {
   if (!enabled) return;
   threads_ = background_thread_count();
-  if (openblas_get_num_threads && openblas_set_num_threads) {
-    saved_blas_ = openblas_get_num_threads();
-    openblas_set_num_threads(std::min(saved_blas_, threads_));
-  }
+  blas_.emplace(threads_);
 #ifdef _OPENMP
   saved_omp_ = omp_get_max_threads();
   omp_set_num_threads(std::min(saved_omp_, threads_));
@@ -36,7 +26,7 @@ BackgroundThreadBudget::BackgroundThreadBudget(bool enabled) noexcept {
 
 BackgroundThreadBudget::~BackgroundThreadBudget() {
   if (threads_ == 0) return;
-  if (saved_blas_ > 0 && openblas_set_num_threads) openblas_set_num_threads(saved_blas_);
+  blas_.reset();
 #ifdef _OPENMP
   if (saved_omp_ > 0) omp_set_num_threads(saved_omp_);
 #endif

@@ -7,7 +7,10 @@
 // global to the process (its pthread build has no per-thread setting).
 #pragma once
 
+#include <optional>
 #include <thread>
+
+#include "bemsurg/blas_threads.hpp"
 
 namespace bemsurg::haptics {
 
@@ -30,7 +33,7 @@ class BackgroundThreadBudget {
 
  private:
   int threads_ = 0;
-  int saved_blas_ = 0;
+  std::optional<BlasThreadCap> blas_;  // OpenBLAS's pool, with the other caps (bemsurg/blas_threads.hpp)
   int saved_omp_ = 0;
 };
 
