@@ -5,20 +5,21 @@
 // --tolerance), then dense LU (the reference): wall time of each whole solve (assembly, factorisation,
 // solve), each one's own peak resident memory (the kernel's high-water mark reset before it:
 // /proc/self/clear_refs, "5"), the compression and the hierarchical answer's difference from the
-// dense one. Then, at --sweep-divisions, the hierarchical solve at each of --sweep-tolerances: stored
+// dense one; then the same series with linear elements (--linear-divisions; 9 unknowns per element,
+// so the sizes are smaller). Then, at --sweep-divisions, the hierarchical solve at each of --sweep-tolerances: stored
 // fraction and added error against the tolerance. Then the cut study (docs/cutting.md, "On either
 // backend"): at each of --cut-divisions, a table kept for cuts (region: the top face within 0.3 edges
 // of its centre) on each backend and --cut-steps exact cut steps along x across the top, from a quarter
 // of the way in: the precompute's and each step's wall time, the factors' memory and the two final
 // tables' difference.
 //
-//   bench_hmatrix [--quick] [--json PATH] [--divisions N,N,...] [--tolerance T]
+//   bench_hmatrix [--quick] [--json PATH] [--divisions N,N,...] [--linear-divisions N,N,...] [--tolerance T]
 //                 [--sweep-divisions N] [--sweep-tolerances T,T,...] [--cut-divisions N,N,...] [--cut-steps K]
 //
 // The JSON's "crossover_elements" is where the hierarchical solve's time falls below the dense
 // one's (log-log interpolation between the sizes on either side; null when it does not within the
 // sizes run), "memory_crossover_elements" the same for peak memory, "time_exponent" the least-squares
-// slope of log time against log n per backend. Built without hmat-oss it says so and writes
+// slope of log time against log n per backend; "linear_..." the same for linear elements. Built without hmat-oss it says so and writes
 // "available": false.
 
 #include <cmath>
@@ -46,8 +47,9 @@ namespace {
 constexpr double kEdge = 0.1;  // m: the cube's edge
 constexpr double kYoung = 3000.0, kPoisson = 0.45, kDensity = 1000.0, kGravity = 9.81;
 
-ElastostaticProblem resting_cube(int divisions) {
+ElastostaticProblem resting_cube(int divisions, ElementType type = ElementType::Constant) {
   ElastostaticProblem p;
+  p.elements = type;
   p.mesh = box_mesh(Eigen::Vector3d::Zero(), Eigen::Vector3d(kEdge, kEdge, kEdge), divisions, divisions, divisions);
   p.material = Material{kYoung, kPoisson, kDensity};
   p.gravity = Eigen::Vector3d(0.0, 0.0, -kGravity);
@@ -114,6 +116,56 @@ double fit_exponent(const std::vector<double>& n, const std::vector<double>& t) 
     sxx += (std::log(n[i]) - mx) * (std::log(n[i]) - mx);
   }
   return sxx > 0.0 ? sxy / sxx : 0.0;
+}
+
+/// The size series of one element type: both backends per size, in the same process, hierarchical
+/// first; the rows, the fitted time exponents (against n) and the interpolated crossovers.
+nlohmann::json size_series(const std::vector<int>& sizes, ElementType type, double tolerance) {
+  std::vector<double> elements, th, td, mh, md, nh;
+  nlohmann::json rows = nlohmann::json::array();
+  for (const int N : sizes) {
+    const ElastostaticProblem p = resting_cube(N, type);
+    HierarchicalResult r;
+    const Timed h = timed_solve(p, true, tolerance, &r);
+    const Timed d = timed_solve(p, false, tolerance, nullptr);
+    const double du = relative_max(h.solution.boundary.displacement, d.solution.boundary.displacement);
+    const double dt = relative_max(h.solution.boundary.traction, d.solution.boundary.traction);
+    const double E = double(p.mesh.num_elements());
+    const Index n = 3 * nodes_per_element(type) * p.mesh.num_elements();
+    elements.push_back(E);
+    nh.push_back(double(n));
+    th.push_back(h.seconds);
+    td.push_back(d.seconds);
+    mh.push_back(h.peak_mb);
+    md.push_back(d.peak_mb);
+    rows.push_back({{"divisions", N},
+                    {"element_type", to_string(type)},
+                    {"elements", p.mesh.num_elements()},
+                    {"equations", n},
+                    {"dense_seconds", d.seconds},
+                    {"hierarchical_seconds", h.seconds},
+                    {"time_ratio", h.seconds / d.seconds},
+                    {"dense_peak_mb", d.peak_mb},
+                    {"hierarchical_peak_mb", h.peak_mb},
+                    {"memory_ratio", h.peak_mb / d.peak_mb},
+                    {"compression_ratio", r.compression_ratio},
+                    {"largest_rank", r.largest_rank},
+                    {"hierarchical_assembly_seconds", r.assembly_seconds},
+                    {"hierarchical_factorization_seconds", r.factorization_seconds},
+                    {"displacement_difference", du},
+                    {"traction_difference", dt}});
+    std::cout << "bench_hmatrix: " << p.mesh.num_elements() << " " << to_string(type) << " elements (n = " << n
+              << "): hierarchical / dense time " << fixed_text(h.seconds, 2) << " / " << fixed_text(d.seconds, 2) << " s ("
+              << fixed_text(h.seconds / d.seconds, 2) << "), peak memory " << fixed_text(h.peak_mb, 0) << " / " << fixed_text(d.peak_mb, 0)
+              << " MB, stored " << fixed_text(r.compression_ratio, 3) << " of dense, displacement " << number_text(du) << " off"
+              << std::endl;
+  }
+  nlohmann::json out;
+  out["rows"] = rows;
+  if (elements.size() >= 2) out["time_exponent"] = {{"dense", fit_exponent(nh, td)}, {"hierarchical", fit_exponent(nh, th)}};
+  out["crossover_elements"] = crossover(elements, th, td);
+  out["memory_crossover_elements"] = crossover(elements, mh, md);
+  return out;
 }
 
 /// One backend's table of `p` for cuts (region: `region`) and `steps` exact cut steps across the top
@@ -204,12 +256,15 @@ int main(int argc, char** argv) {
   std::vector<double> tolerances;
   double tolerance = 1e-4;
   int sweep_divisions = 0, cut_steps = 4;
-  std::vector<int> cut_sizes;
+  std::vector<int> cut_sizes, linear_sizes;
   auto parser = bench::command_line("bench_hmatrix", "The hierarchical backend against dense LU: time, memory, compression, error.\n",
                                     quick, json_path);
   parser.value("--divisions", "N,N,...", sizes, "cells per cube edge at each size (12 N^2 elements)")
       .at_least(2)
       .default_text("6,9,13,18,22; --quick: 4,8");
+  parser.value("--linear-divisions", "N,N,...", linear_sizes, "the linear-element series (12 N^2 elements, 9 unknowns each)")
+      .at_least(2)
+      .default_text("4,6,8,11; --quick: 3,5");
   parser.value("--tolerance", "T", tolerance, "ACA+'s compression tolerance of the size series").between(1e-12, 0.1);
   parser.value("--sweep-divisions", "N", sweep_divisions, "the size of the tolerance sweep").default_text("13; --quick: 6");
   parser.value("--sweep-tolerances", "T,T,...", tolerances, "the tolerances of the sweep")
@@ -221,6 +276,7 @@ int main(int argc, char** argv) {
   parser.value("--cut-steps", "K", cut_steps, "exact cut steps per size and backend").between(1, 20);
   if (const std::optional<int> status = cli::parse_command_line(parser, argc, argv)) return *status;
   if (cut_sizes.empty()) cut_sizes = quick ? std::vector<int>{8} : std::vector<int>{9, 13, 18};
+  if (linear_sizes.empty()) linear_sizes = quick ? std::vector<int>{3, 5} : std::vector<int>{4, 6, 8, 11};
   if (sizes.empty()) sizes = quick ? std::vector<int>{4, 8} : std::vector<int>{6, 9, 13, 18, 22};
   if (tolerances.empty())
     tolerances = quick ? std::vector<double>{1e-2, 1e-4, 1e-6} : std::vector<double>{1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8};
@@ -237,47 +293,17 @@ int main(int argc, char** argv) {
   }
   result["tolerance"] = tolerance;
   result["peak_memory_resets"] = reset_peak_memory();
-  std::vector<double> elements, th, td, mh, md;
-  nlohmann::json rows = nlohmann::json::array();
-  for (const int N : sizes) {
-    const ElastostaticProblem p = resting_cube(N);
-    HierarchicalResult r;
-    const Timed h = timed_solve(p, true, tolerance, &r);
-    const Timed d = timed_solve(p, false, tolerance, nullptr);
-    const double du = relative_max(h.solution.boundary.displacement, d.solution.boundary.displacement);
-    const double dt = relative_max(h.solution.boundary.traction, d.solution.boundary.traction);
-    const double E = double(p.mesh.num_elements());
-    elements.push_back(E);
-    th.push_back(h.seconds);
-    td.push_back(d.seconds);
-    mh.push_back(h.peak_mb);
-    md.push_back(d.peak_mb);
-    rows.push_back({{"divisions", N},
-                    {"elements", p.mesh.num_elements()},
-                    {"equations", 3 * p.mesh.num_elements()},
-                    {"dense_seconds", d.seconds},
-                    {"hierarchical_seconds", h.seconds},
-                    {"time_ratio", h.seconds / d.seconds},
-                    {"dense_peak_mb", d.peak_mb},
-                    {"hierarchical_peak_mb", h.peak_mb},
-                    {"memory_ratio", h.peak_mb / d.peak_mb},
-                    {"compression_ratio", r.compression_ratio},
-                    {"largest_rank", r.largest_rank},
-                    {"hierarchical_assembly_seconds", r.assembly_seconds},
-                    {"hierarchical_factorization_seconds", r.factorization_seconds},
-                    {"displacement_difference", du},
-                    {"traction_difference", dt}});
-    std::cout << "bench_hmatrix: " << p.mesh.num_elements() << " elements: hierarchical / dense time " << fixed_text(h.seconds, 2) << " / "
-              << fixed_text(d.seconds, 2) << " s (" << fixed_text(h.seconds / d.seconds, 2) << "), peak memory " << fixed_text(h.peak_mb, 0)
-              << " / " << fixed_text(d.peak_mb, 0) << " MB, stored " << fixed_text(r.compression_ratio, 3) << " of dense, displacement "
-              << number_text(du) << " off" << std::endl;
-  }
-  result["sizes"] = rows;
-  std::vector<double> nh(elements.size());
-  for (std::size_t i = 0; i < elements.size(); ++i) nh[i] = 3.0 * elements[i];
-  if (elements.size() >= 2) result["time_exponent"] = {{"dense", fit_exponent(nh, td)}, {"hierarchical", fit_exponent(nh, th)}};
-  result["crossover_elements"] = crossover(elements, th, td);
-  result["memory_crossover_elements"] = crossover(elements, mh, md);
+  const nlohmann::json constant = size_series(sizes, ElementType::Constant, tolerance);
+  result["sizes"] = constant["rows"];
+  if (constant.contains("time_exponent")) result["time_exponent"] = constant["time_exponent"];
+  result["crossover_elements"] = constant["crossover_elements"];
+  result["memory_crossover_elements"] = constant["memory_crossover_elements"];
+  // Linear elements (9 unknowns each): where their crossover lies, for method auto's threshold.
+  const nlohmann::json linear = size_series(linear_sizes, ElementType::Linear, tolerance);
+  result["linear_sizes"] = linear["rows"];
+  if (linear.contains("time_exponent")) result["linear_time_exponent"] = linear["time_exponent"];
+  result["linear_crossover_elements"] = linear["crossover_elements"];
+  result["linear_memory_crossover_elements"] = linear["memory_crossover_elements"];
 
   // The tolerance sweep at one size: the dense answer once, then each tolerance.
   const ElastostaticProblem p = resting_cube(sweep_divisions);

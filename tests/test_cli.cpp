@@ -480,6 +480,28 @@ TEST_CASE("solve with method hmatrix answers as lu does and says what the hierar
   const auto auto_report = nlohmann::json::parse(read_text(dir.file("a/report.json")));
   CHECK(auto_report.at("backend").at("name") == "dense");
   CHECK(auto_report.at("backend").at("chosen_by") == "auto");
+  // Linear elements on both backends (80 elements, 720 unknowns at the nodes): nodes.csv compared.
+  std::string linear_body = body;
+  linear_body.replace(linear_body.find(R"("subdivisions": 2)"), 17, R"("subdivisions": 1)");
+  linear_body.insert(linear_body.rfind(R"("solver")"), R"("elements": "linear", )");
+  const std::string lh = dir.write("linear_h.json", linear_body + R"({"method": "hmatrix", "compression_tolerance": 1e-6}})");
+  const std::string ld = dir.write("linear_d.json", linear_body + R"({"method": "lu"}})");
+  const Run lh_run = run_cli("solve '" + lh + "' -o '" + dir.file("lh") + "'", dir);
+  INFO(lh_run.err);
+  REQUIRE(lh_run.exit_code == 0);
+  REQUIRE(run_cli("solve '" + ld + "' -o '" + dir.file("ld") + "'", dir).exit_code == 0);
+  const Table ln = read_table(dir.file("lh/nodes.csv")), lnd = read_table(dir.file("ld/nodes.csv"));
+  REQUIRE(ln.header == lnd.header);
+  REQUIRE(ln.rows.size() == 240);
+  const std::vector<double> node_differences = column_differences(ln, lnd);
+  for (std::size_t k = 0; k < node_differences.size(); ++k) {
+    INFO("nodes.csv column " << k);
+    CHECK(node_differences[k] <= 1e-4);
+  }
+  const auto linear_report = nlohmann::json::parse(read_text(dir.file("lh/report.json")));
+  CHECK(linear_report.at("backend").at("name") == "hmatrix");
+  CHECK(linear_report.at("element_type") == "linear");
+  CHECK(linear_report.at("backend").at("dense_entries").get<double>() == 720.0 * 720.0);
 }
 
 TEST_CASE("press on a hierarchical scene computes, keys and reloads its table on that backend", "[cli][hmatrix]") {

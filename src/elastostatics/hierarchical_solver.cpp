@@ -7,10 +7,13 @@
 #include <cmath>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "bemsurg/assembly/influence_assembler.hpp"
+#include "bemsurg/assembly/node_influence_assembler.hpp"
+#include "bemsurg/blas_threads.hpp"
 #include "bemsurg/error.hpp"
 #include "bemsurg/memory_budget.hpp"
 #include "bemsurg/timing.hpp"
@@ -24,21 +27,20 @@ namespace bemsurg {
 BackendChoice choose_backend(Index elements, ElementType type) {
   BackendChoice c;
   const std::string count = std::to_string(elements) + " " + to_string(type) + " elements";
+  const Index threshold = auto_hierarchical_elements(type);  // kAutoHierarchicalUnknowns in elements of this type
   if (!hierarchical_backend_available()) {
     c.reason = "dense LU: this bemsurg was built without hmat-oss";
-  } else if (type != ElementType::Constant) {
-    c.reason = "dense LU: " + count + " (the hierarchical backend takes constant elements only)";
   } else if (estimate_elastostatic_bytes(elements, type) > default_memory_limit_bytes()) {
     c.backend = SolverBackend::HMatrix;
     c.reason = "hmatrix: " + count + ", whose dense solve would need about " + format_gib(estimate_elastostatic_bytes(elements, type)) +
                ", more than 80 % of this machine's memory";
-  } else if (elements >= kAutoHierarchicalElements) {
+  } else if (elements >= threshold) {
     c.backend = SolverBackend::HMatrix;
-    c.reason = "hmatrix: " + count + ", at or above " + std::to_string(kAutoHierarchicalElements) +
-               ", where it solves faster than dense LU (docs/solvers.md)";
+    c.reason = "hmatrix: " + count + ", at or above " + std::to_string(threshold) + " (" + std::to_string(kAutoHierarchicalUnknowns) +
+               " unknowns), where it solves faster than dense LU (docs/solvers.md)";
   } else {
-    c.reason =
-        "dense LU: " + count + ", below " + std::to_string(kAutoHierarchicalElements) + ", where dense LU is faster (docs/solvers.md)";
+    c.reason = "dense LU: " + count + ", below " + std::to_string(threshold) + " (" + std::to_string(kAutoHierarchicalUnknowns) +
+               " unknowns), where dense LU is faster (docs/solvers.md)";
   }
   return c;
 }
@@ -89,9 +91,11 @@ namespace hmat_glue {
 /// What every block of A* needs: the quadrature, the conditions (which of H or -G a column takes)
 /// and the column scales.
 struct SystemContext {
-  const InfluenceAssembler* assembler = nullptr;
-  const BoundaryConditions* conditions = nullptr;
-  std::vector<double> scale;  // per unknown: 1, or mu / h for a traction unknown
+  const InfluenceAssembler* assembler = nullptr;     // constant elements
+  const LinearInfluenceAssembler* linear = nullptr;  // linear elements (node rows, 9 columns per element)
+  const BoundaryConditions* conditions = nullptr;    // per element, or per node for linear elements
+  int column_unknowns = 3;                           // unknowns per column element: 3, or 9 for linear elements
+  std::vector<double> scale;                         // per unknown: 1, or mu / h for a traction unknown
 };
 
 /// One block of the H-matrix: its rows and columns as unknowns of A* (the client's numbering).
@@ -113,32 +117,37 @@ void prepare_block(int row_start, int row_count, int col_start, int col_count, i
   info->block_type = hmat_block_full;
 }
 
-/// The elements of `dofs` (sorted, unique) and, for each dof, its row in the 3 x |elements| block.
-std::vector<Index> elements_of(const int* dofs, int count, std::vector<Index>& local) {
-  std::vector<Index> elements(static_cast<std::size_t>(count));
-  for (int i = 0; i < count; ++i) elements[static_cast<std::size_t>(i)] = dofs[i] / 3;
-  std::sort(elements.begin(), elements.end());
-  elements.erase(std::unique(elements.begin(), elements.end()), elements.end());
+/// The units of `dofs` (sorted, unique; a unit holds `per` consecutive unknowns: a row's element or
+/// node, 3, or a column's element, 3 or 9) and, for each dof, its place in the per x |units| block.
+std::vector<Index> units_of(const int* dofs, int count, int per, std::vector<Index>& local) {
+  std::vector<Index> units(static_cast<std::size_t>(count));
+  for (int i = 0; i < count; ++i) units[static_cast<std::size_t>(i)] = dofs[i] / per;
+  std::sort(units.begin(), units.end());
+  units.erase(std::unique(units.begin(), units.end()), units.end());
   local.resize(static_cast<std::size_t>(count));
   for (int i = 0; i < count; ++i) {
-    const Index e = dofs[i] / 3;
-    local[static_cast<std::size_t>(i)] = 3 * (std::lower_bound(elements.begin(), elements.end(), e) - elements.begin()) + dofs[i] % 3;
+    const Index u = dofs[i] / per;
+    local[static_cast<std::size_t>(i)] = per * (std::lower_bound(units.begin(), units.end(), u) - units.begin()) + dofs[i] % per;
   }
-  return elements;
+  return units;
 }
 
-/// Entries of A* (scaled) for a sub-block, a row or a column: the 3x3 blocks of the elements involved
-/// through the dense path's block routine (near field as today), then H or -G per column as its
-/// condition says (linear_system.hpp: the paper's eq. 6 column swap).
+/// Entries of A* (scaled) for a sub-block, a row or a column: the blocks of the elements (or, for
+/// linear elements, nodes x elements) involved through the dense path's block routines (near field
+/// as today), then H or -G per column as its condition says (linear_system.hpp: the paper's eq. 6
+/// column swap).
 void compute_block(void* data, int row0, int rows, int col0, int cols, void* out) {
   const BlockDofs& b = *static_cast<const BlockDofs*>(data);
   const SystemContext& c = *b.context;
   std::vector<Index> row_local, col_local;
-  const std::vector<Index> re = elements_of(b.rows.data() + row0, rows, row_local);
-  const std::vector<Index> ce = elements_of(b.cols.data() + col0, cols, col_local);
+  const std::vector<Index> re = units_of(b.rows.data() + row0, rows, 3, row_local);
+  const std::vector<Index> ce = units_of(b.cols.data() + col0, cols, c.column_unknowns, col_local);
   const Index R = static_cast<Index>(re.size()), C = static_cast<Index>(ce.size());
-  std::vector<double> H(static_cast<std::size_t>(9 * R * C)), G(H.size());
-  c.assembler->assemble_block(re.data(), R, ce.data(), C, H.data(), G.data(), nullptr, Eigen::Vector3d::Zero());
+  std::vector<double> H(static_cast<std::size_t>(3 * R * c.column_unknowns * C)), G(H.size());
+  if (c.linear)
+    c.linear->assemble_block(re.data(), R, ce.data(), C, H.data(), G.data());
+  else
+    c.assembler->assemble_block(re.data(), R, ce.data(), C, H.data(), G.data(), nullptr, Eigen::Vector3d::Zero());
   double* o = static_cast<double*>(out);
   for (int j = 0; j < cols; ++j) {
     const int dof = b.cols[static_cast<std::size_t>(col0 + j)];
@@ -152,15 +161,32 @@ void compute_block(void* data, int row0, int rows, int col0, int cols, void* out
   }
 }
 
+/// H and G's columns of `elements` over all rows (n x column_unknowns |elements| each): for linear
+/// elements every node's rows, pair by pair.
+void assemble_columns(const SystemContext& c, const std::vector<Index>& elements, Eigen::MatrixXd& H, Eigen::MatrixXd& G) {
+  if (!c.linear) return c.assembler->assemble_columns(elements, H, G);
+  const Index N = c.linear->num_nodes(), C = static_cast<Index>(elements.size());
+  std::vector<Index> nodes(static_cast<std::size_t>(N));
+  for (Index i = 0; i < N; ++i) nodes[static_cast<std::size_t>(i)] = i;
+  H.resize(3 * N, 9 * C);
+  G.resize(3 * N, 9 * C);
+  // One element's columns per task: pair-by-pair rows of every node.
+#pragma omp parallel for schedule(dynamic, 1)
+  for (Index k = 0; k < C; ++k)
+    c.linear->assemble_block(nodes.data(), N, elements.data() + k, 1, H.data() + 9 * k * 3 * N, G.data() + 9 * k * 3 * N);
+}
+
 /// The right-hand side of eq. 6: gravity plus the known values' columns, G t_known - H u_known, from
-/// the columns of the elements with a nonzero prescribed value, 64 elements at a time (n x 192 each).
-Eigen::VectorXd right_hand_side(const InfluenceAssembler& a, const ElastostaticProblem& p) {
-  const BoundaryConditions& bc = p.boundary_conditions;
-  Eigen::VectorXd rhs = a.gravity_vector(p.gravity);
+/// the columns of the elements with a nonzero prescribed value, 64 elements at a time (n x 192 each,
+/// n x 576 for linear elements).
+Eigen::VectorXd right_hand_side(const SystemContext& c, const ElastostaticProblem& p) {
+  const BoundaryConditions& bc = *c.conditions;
+  const int per = c.column_unknowns;
+  Eigen::VectorXd rhs = c.linear ? c.linear->gravity_vector(p.gravity) : c.assembler->gravity_vector(p.gravity);
   std::vector<Index> loaded;
-  for (Index e = 0; e < bc.num_elements(); ++e)
-    for (int k = 0; k < 3; ++k)
-      if (bc.value(3 * e + k) != 0.0) {
+  for (Index e = 0; e < p.mesh.num_elements(); ++e)
+    for (int k = 0; k < per; ++k)
+      if (bc.value(per * e + k) != 0.0) {
         loaded.push_back(e);
         break;
       }
@@ -168,10 +194,10 @@ Eigen::VectorXd right_hand_side(const InfluenceAssembler& a, const ElastostaticP
     const std::vector<Index> chunk(loaded.begin() + static_cast<std::ptrdiff_t>(start),
                                    loaded.begin() + static_cast<std::ptrdiff_t>(std::min(loaded.size(), start + 64)));
     Eigen::MatrixXd H, G;
-    a.assemble_columns(chunk, H, G);
-    for (std::size_t c = 0; c < chunk.size(); ++c)
-      for (int k = 0; k < 3; ++k) {
-        const Index dof = 3 * chunk[c] + k, col = 3 * static_cast<Index>(c) + k;
+    assemble_columns(c, chunk, H, G);
+    for (std::size_t col_element = 0; col_element < chunk.size(); ++col_element)
+      for (int k = 0; k < per; ++k) {
+        const Index dof = per * chunk[col_element] + k, col = per * static_cast<Index>(col_element) + k;
         if (bc.kind(dof) == BcKind::Traction)
           rhs.noalias() += G.col(col) * bc.value(dof);
         else
@@ -207,13 +233,11 @@ struct HmatObjects {
 constexpr int kLeafUnknowns = 120;
 constexpr double kEta = 2.0;
 
-/// What the backend refuses, whatever the problem's size: a tolerance outside its range, linear elements.
-void check_request(const ElastostaticProblem& problem, double compression_tolerance) {
+/// What the backend refuses, whatever the problem's size: a tolerance outside its range.
+void check_request(double compression_tolerance) {
   if (!(compression_tolerance >= 1e-12 && compression_tolerance <= 0.1))
     throw InvalidArgumentError("solver method hmatrix: the compression tolerance must lie in [1e-12, 0.1], got " +
                                std::to_string(compression_tolerance));
-  if (problem.elements != ElementType::Constant)
-    throw SolverError("solver method hmatrix: constant elements only for now (this scene has linear elements); use \"method\": \"lu\"");
 }
 
 }  // namespace hmat_glue
@@ -223,11 +247,19 @@ using namespace hmat_glue;
 bool hierarchical_backend_available() { return true; }
 
 struct HierarchicalFactorization::Impl {
-  Impl(std::shared_ptr<const ElastostaticProblem> owner, const ElastostaticProblem& p)
-      : owned(std::move(owner)), problem(p), assembler(p.mesh, p.material, p.quadrature) {}
+  Impl(std::shared_ptr<const ElastostaticProblem> owner, const ElastostaticProblem& p) : owned(std::move(owner)), problem(p) {
+    if (p.elements == ElementType::Linear) {
+      linear.emplace(p.mesh, p.material, p.quadrature);
+      node_conditions = detail::linear_node_conditions(p);
+    } else {
+      assembler.emplace(p.mesh, p.material, p.quadrature);
+    }
+  }
   std::shared_ptr<const ElastostaticProblem> owned;  // null when the caller keeps the problem alive
   const ElastostaticProblem& problem;
-  InfluenceAssembler assembler;
+  std::optional<InfluenceAssembler> assembler;     // constant elements
+  std::optional<LinearInfluenceAssembler> linear;  // linear elements
+  BoundaryConditions node_conditions;              // linear elements: the per-node conditions the unknowns follow
   SystemContext context;
   HmatObjects hm;
   HierarchicalResult result;
@@ -238,15 +270,21 @@ struct HierarchicalFactorization::Impl {
 // assembly, the copy, H-LU), each a few lines around one of its calls.
 HierarchicalFactorization::HierarchicalFactorization(std::shared_ptr<const ElastostaticProblem> owned, const ElastostaticProblem& problem,
                                                      double compression_tolerance, bool keep_copy) {
-  check_request(problem, compression_tolerance);
-  const Index E = problem.mesh.num_elements(), n = 3 * E;
+  check_request(compression_tolerance);
+  const Index E = problem.mesh.num_elements(), n = 3 * nodes_per_element(problem.elements) * E;
   impl_ = std::make_unique<Impl>(std::move(owned), problem);
   Impl& m = *impl_;
   HierarchicalResult& r = m.result;
   r.compression_tolerance = compression_tolerance;
+  // hmat-oss's assembly and H-LU call BLAS on leaves of at most kLeafUnknowns rows: one BLAS thread
+  // (bemsurg/blas_threads.hpp; on 2 cores a second one made the H-LU 1.37x slower).
+  const BlasThreadCap one_blas_thread(1);
   const auto t_assembly = SteadyClock::now();
-  m.context.assembler = &m.assembler;
-  m.context.conditions = &problem.boundary_conditions;
+  const bool linear = m.linear.has_value();
+  m.context.assembler = linear ? nullptr : &*m.assembler;
+  m.context.linear = linear ? &*m.linear : nullptr;
+  m.context.conditions = linear ? &m.node_conditions : &problem.boundary_conditions;
+  m.context.column_unknowns = 3 * nodes_per_element(problem.elements);
   // Traction unknowns' columns (-G: about h / mu) scaled to the displacement unknowns' (H: about 1):
   // without it the unpivoted H-LU of a mixed system lost the answer (19 % off on a hung liver, issue 40).
   double h = 0.0;
@@ -255,10 +293,11 @@ HierarchicalFactorization::HierarchicalFactorization(std::shared_ptr<const Elast
   r.column_scale = problem.material.shear_modulus() / h;
   m.context.scale.assign(static_cast<std::size_t>(n), 1.0);
   for (Index k = 0; k < n; ++k)
-    if (problem.boundary_conditions.kind(k) != BcKind::Traction) m.context.scale[static_cast<std::size_t>(k)] = r.column_scale;
+    if (m.context.conditions->kind(k) != BcKind::Traction) m.context.scale[static_cast<std::size_t>(k)] = r.column_scale;
+  // Each unknown at its collocation point: the element's centroid, or a linear element's node.
   std::vector<double> coordinates(static_cast<std::size_t>(3 * n));
   for (Index k = 0; k < n; ++k) {
-    const Eigen::Vector3d c = problem.mesh.centroid(k / 3);
+    const Eigen::Vector3d c = linear ? m.linear->node(k / 3) : problem.mesh.centroid(k / 3);
     for (int d = 0; d < 3; ++d) coordinates[static_cast<std::size_t>(3 * k + d)] = c[d];
   }
   HmatObjects& hm = m.hm;
@@ -320,9 +359,12 @@ void HierarchicalFactorization::release_copy() {
   impl_->hm.copy = nullptr;
 }
 
-Eigen::VectorXd HierarchicalFactorization::right_hand_side() const { return hmat_glue::right_hand_side(impl_->assembler, impl_->problem); }
+Eigen::VectorXd HierarchicalFactorization::right_hand_side() const { return hmat_glue::right_hand_side(impl_->context, impl_->problem); }
 
 void HierarchicalFactorization::g_columns(const std::vector<Index>& elements, Eigen::Ref<Eigen::MatrixXd> out) const {
+  if (!impl_->assembler)  // a table's columns: tables take constant elements (docs/presolution.md)
+    throw InvalidArgumentError(
+        "HierarchicalFactorization::g_columns: pre-solution tables take constant elements; this problem has linear ones");
   const Index n = 3 * impl_->problem.mesh.num_elements();
   if (out.rows() != n || out.cols() != 3 * static_cast<Index>(elements.size()))
     throw InvalidArgumentError("HierarchicalFactorization::g_columns: the output is " + std::to_string(out.rows()) + " x " +
@@ -333,7 +375,7 @@ void HierarchicalFactorization::g_columns(const std::vector<Index>& elements, Ei
     const std::vector<Index> chunk(elements.begin() + static_cast<std::ptrdiff_t>(start),
                                    elements.begin() + static_cast<std::ptrdiff_t>(std::min(elements.size(), start + 64)));
     Eigen::MatrixXd H, G;
-    impl_->assembler.assemble_columns(chunk, H, G);
+    impl_->assembler->assemble_columns(chunk, H, G);
     out.middleCols(3 * static_cast<Index>(start), G.cols()) = G;
   }
 }
@@ -379,16 +421,17 @@ double HierarchicalFactorization::relative_residual(const Eigen::VectorXd& b, co
 ElastostaticSolution solve_elastostatic_hierarchical(const ElastostaticProblem& problem, const LinearSolverOptions& options,
                                                      HierarchicalResult* result) {
   // Before check_before_solve: a request the backend refuses fails before any other work.
-  check_request(problem, options.compression_tolerance);
-  const Index E = problem.mesh.num_elements(), n = 3 * E;
+  check_request(options.compression_tolerance);
+  const Index E = problem.mesh.num_elements(), n = 3 * nodes_per_element(problem.elements) * E;
+  const bool linear = problem.elements == ElementType::Linear;
   MemoryNeed memory;
-  memory.bytes = estimate_hierarchical_bytes(E);
-  memory.refusal = [E](double need, double limit) {
-    return "the hierarchical solve of " + std::to_string(E) + " elements needs about " + format_gib(need) +
+  memory.bytes = estimate_hierarchical_bytes(E, problem.elements);
+  memory.refusal = [E, linear](double need, double limit) {
+    return "the hierarchical solve of " + std::to_string(E) + (linear ? " linear" : "") + " elements needs about " + format_gib(need) +
            " (an estimate from the compression measured on organ meshes), more than " + format_gib(limit) + "; coarsen the mesh";
   };
   ElastostaticSolution out;
-  out.report.element_type = ElementType::Constant;
+  out.report.element_type = problem.elements;
   out.report.elements = E;
   out.report.equations = n;
   out.report.warnings = check_before_solve(problem, memory, "solve_elastostatic_hierarchical");
@@ -402,7 +445,12 @@ ElastostaticSolution solve_elastostatic_hierarchical(const ElastostaticProblem& 
   factors.relative_residual(rhs, x.col(0));
   HierarchicalResult r = factors.result();
   r.assembly_seconds += rhs_seconds;
-  out.boundary = recover_boundary_solution(problem.boundary_conditions, x.col(0));
+  if (linear) {  // as the dense path: per-node values, and their means at the centroids
+    out.nodes = recover_boundary_solution(detail::linear_node_conditions(problem), x.col(0));
+    out.boundary = detail::centroid_values(out.nodes);
+  } else {
+    out.boundary = recover_boundary_solution(problem.boundary_conditions, x.col(0));
+  }
   LinearSolveResult& s = out.report.solver;
   s.method = SolverMethod::Lu;
   s.preconditioner = PreconditionerKind::None;

@@ -122,10 +122,11 @@ void require_solvable_size(const Scene& scene, const io::JsonReader& mesh, const
   const Index E = scene.problem.mesh.num_elements();
   const bool linear = scene.problem.elements == ElementType::Linear;
   // The hierarchical backend's estimate where the scene asks for it or may get it ("auto": a mesh
-  // too large for dense is solved hierarchically where that backend is built); constant elements
-  // only. A command that computes a dense table checks its own need before it starts.
-  const bool hierarchical = (scene.solver.backend == SolverBackend::HMatrix || scene.solver.automatic_backend) && !linear;
-  const double need = hierarchical ? estimate_hierarchical_bytes(E) : estimate_elastostatic_bytes(E, scene.problem.elements);
+  // too large for dense is solved hierarchically where that backend is built). A command that
+  // computes a dense table checks its own need before it starts.
+  const bool hierarchical = scene.solver.backend == SolverBackend::HMatrix || scene.solver.automatic_backend;
+  const double need =
+      hierarchical ? estimate_hierarchical_bytes(E, scene.problem.elements) : estimate_elastostatic_bytes(E, scene.problem.elements);
   const double limit = default_memory_limit_bytes();
   if (need <= limit) return;
   const std::string fits = std::string(hierarchical ? "the hierarchical solve needs about " : "the dense solve needs about ") +

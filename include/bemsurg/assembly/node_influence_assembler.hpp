@@ -160,6 +160,66 @@ class NodeInfluenceAssembler {
     unpack(sums, H, G);
   }
 
+  /// The rows of `R` nodes against the columns of `C` elements, pair by pair (node_element_pair:
+  /// far pairs take the same 7 points as assemble(), so the entries agree with it): H and G are
+  /// column-major 3R x 3 kNodes C (leading dimension 3R), node rows and element columns in list
+  /// order. What a hierarchical matrix asks for a block, a row or a column at a time
+  /// (elastostatics/hierarchical_solver.hpp); assemble() stays the fast path for whole matrices.
+  void assemble_block(const Index* nodes, Index R, const Index* elements, Index C, double* H, double* G) const {
+    const Index ld = 3 * R;
+    PairBlock hb, gb;
+    for (Index c = 0; c < C; ++c)
+      for (Index r = 0; r < R; ++r) {
+        node_element_pair(nodes[r], elements[c], hb, gb);
+        for (int col = 0; col < 3 * kNodes; ++col)
+          for (int a = 0; a < 3; ++a) {
+            const Index at = (3 * kNodes * c + col) * ld + 3 * r + a;
+            H[at] = hb(a, col);
+            G[at] = gb(a, col);
+          }
+      }
+  }
+
+  /// The gravity vector g alone (3 kNodes E; body force = density * gravity), node by node over
+  /// every element: far pairs by the 7 points' dr/dn and r,i sums, near pairs by
+  /// ElementQuadrature, self pairs by the polar rule, as assemble(gravity, g) does without H and G.
+  Eigen::VectorXd gravity_vector(const Eigen::Vector3d& gravity) const {
+    const Index N = num_nodes();
+    Eigen::VectorXd g = Eigen::VectorXd::Zero(3 * N);
+    const Eigen::Vector3d body_force = density_ * gravity;
+    if (body_force.squaredNorm() == 0.0) return g;
+    const GravityKernel gk(constants_, body_force);
+#pragma omp parallel for schedule(dynamic, 16)
+    for (Index i = 0; i < N; ++i) {
+      const Eigen::Vector3d p = node(i);
+      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+      double sums[kNodes][detail::kNTerms];
+      for (Index e = 0; e < mesh_.num_elements(); ++e) {
+        const Eigen::Vector3d n = mesh_.normal(e);
+        if (i / kNodes == e) {
+          sum += self_gravity(p, e, gk);
+        } else if ((p - mesh_.centroid(e)).squaredNorm() >= far2_[std::size_t(e)]) {
+          const FarRule& f = far_[std::size_t(e)];
+          double s_n = 0.0;
+          Eigen::Vector3d s_d = Eigen::Vector3d::Zero();
+          for (int q = 0; q < 7; ++q) {
+            const Eigen::Vector3d r(f.x[0][q] - p.x(), f.x[1][q] - p.y(), f.x[2][q] - p.z());
+            const Eigen::Vector3d d = r / r.norm();
+            s_n += f.w[q] * d.dot(n);
+            s_d += f.w[q] * d;
+          }
+          sum += gk.from_integrals(s_n, s_d, n);
+        } else {
+          regular_pair(p, e, sums);
+          sum += gk.from_integrals(sums[0][detail::kNPn],
+                                   Eigen::Vector3d(sums[0][detail::kNPx], sums[0][detail::kNPy], sums[0][detail::kNPz]), n);
+        }
+      }
+      g.template segment<3>(3 * i) = sum;
+    }
+    return g;
+  }
+
  private:
   InfluenceMatrices assemble_impl(const Eigen::Vector3d& gravity, Eigen::VectorXd& g, bool want_g) const {
     const Index n = 3 * num_nodes();

@@ -59,6 +59,15 @@ double estimate_elastostatic_seconds(Index num_elements);
 /// The mesh is not validated here (callers that read files run require_valid_mesh first).
 ElastostaticSolution solve_elastostatic(const ElastostaticProblem& problem, const LinearSolverOptions& solver = LinearSolverOptions());
 
+namespace detail {
+/// The per-node conditions of a linear-element problem (3E nodes, node 3e + k): element e's kinds,
+/// problem.node_values' values (or the element's where it is empty). BoundaryConditionError for a
+/// node_values of the wrong size or a value that is not finite. Both backends' linear solves use it.
+BoundaryConditions linear_node_conditions(const ElastostaticProblem& problem);
+/// Centroid values (the mean of an element's three nodes: N_k(centroid) = 1/3) from per-node ones.
+BoundarySolution centroid_values(const BoundarySolution& nodes);
+}  // namespace detail
+
 }  // namespace bemsurg
 
 // Definitions (header-only: the numerical core needs no compiled library, docs/design.md).

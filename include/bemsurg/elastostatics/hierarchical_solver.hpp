@@ -7,10 +7,11 @@
 // A compiled component: library bemsurg_hmatrix, CMake target bemsurg::hmatrix, built on hmat-oss
 // when CMake finds it (BEMSURG_WITH_HMATRIX). Built without it, hierarchical_backend_available() is
 // false and solve_elastostatic_hierarchical throws SolverError saying so; the header-only core never
-// needs it. It covers solves, pre-solution tables and cuts of constant elements (`bemsurg solve`;
-// presolution/hierarchical_table.hpp for `table`, `press`, `session` and `cut`, whose exact update
-// runs on top of the kept H-LU: solvers/system_factorization.hpp); the viewer, interior points and
-// linear elements still use the dense backend.
+// needs it. It covers static solves of constant and linear elements (`bemsurg solve`, interior
+// points included; linear elements' unknowns sit at their nodes, nine columns per element), and the
+// pre-solution tables and cuts of constant elements (presolution/hierarchical_table.hpp for `table`,
+// `press`, `session`, `cut` and the viewer, whose exact update runs on top of the kept H-LU:
+// solvers/system_factorization.hpp).
 #pragma once
 
 #include <algorithm>
@@ -44,18 +45,19 @@ struct HierarchicalResult {
 /// True when this build has the hierarchical backend (hmat-oss was found).
 bool hierarchical_backend_available();
 
-/// A planning estimate of the hierarchical solve's peak bytes for `elements` constant elements, before
-/// anything is assembled (the scene loader's and the solve's memory checks; docs/solvers.md): the
-/// stored fraction of dense A* measured on organ meshes, 0.41 at 1,778 elements falling as E^-0.74
-/// (0.126 at 9,344, 0.064 at 20,480), counted twice (the H-LU's factors and the copy the residual
-/// needs), plus a leaf's block rows per unknown.
-inline double estimate_hierarchical_bytes(Index elements) {
-  const double e = elements > 1 ? double(elements) : 1.0, n = 3.0 * e;
-  const double fraction = std::min(1.0, 0.41 * std::pow(e / 1778.0, -0.74));
+/// A planning estimate of the hierarchical solve's peak bytes for `elements` elements of `type`,
+/// before anything is assembled (the scene loader's and the solve's memory checks; docs/solvers.md):
+/// the stored fraction of dense A* measured on organ meshes of constant elements, 0.41 at 5,334
+/// unknowns (1,778 elements) falling as n^-0.74 (0.126 at 9,344 elements, 0.064 at 20,480), taken
+/// by unknowns for linear elements (9 per element), counted twice (the H-LU's factors and the copy
+/// the residual needs), plus a leaf's block rows per unknown.
+inline double estimate_hierarchical_bytes(Index elements, ElementType type = ElementType::Constant) {
+  const double e = elements > 1 ? double(elements) : 1.0, n = 3.0 * double(nodes_per_element(type)) * e;
+  const double fraction = std::min(1.0, 0.41 * std::pow(n / 5334.0, -0.74));
   return 2.0 * 8.0 * n * n * fraction + 64.0 * n * 120.0;
 }
 
-/// A* of a problem (constant elements) assembled block by block, compressed by ACA+ and factorised
+/// A* of a problem (constant or linear elements) assembled block by block, compressed by ACA+ and factorised
 /// by an H-LU on hmat-oss, kept to solve many right-hand sides: the static solve's one, a table's
 /// columns, and (as a SystemFactorization) the base of a cut's low-rank update. The traction
 /// unknowns' columns are scaled by mu / h inside (solve_in_place takes and returns unscaled vectors,
@@ -65,7 +67,7 @@ class HierarchicalFactorization : public SystemFactorization {
  public:
   /// Assembles and factorises A* of `problem` at ACA+'s `compression_tolerance` (in [1e-12, 0.1]);
   /// `keep_copy` keeps the assembled matrix for relative_residual (as much memory again). Throws
-  /// SolverError when the backend is missing, the elements are linear or hmat-oss fails, and
+  /// SolverError when the backend is missing or hmat-oss fails, and
   /// InvalidArgumentError for a tolerance outside its range. No checks of the problem itself: callers
   /// run check_before_solve first. `problem` must outlive it.
   HierarchicalFactorization(const ElastostaticProblem& problem, double compression_tolerance, bool keep_copy);
@@ -95,7 +97,8 @@ class HierarchicalFactorization : public SystemFactorization {
   /// gravity), assembled from the loaded elements' columns only.
   Eigen::VectorXd right_hand_side() const;
   /// Columns 3e..3e+2 of G for each element e of `elements`, in order, into `out` (n x 3|elements|):
-  /// a table's right-hand sides, unit tractions on its region.
+  /// a table's right-hand sides, unit tractions on its region. Constant elements only
+  /// (InvalidArgumentError for linear ones: tables take constant elements).
   void g_columns(const std::vector<Index>& elements, Eigen::Ref<Eigen::MatrixXd> out) const;
   /// Compression, phases and (after a solve) the residual of the last relative_residual call.
   const HierarchicalResult& result() const;
@@ -107,12 +110,19 @@ class HierarchicalFactorization : public SystemFactorization {
   std::unique_ptr<Impl> impl_;
 };
 
-/// Where "method": "auto" switches to the hierarchical backend: from this many constant elements
-/// its whole solve measured faster than dense LU on this project's 2-core machines (bench_hmatrix,
-/// the report's "Hierarchical matrices against dense": a resting cube crossed over at about 2,400
-/// elements, and a brain's table for `bemsurg press` took 0.36 x dense at 5,120); set a little above the crossover,
-/// since near it the two are within their run-to-run spread and dense is the reference.
-inline constexpr Index kAutoHierarchicalElements = 3000;
+/// Where "method": "auto" switches to the hierarchical backend, in unknowns (3 per constant element,
+/// 9 per linear one: both backends' work follows n): from there its whole solve measured faster than
+/// dense LU on this project's 2-core machines (bench_hmatrix, the report's "Hierarchical matrices
+/// against dense": a resting cube crossed over at about 4,050 constant elements, n = 12,150, and
+/// 1,445 linear ones, n = 13,000, in one run with the H-LU on one BLAS thread), set a little above
+/// both, since near them the two are within their run-to-run spread and dense is the reference.
+inline constexpr Index kAutoHierarchicalUnknowns = 13500;
+
+/// kAutoHierarchicalUnknowns in elements of `type`, rounded up: 4,500 constant, 1,500 linear.
+inline constexpr Index auto_hierarchical_elements(ElementType type) {
+  const Index per = type == ElementType::Linear ? 9 : 3;
+  return (kAutoHierarchicalUnknowns + per - 1) / per;
+}
 
 /// What "method": "auto" chose for a mesh, and why in words (the commands print it).
 /// \ingroup elastostatics
@@ -122,17 +132,18 @@ struct BackendChoice {
 };
 
 /// The choice of "method": "auto" for `elements` elements of `type`: the hierarchical backend when
-/// it is built (hierarchical_backend_available()), the elements are constant and either elements >=
-/// kAutoHierarchicalElements or the dense solve would not fit in memory (estimate_elastostatic_bytes
+/// it is built (hierarchical_backend_available()) and either elements >=
+/// auto_hierarchical_elements(type) or the dense solve would not fit in memory (estimate_elastostatic_bytes
 /// against 80 % of physical memory); dense LU otherwise. Cuts do not change it: a cut step on the
 /// H-LU measured faster than on the dense LU from about 1,000 elements (bench_hmatrix's cut study).
 BackendChoice choose_backend(Index elements, ElementType type);
 
 /// The static solve of `problem` on the hierarchical backend, with the same checks as
 /// solve_elastostatic (check_before_solve), except memory: the compressed matrix's size is not known
-/// before assembly. Constant elements only. `options.compression_tolerance` sets ACA+'s tolerance;
-/// the Krylov settings are not used. Throws SolverError when the backend is missing, the elements are
-/// linear, or the factorisation or solve fails, and whatever check_before_solve throws.
+/// before assembly. Constant or linear elements (for linear ones `nodes` holds the per-node values and
+/// `boundary` their centroid means, as the dense solve gives). `options.compression_tolerance` sets
+/// ACA+'s tolerance; the Krylov settings are not used. Throws SolverError when the backend is missing
+/// or the factorisation or solve fails, and whatever check_before_solve throws.
 ElastostaticSolution solve_elastostatic_hierarchical(const ElastostaticProblem& problem, const LinearSolverOptions& options,
                                                      HierarchicalResult* result = nullptr);
 

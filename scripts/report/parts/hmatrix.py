@@ -6,13 +6,15 @@ memory; then the hierarchical solve at one size over a sweep of compression tole
 CSV hmatrix_sizes.csv, one row per size: elements, equations, dense_s, hierarchical_s, time_ratio
 (hierarchical / dense), dense_peak_mb, hierarchical_peak_mb, memory_ratio, compression_ratio (stored
 / dense entries of A*), largest_rank, displacement_difference and traction_difference (max |h − d| /
-max |d|). CSV hmatrix_sweep.csv, one row per tolerance: tolerance, compression_ratio, largest_rank,
+max |d|); hmatrix_linear_sizes.csv the same for the linear-element series (9 unknowns per element).
+CSV hmatrix_sweep.csv, one row per tolerance: tolerance, compression_ratio, largest_rank,
 seconds, displacement_difference, traction_difference, relative_residual. CSV hmatrix_cuts.csv, one
 row per size of the cut study (docs/cutting.md "On either backend": a table kept for cuts on each
 backend, the same exact cut steps): elements, region_elements, steps, dense_step_s and
 hierarchical_step_s (medians over the steps), step_ratio, dense_precompute_s, hierarchical_precompute_s,
 dense_factor_mb, hierarchical_factor_mb, columns_difference and base_difference (the final tables, max
-|h − d| / max |d|). hmatrix.json: the fitted time exponents and the crossovers bench_hmatrix interpolated.
+|h − d| / max |d|). hmatrix.json: the fitted time exponents and the crossovers bench_hmatrix interpolated,
+for constant and for linear elements.
 """
 
 import json
@@ -38,18 +40,21 @@ def run(ctx):
     ctx.run(args, NAME, timeout=3600)
     j = json.loads(raw.read_text())
     summary = {k: j.get(k) for k in ("available", "tolerance", "time_exponent", "crossover_elements", "memory_crossover_elements",
+                                     "linear_time_exponent", "linear_crossover_elements", "linear_memory_crossover_elements",
                                      "body", "peak_memory_resets")}
     summary["sweep_elements"] = j.get("sweep", {}).get("elements")
     (d / "hmatrix.json").write_text(json.dumps(summary, indent=2) + "\n")
     if not j.get("available"):
         return
-    rows = [{"elements": s["elements"], "equations": s["equations"], "dense_s": s["dense_seconds"],
-             "hierarchical_s": s["hierarchical_seconds"], "time_ratio": s["time_ratio"], "dense_peak_mb": s["dense_peak_mb"],
-             "hierarchical_peak_mb": s["hierarchical_peak_mb"], "memory_ratio": s["memory_ratio"],
-             "compression_ratio": s["compression_ratio"], "largest_rank": s["largest_rank"],
-             "displacement_difference": s["displacement_difference"], "traction_difference": s["traction_difference"]}
-            for s in j["sizes"]]
-    rl.write_csv(d / "hmatrix_sizes.csv", rows, SIZE_COLUMNS)
+    for key, name in (("sizes", "hmatrix_sizes.csv"), ("linear_sizes", "hmatrix_linear_sizes.csv")):
+        rows = [{"elements": s["elements"], "equations": s["equations"], "dense_s": s["dense_seconds"],
+                 "hierarchical_s": s["hierarchical_seconds"], "time_ratio": s["time_ratio"], "dense_peak_mb": s["dense_peak_mb"],
+                 "hierarchical_peak_mb": s["hierarchical_peak_mb"], "memory_ratio": s["memory_ratio"],
+                 "compression_ratio": s["compression_ratio"], "largest_rank": s["largest_rank"],
+                 "displacement_difference": s["displacement_difference"], "traction_difference": s["traction_difference"]}
+                for s in j.get(key, [])]
+        if rows:
+            rl.write_csv(d / name, rows, SIZE_COLUMNS)
     rl.write_csv(d / "hmatrix_sweep.csv", j["sweep"]["rows"], SWEEP_COLUMNS)
     cuts = [{"elements": c["elements"], "region_elements": c["region_elements"], "steps": c["steps"],
              "dense_step_s": c["dense_step_median_seconds"], "hierarchical_step_s": c["hierarchical_step_median_seconds"],
@@ -64,23 +69,28 @@ def _exp(p):
     return "–" if p is None else f"{p:.2f}"
 
 
-def _size_chart(ctx, rows, crossover):
-    ns = [r["equations"] for r in rows]
+def _size_chart(ctx, rows, crossover, linear_rows=(), linear_crossover=None):
+    """Time and memory against n: constant elements solid, linear ones dashed (same colours per backend)."""
     fig, (ax_t, ax_m) = _two_axes()
-    for key, label, marker in (("dense_s", "dense LU (reference)", "s"), ("hierarchical_s", "hierarchical (H-LU)", "o")):
-        ts = [r[key] for r in rows]
-        ax_t.plot(ns, ts, marker=marker, color="black" if key.startswith("dense") else None,
-                  label=f"{label}: n^{_exp(rl.fit_exponent(ns, ts))}")
-    for key, label, marker in (("dense_peak_mb", "dense LU", "s"), ("hierarchical_peak_mb", "hierarchical", "o")):
-        ms = [r[key] for r in rows]
-        ax_m.plot(ns, ms, marker=marker, color="black" if key.startswith("dense") else None,
-                  label=f"{label}: n^{_exp(rl.fit_exponent(ns, ms))}")
+    for series, kind, style in ((rows, "constant", "-"), (linear_rows, "linear", "--")):
+        if not series:
+            continue
+        ns = [r["equations"] for r in series]
+        for ax, keys in ((ax_t, (("dense_s", "dense LU", "s", "black"), ("hierarchical_s", "hierarchical (H-LU)", "o", "C0"))),
+                         (ax_m, (("dense_peak_mb", "dense LU", "s", "black"), ("hierarchical_peak_mb", "hierarchical", "o", "C0")))):
+            for key, label, marker, colour in keys:
+                ys = [r[key] for r in series]
+                ax.plot(ns, ys, marker=marker, color=colour, linestyle=style,
+                        label=f"{label}, {kind}: n^{_exp(rl.fit_exponent(ns, ys))}")
     if crossover:
-        ax_t.axvline(3.0 * crossover, color="grey", linestyle=":", label=f"crossover ≈ {crossover:,.0f} elements")
+        ax_t.axvline(3.0 * crossover, color="grey", linestyle=":", label=f"crossover ≈ {crossover:,.0f} constant elements")
+    if linear_crossover:
+        ax_t.axvline(9.0 * linear_crossover, color="grey", linestyle="-.",
+                     label=f"crossover ≈ {linear_crossover:,.0f} linear elements")
     for ax, ylabel, title in ((ax_t, "whole solve (s)", "time"), (ax_m, "peak resident memory (MB)", "memory")):
         ax.set_xscale("log")
         ax.set_yscale("log")
-        ax.set_xlabel("equations n (3 per element)")
+        ax.set_xlabel("equations n (3 per constant element, 9 per linear one)")
         ax.set_ylabel(ylabel)
         ax.set_title(f"{title} against n, both backends")
         ax.legend(fontsize=7, title="fitted exponent p of y ≈ c·n^p", title_fontsize=7)
@@ -143,7 +153,9 @@ def render(ctx):
         return "bench_hmatrix ran on a build without hmat-oss (libhmat-oss-dev): nothing was measured."
     rows = sorted(rl.read_csv(d / "hmatrix_sizes.csv"), key=lambda r: r["equations"])
     sweep = rl.read_csv(d / "hmatrix_sweep.csv")
-    _size_chart(ctx, rows, summary.get("crossover_elements"))
+    linear_csv = d / "hmatrix_linear_sizes.csv"
+    linear_rows = sorted(rl.read_csv(linear_csv), key=lambda r: r["equations"]) if linear_csv.exists() else []
+    _size_chart(ctx, rows, summary.get("crossover_elements"), linear_rows, summary.get("linear_crossover_elements"))
     _sweep_chart(ctx, sweep, summary.get("sweep_elements"))
     lines = [
         f"`bench_hmatrix`: {summary.get('body')}, solved at each size by the hierarchical backend (hmat-oss: ACA+ at "
@@ -152,15 +164,17 @@ def render(ctx):
         "Memory: each solve's own peak resident set (the kernel's high-water mark reset before it), so both include the "
         "process's baseline of some tens of MB. The legends give exponents fitted over all sizes.",
         "", "![time and memory against n](images/hmatrix_vs_n.png)", "",
-        "| elements | n | dense | hierarchical | time h / d | dense peak | hierarchical peak | memory h / d | stored / dense | "
-        "largest rank | displacement diff. | traction diff. |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|"]
-    for r in rows:
-        lines.append(f"| {r['elements']:,} | {r['equations']:,} | {rl.seconds_text(r['dense_s'])} | "
-                     f"{rl.seconds_text(r['hierarchical_s'])} | {r['time_ratio']:.2f} | {r['dense_peak_mb']:,.0f} MB | "
-                     f"{r['hierarchical_peak_mb']:,.0f} MB | {r['memory_ratio']:.2f} | {r['compression_ratio']:.3f} | "
-                     f"{r['largest_rank']} | {r['displacement_difference']:.1e} | {r['traction_difference']:.1e} |")
-    lines += ["", _crossover_text(summary, rows), "",
+        *_size_table(rows)]
+    lines += ["", _crossover_text(summary, rows)]
+    if linear_rows:
+        lines += ["", "Linear elements (dashed in the chart; 9 unknowns per element, their rows at the nodes):", "",
+                  *_size_table(linear_rows)]
+        lx = summary.get("linear_crossover_elements")
+        lines += ["", (f"With linear elements the hierarchical solve becomes faster at about **{lx:,.0f} elements** "
+                       f"(n ≈ {9 * lx:,.0f}); method auto's threshold counts unknowns, so it applies to both element types."
+                       if lx else f"With linear elements the hierarchical solve is not faster within the sizes run (up to "
+                       f"{linear_rows[-1]['elements']:,} elements: {linear_rows[-1]['time_ratio']:.2f}× the dense time).")]
+    lines += ["",
               "The tolerance sweep: the same solve at one size, ACA+'s tolerance from loose to tight. The difference from "
               "dense LU falls with the tolerance while the stored fraction rises." + (
                   " Below some tolerance the low-rank blocks store more than the dense blocks they replace (a stored "
@@ -178,6 +192,19 @@ def render(ctx):
             _cut_chart(ctx, cuts)
         lines += ["", _cut_section(cuts, summary.get("tolerance"), len(cuts) >= 2)]
     return "\n".join(lines)
+
+
+def _size_table(rows):
+    """One size series as Markdown table lines."""
+    lines = ["| elements | n | dense | hierarchical | time h / d | dense peak | hierarchical peak | memory h / d | stored / dense | "
+             "largest rank | displacement diff. | traction diff. |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        lines.append(f"| {r['elements']:,} | {r['equations']:,} | {rl.seconds_text(r['dense_s'])} | "
+                     f"{rl.seconds_text(r['hierarchical_s'])} | {r['time_ratio']:.2f} | {r['dense_peak_mb']:,.0f} MB | "
+                     f"{r['hierarchical_peak_mb']:,.0f} MB | {r['memory_ratio']:.2f} | {r['compression_ratio']:.3f} | "
+                     f"{r['largest_rank']} | {r['displacement_difference']:.1e} | {r['traction_difference']:.1e} |")
+    return lines
 
 
 def _cut_chart(ctx, cuts):
