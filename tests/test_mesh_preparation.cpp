@@ -457,4 +457,18 @@ TEST_CASE("prepare_mesh keeps a surface of fewer faces than the default target a
   CHECK(remeshed.mesh.num_elements() == Approx(200).epsilon(0.2));
   CHECK(remeshed.mesh.enclosed_volume() == Approx(0.1 * 0.1 * 0.1 / 6.0).epsilon(0.02));
   CHECK(remeshed.report.hausdorff_relative < 1e-6);  // the flat faces are remeshed on themselves
+  // Without a target the remesh aims at default_elements (3,000, or 6,000 for the hierarchical
+  // backend): a smaller default remeshes a surface the dense default would keep.
+  CHECK(kDefaultPreparedElementsHierarchical > kDefaultPreparedElements);
+  const TriangleMesh ellipsoid = ellipsoid_mesh(kCenter, kAxes, 3);  // 1,280 faces
+  MeshPreparationOptions d;
+  d.scale_given = true;
+  CHECK(prepare_mesh(ellipsoid, d).report.remesh == "none");
+  d.default_elements = 400;
+  const PreparedMesh coarser = prepare_mesh(ellipsoid, d);
+  CHECK(coarser.report.remesh == "uniform");
+  CHECK(coarser.report.target_elements == 400);
+  CHECK(coarser.mesh.num_elements() == Approx(400).epsilon(0.2));
+  d.default_elements = 0;
+  CHECK_THROWS_WITH(prepare_mesh(ellipsoid, d), Catch::Contains("default target"));
 }

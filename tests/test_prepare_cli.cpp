@@ -15,6 +15,7 @@
 #include <string>
 
 #include "bemsurg/elastostatics/elastostatic_solver.hpp"
+#include "bemsurg/elastostatics/hierarchical_solver.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/mesh/mesh_validation.hpp"
 #include "bemsurg/meshing/mesh_defects.hpp"
@@ -81,6 +82,11 @@ TEST_CASE("bemsurg prepare writes a valid OBJ in metres and a report of what it 
   CHECK(std::abs(j["volume_change"].get<double>()) < 0.03);
   CHECK(j["estimate"]["memory_bytes"].get<double>() == Approx(estimate_elastostatic_bytes(out.num_elements())));
   CHECK(j["estimate"]["solve_seconds"].get<double>() > 0.0);
+  // The hierarchical estimate where this bemsurg has that backend (docs/organs.md, "How big").
+  if (hierarchical_backend_available())
+    CHECK(j["estimate"]["hierarchical_memory_bytes"].get<double>() == Approx(estimate_hierarchical_bytes(out.num_elements())));
+  else
+    CHECK(j["estimate"]["hierarchical_memory_bytes"].is_null());
   double stages = 0.0;
   for (const char* stage : {"read", "clean", "orient_and_close", "self_intersection", "bodies", "remesh", "measure"}) {
     INFO(stage);

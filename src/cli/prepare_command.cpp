@@ -11,6 +11,7 @@
 #include <string>
 
 #include "bemsurg/elastostatics/elastostatic_solver.hpp"
+#include "bemsurg/elastostatics/hierarchical_solver.hpp"
 #include "bemsurg/error.hpp"
 #include "bemsurg/meshing/mesh_io.hpp"
 #include "bemsurg/meshing/mesh_preparation.hpp"
@@ -31,7 +32,8 @@ constexpr const char* kPrepareUsage =
     "(duplicate vertices, degenerate faces, orientation, holes; a surface that crosses itself, is\n"
     "not manifold or has overlapping shells is rebuilt by alpha wrapping), keeps the largest body\n"
     "(with its cavities) and remeshes it: graded to an operating region, uniform to N elements or\n"
-    "edge length L (metres), or by default to 3000 elements (fewer: kept as repaired). Writes\n"
+    "edge length L (metres), or by default to 3000 elements, 6000 where this bemsurg has the\n"
+    "hierarchical backend (fewer: kept as repaired). Writes\n"
     "OUT.obj in metres; the same input and options give the same file. docs/organs.md.\n";
 
 struct PrepareCommandOptions {
@@ -90,6 +92,9 @@ bemsurg::MeshPreparationOptions preparation_options(const PrepareCommandOptions&
     o.scale_given = true;
   }
   o.target_elements = c.target_elements;
+  // Built with hmat-oss, the default organ is the one the hierarchical backend solves with its
+  // table in about a minute, as 3,000 is for dense LU (docs/organs.md, "How big").
+  if (bemsurg::hierarchical_backend_available()) o.default_elements = bemsurg::kDefaultPreparedElementsHierarchical;
   o.edge_length = c.edge_length;
   if (c.region.allFinite()) {
     o.region = bemsurg::OperatingRegion::sphere(c.region, c.radius);
@@ -139,6 +144,8 @@ nlohmann::json report_json(const bemsurg::MeshPreparationReport& r, const Prepar
   j["volume"] = r.volume;
   j["volume_change"] = r.volume_change;
   j["estimate"] = {{"memory_bytes", r.estimated_bytes}, {"solve_seconds", r.estimated_seconds}};
+  j["estimate"]["hierarchical_memory_bytes"] =
+      r.hierarchical_estimated_bytes > 0.0 ? nlohmann::json(r.hierarchical_estimated_bytes) : nlohmann::json(nullptr);
   j["steps"] = r.steps;
   j["warnings"] = r.warnings;
   j["seconds"] = r.seconds;
@@ -166,6 +173,8 @@ int run_prepare(int argc, char** argv) {
   prepared.report.timings.insert(prepared.report.timings.begin(), {"read", read_seconds});
   prepared.report.estimated_bytes = bemsurg::estimate_elastostatic_bytes(prepared.report.elements);
   prepared.report.estimated_seconds = bemsurg::estimate_elastostatic_seconds(prepared.report.elements);
+  if (bemsurg::hierarchical_backend_available())
+    prepared.report.hierarchical_estimated_bytes = bemsurg::estimate_hierarchical_bytes(prepared.report.elements);
   bemsurg::write_obj(c->output, prepared.mesh);
   if (!c->report.empty()) {
     std::ofstream out(c->report);

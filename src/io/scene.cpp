@@ -133,10 +133,12 @@ void require_solvable_size(const Scene& scene, const io::JsonReader& mesh, const
                            format_gib(need) + ", more than the limit of " + format_gib(limit) + " (80 % of physical memory)";
   if (mesh.has("prepare") && !scene.graded) {  // the prepared mesh is too large: its target is at fault
     const io::JsonReader p = mesh.required("prepare");
-    throw ResourceError(p.path() + ": the prepared mesh has " + std::to_string(E) + " elements (" +
-                        std::to_string(3 * nodes_per_element(scene.problem.elements) * E) + " unknowns); " + fits +
-                        "; ask for fewer (prepare.target_elements, a longer prepare.edge_length; the default is " +
-                        std::to_string(kDefaultPreparedElements) + ")");
+    throw ResourceError(
+        p.path() + ": the prepared mesh has " + std::to_string(E) + " elements (" +
+        std::to_string(3 * nodes_per_element(scene.problem.elements) * E) + " unknowns); " + fits +
+        "; ask for fewer (prepare.target_elements, a longer prepare.edge_length; the default is " +
+        std::to_string(scene.solver.backend == SolverBackend::HMatrix ? kDefaultPreparedElementsHierarchical : kDefaultPreparedElements) +
+        ")");
   }
   if (mesh.has("file") && !scene.graded) {
     const std::string path = io::resolve_existing(directory, mesh.required("file"));
@@ -189,7 +191,10 @@ Scene build_scene(const io::JsonDocument& document, const std::string& directory
   double graded_inside_edge = 0.0;
   if (const std::optional<io::JsonReader> r = root.optional("operating_region"); r && r->is_object())
     if (const std::optional<io::JsonReader> h = r->optional("inside_edge_length")) graded_inside_edge = h->positive();
-  problem.mesh = io::load_mesh(root.required("mesh"), directory, scene.mesh_source, graded_inside_edge);
+  // A "prepare" section without a target prepares for the backend that will solve (docs/organs.md).
+  const Index prepare_default =
+      scene.solver.backend == SolverBackend::HMatrix ? kDefaultPreparedElementsHierarchical : kDefaultPreparedElements;
+  problem.mesh = io::load_mesh(root.required("mesh"), directory, scene.mesh_source, graded_inside_edge, prepare_default);
   scene.input_elements = problem.mesh.num_elements();
   const TriangleMesh as_read = problem.mesh;  // where the rules' regions are measured ("region_area")
   // The operating region comes before the boundary conditions: it may remesh, and the rules then

@@ -194,7 +194,8 @@ void refine_in_region(const JsonReader& m, TriangleMesh& mesh, std::string& sour
 
 }  // namespace
 
-TriangleMesh load_mesh(const JsonReader& m, const std::string& directory, std::string& source, double graded_inside_edge) {
+TriangleMesh load_mesh(const JsonReader& m, const std::string& directory, std::string& source, double graded_inside_edge,
+                       Index prepare_default) {
   m.object();
   const bool has_file = m.has("file");
   const bool has_generator = m.has("generator");
@@ -216,7 +217,7 @@ TriangleMesh load_mesh(const JsonReader& m, const std::string& directory, std::s
     // A raw segmentation surface: repaired and remeshed first, in metres, then mapped as above
     // (scene_prepare.cpp); the operating region's lengths are in the mapped coordinates.
     if (const std::optional<JsonReader> p = m.optional("prepare"))
-      mesh = prepare_in_scene(*p, mesh, graded_inside_edge / scale, scale_key.has_value(), source);
+      mesh = prepare_in_scene(*p, mesh, graded_inside_edge / scale, scale_key.has_value(), prepare_default, source);
     const Vec3 shift = translate_key ? translate_key->vec3() : Vec3(Vec3::Zero());
     if (scale != 1.0 || !shift.isZero(0.0)) {
       RowMatrixX3d v = mesh.vertices() * scale;

@@ -21,10 +21,11 @@
 namespace bemsurg::io {
 namespace {
 
-MeshPreparationOptions read_preparation_options(const JsonReader& p, double graded_inside_edge, bool outer_scale) {
+MeshPreparationOptions read_preparation_options(const JsonReader& p, double graded_inside_edge, bool outer_scale, Index default_elements) {
   p.object().warn_unknown_keys(
       {"units", "scale", "target_elements", "edge_length", "max_hole", "wrap_alpha", "wrap_offset", "rebuild", "keep_all"});
   MeshPreparationOptions o;
+  o.default_elements = default_elements;
   if (p.has("units") && p.has("scale")) p.fail("give \"units\" or \"scale\", not both");
   if (const std::optional<JsonReader> u = p.optional("units")) {
     const std::string unit = u->string();
@@ -87,7 +88,9 @@ std::string cache_key(const std::string& path, const MeshPreparationOptions& o) 
   mix(std::string(version_string()) + "|" + std::to_string(kPreparationRevision) + "|" + number_text(o.scale) + "|" +
       number_text(o.wrap_alpha_fraction) + "|" + number_text(o.wrap_offset_fraction) + "|" + number_text(o.max_hole_fraction) + "|" +
       std::to_string(o.force_wrap) + std::to_string(o.keep_all) + std::to_string(o.no_remesh) + "|" + std::to_string(o.target_elements) +
-      "|" + number_text(o.edge_length) + "|" + number_text(o.graded_options.inside_edge_length));
+      // the default target only where it is not the dense one, so that existing keys stay valid
+      (o.default_elements != kDefaultPreparedElements ? "/" + std::to_string(o.default_elements) : std::string()) + "|" +
+      number_text(o.edge_length) + "|" + number_text(o.graded_options.inside_edge_length));
   std::ostringstream key;
   key << std::hex << h;
   return key.str();
@@ -96,8 +99,8 @@ std::string cache_key(const std::string& path, const MeshPreparationOptions& o) 
 }  // namespace
 
 TriangleMesh prepare_in_scene(const JsonReader& p, const TriangleMesh& raw, double graded_inside_edge, bool outer_scale,
-                              std::string& source) {
-  const MeshPreparationOptions options = read_preparation_options(p, graded_inside_edge, outer_scale);
+                              Index default_elements, std::string& source) {
+  const MeshPreparationOptions options = read_preparation_options(p, graded_inside_edge, outer_scale, default_elements);
   const std::filesystem::path dir = cache_directory();
   const std::string key = dir.empty() ? std::string() : cache_key(source, options);
   std::error_code ec;

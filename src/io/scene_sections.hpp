@@ -9,6 +9,7 @@
 
 #include "bemsurg/io/scene.hpp"
 #include "bemsurg/meshing/graded_remesher.hpp"
+#include "bemsurg/meshing/mesh_preparation.hpp"
 #include "json_reader.hpp"
 
 namespace bemsurg::io {
@@ -21,14 +22,17 @@ std::string resolve_existing(const std::string& directory, const JsonReader& fil
 /// where "refine" asks. `source` says where the mesh came from, for reports (scene_mesh.cpp). The
 /// size and thin-part checks of the mesh solved come later (scene.cpp), after any graded remesh.
 /// `graded_inside_edge` > 0 when the scene's operating region will grade the mesh (its inside edge
-/// length): a "prepare" section then repairs without remeshing.
-TriangleMesh load_mesh(const JsonReader& mesh, const std::string& directory, std::string& source, double graded_inside_edge = 0.0);
+/// length): a "prepare" section then repairs without remeshing. `prepare_default`: a "prepare"
+/// section's target when it gives none (MeshPreparationOptions::default_elements).
+TriangleMesh load_mesh(const JsonReader& mesh, const std::string& directory, std::string& source, double graded_inside_edge = 0.0,
+                       Index prepare_default = kDefaultPreparedElements);
 
 /// "mesh.prepare": the raw mesh file repaired and remeshed by prepare_mesh (scene_prepare.cpp);
 /// its warnings become the scene's, at the key's path.
-/// `outer_scale`: the mesh section has its own "scale" (then no millimetre warning).
+/// `outer_scale`: the mesh section has its own "scale" (then no millimetre warning);
+/// `default_elements`: the target when the section gives none.
 TriangleMesh prepare_in_scene(const JsonReader& prepare, const TriangleMesh& raw, double graded_inside_edge, bool outer_scale,
-                              std::string& source);
+                              Index default_elements, std::string& source);
 
 /// "material", "solver", "quadrature" (scene_settings.cpp).
 Material load_material(const JsonReader& material, bool gravity_on);

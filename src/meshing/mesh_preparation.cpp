@@ -56,6 +56,9 @@ void check_options(const MeshPreparationOptions& o) {
   if (o.target_elements < 0 || o.target_elements > kMaxPreparedElements)
     throw InvalidArgumentError("target elements must be between 1 and " + std::to_string(kMaxPreparedElements) + ", got " +
                                std::to_string(o.target_elements));
+  if (o.default_elements < 1 || o.default_elements > kMaxPreparedElements)
+    throw InvalidArgumentError("the default target must be between 1 and " + std::to_string(kMaxPreparedElements) + " elements, got " +
+                               std::to_string(o.default_elements));
   if (o.edge_length != 0.0) positive(o.edge_length, "edge length");
   const int targets = int(o.target_elements > 0) + int(o.edge_length > 0.0) + int(o.region.has_value());
   if (targets > 1) throw InvalidArgumentError("give at most one of a target element count, an edge length and an operating region");
@@ -271,14 +274,14 @@ TriangleMesh remesh(const TriangleMesh& repaired, const MeshPreparationOptions& 
   // The default never asks for more elements than the repair left (docs/organs.md). A surface that
   // is still no valid body (slivers above kMaxAspectRatio: the repair keeps them) is remeshed to its
   // own face count instead.
-  const bool few = o.target_elements == 0 && o.edge_length <= 0.0 && repaired.num_elements() <= kDefaultPreparedElements;
+  const bool few = o.target_elements == 0 && o.edge_length <= 0.0 && repaired.num_elements() <= o.default_elements;
   if (few && validate_mesh(repaired).valid()) {
     r.remesh = "none";
     r.steps.push_back("kept as repaired: " + std::to_string(repaired.num_elements()) + " faces, no more than the default target");
     return repaired;
   }
   r.remesh = "uniform";
-  const Index target = o.target_elements > 0 ? o.target_elements : few ? repaired.num_elements() : kDefaultPreparedElements;
+  const Index target = o.target_elements > 0 ? o.target_elements : few ? repaired.num_elements() : o.default_elements;
   r.target_elements = o.edge_length > 0.0 ? 0 : target;
   // An equilateral triangle of edge h has area (sqrt(3)/4) h^2; Gmsh's frontal mesher makes ~8 %
   // more triangles than area / that, and one correction pass follows when it misses by over 10 %.
@@ -414,6 +417,8 @@ std::string describe_preparation(const MeshPreparationReport& r) {
   if (r.estimated_bytes > 0.0)
     s << "dense solve of this mesh: about " << format_gib(r.estimated_bytes) << " and " << general_text(r.estimated_seconds, 3)
       << " s on this machine\n";
+  if (r.hierarchical_estimated_bytes > 0.0)
+    s << "hierarchical solve of this mesh (\"method\": \"hmatrix\"): about " << format_gib(r.hierarchical_estimated_bytes) << "\n";
   for (const std::string& w : r.warnings) s << "warning: " << w << "\n";
   return s.str();
 }

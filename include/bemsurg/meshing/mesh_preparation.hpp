@@ -17,8 +17,8 @@
 //   5. bodies: nested shells are oriented as a body with cavities (outer outward, inner inward);
 //      of several disjoint bodies the largest by volume is kept unless keep_all;
 //   6. remesh with Gmsh (mesh/graded_remesher.hpp): graded to an operating region, or uniform to
-//      a target element count or edge length, and by default to kDefaultPreparedElements (a
-//      repaired surface with fewer faces is kept as it is);
+//      a target element count or edge length, and by default to default_elements (3,000, or
+//      6,000 for the hierarchical backend; a repaired surface with fewer faces is kept as it is);
 //   7. check: require_valid_mesh on the result, the two-sided Hausdorff distance and the volume
 //      change against the (scaled) input.
 // Same input and options give the same mesh, vertex for vertex: every step is deterministic and
@@ -44,6 +44,10 @@ namespace bemsurg {
 /// elements (9,000 equations, ~1.3 GiB) takes about a minute on a 2-core machine with its Green's
 /// table (docs/organs.md, "How big"). Never more than the repaired surface itself has.
 inline constexpr Index kDefaultPreparedElements = 3000;
+/// The same for the hierarchical backend (`bemsurg prepare` built with hmat-oss, a scene whose
+/// solver says "hmatrix"): a 6,028-element prepared liver's table (438 columns) took 41 s and
+/// 555 MiB on a 2-core machine, where its dense solve alone was estimated at 4.87 GiB and 171 s.
+inline constexpr Index kDefaultPreparedElementsHierarchical = 6000;
 /// Upper bound of target_elements: the graded remesher's own limit (a dense system of 1.8e5
 /// equations, 2 x 240 GiB: for machines far larger than the 2-core default's).
 inline constexpr Index kMaxPreparedElements = 60000;
@@ -79,9 +83,12 @@ struct MeshPreparationOptions {
   /// Keep every disjoint body instead of the largest by volume.
   bool keep_all = false;
   /// Remesh target: at most one of target_elements (> 0), edge_length (> 0, metres) and region.
-  /// With none, a uniform remesh to kDefaultPreparedElements, or none at all when the repaired
-  /// surface has no more faces than that.
+  /// With none, a uniform remesh to default_elements, or none at all when the repaired surface has
+  /// no more faces than that.
   Index target_elements = 0;
+  /// The target when none is given: kDefaultPreparedElements, or kDefaultPreparedElementsHierarchical
+  /// for a mesh the hierarchical backend will solve.
+  Index default_elements = kDefaultPreparedElements;
   double edge_length = 0.0;
   /// A graded remesh to this operating region with graded_options (mesh/graded_remesher.hpp).
   std::optional<OperatingRegion> region;
@@ -136,10 +143,11 @@ struct MeshPreparationReport {
   /// Input sample points left out of the distance: on dropped bodies, or walls inside the result
   /// farther than 1 % of the diagonal from its surface (the inner parts of overlapping shells).
   Index hausdorff_excluded_samples = 0;
-  double input_volume = 0.0, volume = 0.0;  // m^3; input: the cleaned surface's, holes filled
-  double volume_change = 0.0;               // (volume - input_volume) / input_volume
-  double estimated_bytes = 0.0;             // dense solve of the final mesh (estimate_elastostatic_bytes)
-  double estimated_seconds = 0.0;           // dense solve, calibrated on this machine (docs/organs.md)
+  double input_volume = 0.0, volume = 0.0;    // m^3; input: the cleaned surface's, holes filled
+  double volume_change = 0.0;                 // (volume - input_volume) / input_volume
+  double estimated_bytes = 0.0;               // dense solve of the final mesh (estimate_elastostatic_bytes)
+  double estimated_seconds = 0.0;             // dense solve, calibrated on this machine (docs/organs.md)
+  double hierarchical_estimated_bytes = 0.0;  // hierarchical solve (estimate_hierarchical_bytes), where set
   std::vector<std::string> warnings;
   std::vector<std::string> steps;  // one line per step done, in order
   /// Seconds per stage, in order: read (set by callers that read), clean, orient_and_close,
