@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "bemsurg/elastostatics/elastostatic_solver.hpp"
+#include "bemsurg/elastostatics/hierarchical_solver.hpp"
 #include "bemsurg/io/results_io.hpp"
 #include "bemsurg/timing.hpp"
 #include "bench_support.hpp"
@@ -34,6 +35,12 @@ nlohmann::json finite_or_null(double x, bool measured) { return measured && std:
 
 LinearSolverOptions solver_options(const Config& c) {
   LinearSolverOptions o;
+  if (c.solver == "hmatrix") {  // the hierarchical backend (docs/solvers.md); the tolerance is ACA+'s
+    if (!(c.tolerance >= 1e-12 && c.tolerance <= 0.1)) throw InvalidArgumentError("--tolerance: hmatrix needs one in [1e-12, 0.1]");
+    o.backend = SolverBackend::HMatrix;
+    o.compression_tolerance = c.tolerance;
+    return o;
+  }
   o.method = parse_solver_method(c.solver);
   if (o.method == SolverMethod::BiCg) throw InvalidArgumentError("--solver bicg: this benchmark compares lu, gmres and bicgstab");
   if (o.method != SolverMethod::Lu) {
@@ -60,7 +67,8 @@ Repeated solve_repeated(const ElastostaticProblem& p, const LinearSolverOptions&
   while (static_cast<int>(out.total.size()) < max_repeats && (out.total.empty() || seconds_since(first) < 10.0)) {
     const SteadyClock::time_point start = SteadyClock::now();
     try {
-      out.solution = solve_elastostatic(p, options);
+      out.solution =
+          options.backend == SolverBackend::HMatrix ? solve_elastostatic_hierarchical(p, options) : solve_elastostatic(p, options);
     } catch (const SolverError& e) {
       out.solution.reset();
       out.status = "failed";
@@ -117,7 +125,7 @@ nlohmann::json run_config(const Config& c, int max_repeats) {
                       {"mesh", c.mesh},
                       {"element_type", c.element_type},
                       {"baseline", kBaseline},
-                      {"preconditioner", c.solver == "lu" ? "none" : "block_jacobi"},
+                      {"preconditioner", c.solver == "lu" || c.solver == "hmatrix" ? "none" : "block_jacobi"},
                       {"feed", linear ? c.feed : std::string()}};
   j["elements"] = s.mesh.num_elements();
   j["equations"] = 3 * nodes_per_element(p.elements) * s.mesh.num_elements();
@@ -175,8 +183,8 @@ int main(int argc, char** argv) {
   parser.value("--study", "NAME", c.study, "levels, quadrature or solver (a label the report groups by)");
   parser.value("--level", "L", c.level, "mesh level, from 1");
   parser.value("--quadrature", "NAME", c.quadrature, "cheap, baseline or fine");
-  parser.value("--solver", "NAME", c.solver, "lu, gmres or bicgstab (block-Jacobi preconditioned)");
-  parser.value("--tolerance", "T", c.tolerance, "Krylov relative residual (0 for lu)");
+  parser.value("--solver", "NAME", c.solver, "lu, gmres or bicgstab (block-Jacobi preconditioned), or hmatrix");
+  parser.value("--tolerance", "T", c.tolerance, "Krylov relative residual, or hmatrix's compression tolerance (0 for lu)");
   parser.value("--mesh", "KIND", c.mesh, "uniform");
   parser.value("--element_type", "TYPE", c.element_type, "constant or linear (docs/elements.md)");
   parser.value("--feed", "WHERE", c.feed, "linear elements: the data given at the nodes or at the corners");

@@ -28,8 +28,8 @@ struct Config {
   std::string study = "levels";
   int level = 1;
   std::string quadrature = "baseline";  // cheap, baseline, fine
-  std::string solver = "lu";            // lu, gmres, bicgstab
-  double tolerance = 0.0;               // Krylov relative residual; 0 for LU
+  std::string solver = "lu";            // lu, gmres, bicgstab, hmatrix
+  double tolerance = 0.0;               // Krylov relative residual, or hmatrix's compression tolerance; 0 for LU
   std::string mesh = "uniform";
   std::string element_type = "constant";  // constant, linear (docs/elements.md)
   // Where linear elements are given the prescribed data (issue 37): "nodes", the exact field at
@@ -73,6 +73,9 @@ inline int level_count(const std::string& problem) { return problem == "kelvin" 
 inline std::vector<int> mid_levels(const std::string& problem, bool quick) {
   return quick ? std::vector<int>{1} : problem == "lame" ? std::vector<int>{2, 3} : std::vector<int>{3, 4};
 }
+/// The levels of the hierarchical front (study "hmatrix"): the dense levels and one more, past what
+/// the dense levels reach (Lamé 10,240, Kelvin 5,120, the bar 5,488 elements).
+inline int hmatrix_level_count(const std::string& problem) { return level_count(problem) + 1; }
 /// The levels solved with linear elements too (9 unknowns per element: up to about 6,000 equations).
 inline int linear_level_count(const std::string& problem) { return problem == "bar" ? 3 : 2; }
 
@@ -113,7 +116,7 @@ inline Setup kelvin_setup(const Material& m, int level) {
 inline Setup bar_setup(const Material& m, int level) {
   // A 1 x 1 x 3 bar hanging under gravity g = 1, held at its top face z = 3 (displacement
   // prescribed there, traction-free elsewhere), as bench_accuracy: n x n x 3n cells, 28 n^2 elements.
-  static const int cells[] = {2, 3, 4, 6, 8, 10};
+  static const int cells[] = {2, 3, 4, 6, 8, 10, 14};  // the last: the hierarchical front's level only
   const int n = cells[level - 1];
   const double L = 3.0;
   Setup s;
@@ -130,9 +133,10 @@ inline Setup make_setup(const Config& c, const Material& m) {
   if (c.mesh != "uniform") throw InvalidArgumentError("--mesh " + c.mesh + ": this benchmark has uniform meshes only");
   if (c.problem != "lame" && c.problem != "kelvin" && c.problem != "bar")
     throw InvalidArgumentError("unknown problem '" + c.problem + "' (expected lame, kelvin or bar)");
-  if (c.level < 1 || c.level > level_count(c.problem))
-    throw InvalidArgumentError("--level " + std::to_string(c.level) + ": " + c.problem + " has levels 1 to " +
-                               std::to_string(level_count(c.problem)));
+  const int levels = c.solver == "hmatrix" ? hmatrix_level_count(c.problem) : level_count(c.problem);
+  if (c.level < 1 || c.level > levels)
+    throw InvalidArgumentError("--level " + std::to_string(c.level) + ": " + c.problem + " has levels 1 to " + std::to_string(levels) +
+                               (c.solver == "hmatrix" ? "" : " (one more with --solver hmatrix)"));
   if (c.problem == "lame") return lame_setup(m, c.level);
   if (c.problem == "kelvin") return kelvin_setup(m, c.level);
   return bar_setup(m, c.level);
@@ -159,6 +163,17 @@ inline std::vector<Config> all_configs(bool quick) {
         c.feed = feed;
         out.push_back(c);
       }
+    }
+  for (const char* p : {"lame", "kelvin", "bar"})  // the hierarchical front (study "hmatrix"), beyond dense's levels
+    for (int l = quick ? 1 : 2; l <= (quick ? 1 : hmatrix_level_count(p)); ++l) {
+      if (quick && std::string(p) != "lame") continue;  // CI: one small solve runs the path
+      Config c;
+      c.problem = p;
+      c.level = l;
+      c.study = "hmatrix";
+      c.solver = "hmatrix";
+      c.tolerance = 1e-5;
+      out.push_back(c);
     }
   const std::vector<double> tolerances = quick ? std::vector<double>{1e-2, 1e-6} : std::vector<double>{1e-2, 1e-4, 1e-6, 1e-8};
   for (const char* p : {"lame", "bar"})

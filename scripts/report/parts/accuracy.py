@@ -129,6 +129,8 @@ def _label(r):
         return f"{r.get('solver')} tol {r.get('tolerance'):g}" if r.get("tolerance") else str(r.get("solver"))
     if study == "mesh":
         return f"mesh {r.get('mesh')}"
+    if study == "hmatrix":
+        return f"hierarchical (hmatrix tol {r.get('tolerance'):g})"
     if study == "elements":
         feed = r.get("feed")
         return f"{r.get('element_type')} elements" + (f", fed at the {feed}" if feed else "")
@@ -139,13 +141,13 @@ def _label(r):
 # One colour per family of series (issue 37: legends grouped by family, a fixed colour each), the
 # members of a family told apart by marker and shade.
 FAMILY_COLOURS = {"levels": "#222222", "quadrature": "#2ca02c", "gmres": "#1f77b4", "bicgstab": "#ff7f0e",
-                  "elements": "#d62728", "mesh": "#9467bd"}
+                  "elements": "#d62728", "mesh": "#9467bd", "hmatrix": "#17becf"}
 
 
 def _family(label):
     if label.startswith("mesh levels"):
         return "levels"
-    for f in ("quadrature", "gmres", "bicgstab", "elements", "mesh"):
+    for f in ("quadrature", "gmres", "bicgstab", "hmatrix", "elements", "mesh"):
         if f in label:
             return f
     return "other"
