@@ -12,7 +12,8 @@ solves the same scene through `bemsurg solve` (whole process: generation, remesh
 solve, output): the fine surface remeshed with uniform edges h, both rules `"conform": true` (the
 held area within 1 % of the reference's, the part fails past it), the density scaled by the
 reference's volume over the remeshed one (the same weight). Four series: constant and linear
-elements, each with and without `"refine_rim": 2` on both rules. Compared: the surface
+elements, each with and without `"refine_rim": 2` on both rules, and a fifth, the hierarchical
+front: constant elements on `"method": "hmatrix"` at meshes finer than the dense series'. Compared: the surface
 displacement (relative L2 at bemsurg's element centroids for constant elements, at its edges'
 midpoints for linear ones, where the vertex-to-midpoint rule integrates a quadratic exactly) and
 the force on the tool's footprint against the reference's reaction there.
@@ -44,16 +45,20 @@ EDGE_FACTOR = 3.0
 AGREEMENT = 0.01
 FE_SIZES = {"quick": [0.02, 0.016], "full": [0.012, 0.0085, 0.006, 0.00425]}
 RIM_LEVELS = 2  # the refine_rim of the refined series (issue 38's done criterion)
-SERIES = {  # label: element type, refine_rim, sizes (m) by mode
-    "constant": ("constant", 0, {"quick": [0.025], "full": [0.02, 0.014, 0.01, 0.007]}),
-    "constant + refine_rim 2": ("constant", RIM_LEVELS, {"quick": [0.025], "full": [0.02, 0.014, 0.01]}),
-    "linear": ("linear", 0, {"quick": [0.025], "full": [0.02, 0.014, 0.01]}),
-    # quick mode (CI) leaves this series out: 27 s, a quarter of the part
-    "linear + refine_rim 2": ("linear", RIM_LEVELS, {"quick": [], "full": [0.02, 0.014, 0.01]}),
+SERIES = {  # label: element type, refine_rim, sizes (m) by mode, solver method
+    "constant": ("constant", 0, {"quick": [0.025], "full": [0.02, 0.014, 0.01, 0.007]}, "lu"),
+    "constant + refine_rim 2": ("constant", RIM_LEVELS, {"quick": [0.025], "full": [0.02, 0.014, 0.01]}, "lu"),
+    "linear": ("linear", 0, {"quick": [0.025], "full": [0.02, 0.014, 0.01]}, "lu"),
+    # quick mode (CI) leaves this series out: 27 s, a quarter of the part. "auto": its 14 and 10 mm
+    # meshes (about 3,600 linear elements) go hierarchical, where dense LU took about 20 min and
+    # 17 GiB each (issue 38's notes).
+    "linear + refine_rim 2": ("linear", RIM_LEVELS, {"quick": [], "full": [0.02, 0.014, 0.01]}, "auto"),
+    # The hierarchical front (issue 40): constant elements past the dense series' finest mesh.
+    "constant, hierarchical": ("constant", 0, {"quick": [0.025], "full": [0.007, 0.005, 0.0035]}, "hmatrix"),
 }
 AREA_AGREEMENT = 0.01
 
-BEM_COLUMNS = ["label", "series", "element_type", "refine_rim", "edge_length_m", "elements", "equations", "wall_s",
+BEM_COLUMNS = ["label", "series", "element_type", "refine_rim", "edge_length_m", "elements", "equations", "backend", "wall_s",
                "peak_rss_bytes", "held_area_m2", "tool_area_m2", "weight_n", "tool_force_n", "error_u", "error_force",
                "reference_level"]
 
@@ -62,7 +67,7 @@ def _spec(s):
     return ",".join(repr(float(x)) for x in s)
 
 
-def _scene(surface_info, h, element_type, refine_rim, density):
+def _scene(surface_info, h, element_type, refine_rim, density, method="lu"):
     held, tool = surface_info["held_sphere"], surface_info["tool_sphere"]
 
     def rule(sphere, displacement):
@@ -82,7 +87,7 @@ def _scene(surface_info, h, element_type, refine_rim, density):
             "operating_region": {"sphere": {"center": tool["center"], "radius": 4 * tool["radius"]}, "inside_edge_length": h,
                                  "outside_edge_length": h},
             "boundary_conditions": {"rules": [rule(held, [0.0, 0.0, 0.0]), rule(tool, list(TOOL_DISPLACEMENT))]},
-            "solver": {"method": "lu"}}
+            "solver": {"method": method}}
 
 
 def _read_rows(path):
@@ -135,16 +140,16 @@ def run(ctx):
     ref_force = ps.richardson_value(fe_rows, "tool_force_n")
     force_target = ref_force["value"] if ref_force else ref["tool_force_n"]
     rows, refused = [], []
-    for label, (etype, rim, sizes) in SERIES.items():
+    for label, (etype, rim, sizes, method) in SERIES.items():
         for k, h in enumerate(sizes[ctx.mode]):
             summary = pd / "remeshed.json"
             ctx.run([bench, "--organ", "liver", "--surface-subdivisions", SURFACE_SUBDIVISIONS, "--edge-length", h,
                      "--json", summary], NAME)
             volume = json.loads(summary.read_text())["volume_m3"]
             density = MATERIAL["density"] * ref["volume_m3"] / volume  # the reference's weight
-            tag = f"{etype}_{rim}_{k}"
+            tag = f"{etype}_{rim}_{method}_{k}"
             scene, out = pd / f"scene_{tag}.json", pd / f"out_{tag}"
-            scene.write_text(json.dumps(_scene(info, h, etype, rim, density), indent=1))
+            scene.write_text(json.dumps(_scene(info, h, etype, rim, density, method), indent=1))
             try:
                 _, wall, peak = ctx.run_isolated([bemsurg, "solve", scene, "-o", out, "--quiet"], NAME, timeout=1800)
             except rl.PartFailed as e:  # a mesh whose dense solve does not fit: said in the report, not a failure
@@ -162,7 +167,7 @@ def run(ctx):
             force = _footprint_force(out, info["tool_sphere"])
             rows.append({"label": f"{label}, h = {1e3 * h:.3g} mm ({report['elements']} el.)", "series": label,
                          "element_type": etype, "refine_rim": rim, "edge_length_m": h, "elements": report["elements"],
-                         "equations": report["equations"], "wall_s": wall, "peak_rss_bytes": peak, "held_area_m2": held,
+                         "equations": report["equations"], "backend": report["backend"]["name"], "wall_s": wall, "peak_rss_bytes": peak, "held_area_m2": held,
                          "tool_area_m2": tool, "weight_n": density * MATERIAL["gravity"] * volume, "tool_force_n": force,
                          "error_u": fe.relative_l2(u, fe.evaluate(finest, u_ref, p), w),
                          "error_force": abs(force - force_target) / abs(force_target), "reference_level": ref["level"]})
@@ -233,10 +238,11 @@ def render(ctx):
                      f"{1e4 * r['tool_area_m2']:.3f} | {r['reaction_over_weight']:.4f} | {r['tool_force_n']:.4f} | "
                      f"{ps.pct(r.get('difference_to_next'))} |")
     lines += ["", "**bemsurg** (`bemsurg solve`, one run of each; held and footprint areas against the reference's):", "",
-              "| series | h (mm) | elements | equations | process (s) | peak memory | held area | footprint | footprint force (N) "
-              "| force error | displacement error |", "|---|---|---|---|---|---|---|---|---|---|---|"]
+              "| series | h (mm) | elements | equations | backend | process (s) | peak memory | held area | footprint "
+              "| footprint force (N) | force error | displacement error |", "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in bem:
         lines.append(f"| {r['series']} | {1e3 * r['edge_length_m']:.3g} | {r['elements']} | {r['equations']} | "
+                     f"{r.get('backend') or 'dense'} | "
                      f"{rl.seconds_text(r['wall_s'])} | {rl.bytes_text(r['peak_rss_bytes'])} | "
                      f"{r['held_area_m2'] / ref['held_area_m2']:.4f} | {r['tool_area_m2'] / ref['tool_area_m2']:.4f} | "
                      f"{r['tool_force_n']:.4f} | {ps.pct(r['error_force'])} | {ps.pct(r['error_u'])} |")
