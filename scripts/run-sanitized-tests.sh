@@ -62,8 +62,10 @@ if [ "$mode" = address ]; then
   heavy+='|test_mesh:A graded remesh keeps the flat face of a cut ball|test_mesh:A graded remesh of the brain keeps its underside'
   # The hierarchical backend's accuracy studies (1,280 elements, dense and H-LU: the solve at two
   # tolerances, the table, two cuts): its block callbacks, the table's solve and a cut on a kept
-  # H-LU run here in test_cli's smaller hmatrix cases and the 320-element refactorisation case.
+  # H-LU run here in test_cli's smaller hmatrix cases and the 320-element refactorisation case;
+  # linear elements' blocks (the 320-element comparison, 2,880 unknowns) in test_cli's 80-element one.
   heavy+='|test_solvers:the hierarchical backend solves a body resting|test_solvers:a table on the hierarchical backend'
+  heavy+='|test_solvers:linear elements on the hierarchical backend'
   ctest --output-on-failure -j"${JOBS:-2}" --timeout 900 -E "$heavy"
 else
   cmake --build "$BUILD_DIR" -j"${JOBS:-2}" --target test_haptics test_cutting test_cli test_viewer_core bemsurg_cli
