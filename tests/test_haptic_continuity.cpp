@@ -30,6 +30,9 @@
 #include "bemsurg/presolution/greens_table.hpp"
 #include "support/haptic_block.hpp"
 
+// OpenBLAS's own setter (weak: null where the BLAS is not OpenBLAS), to give the caps a pool to cap.
+extern "C" void openblas_set_num_threads(int) __attribute__((weak));
+
 using namespace bemsurg;
 using namespace bemsurg::haptics;
 using Vec3 = Eigen::Vector3d;
@@ -302,12 +305,17 @@ TEST_CASE("the watchdog still fades the force when the simulation side is gone",
 
 TEST_CASE("BLAS thread caps nest and overlap, the pool takes the smallest live one and gets back what it had", "[haptics][threads]") {
   // bemsurg/blas_threads.hpp: a haptic loop's budget and an H-LU both cap OpenBLAS's one pool.
-  const int before = blas_threads();
-  if (before == 0) {
+  // ctest runs with one thread (OMP_NUM_THREADS=1): the pool is raised to 4 first, so that every
+  // cap below changes it (or keeps it where a wrong restore would change it).
+  if (blas_threads() == 0 || !openblas_set_num_threads) {
     const BlasThreadCap cap(1);  // not OpenBLAS: nothing to cap, and the cap changes nothing
     CHECK(blas_threads() == 0);
     return;
   }
+  const int original = blas_threads();
+  openblas_set_num_threads(4);
+  const int before = blas_threads();
+  REQUIRE(before >= 2);  // OpenBLAS may hold it to the cores it found: 2 here
   {
     std::optional<BlasThreadCap> budget(std::in_place, std::max(1, before - 1));
     CHECK(blas_threads() == std::max(1, before - 1));
@@ -324,6 +332,7 @@ TEST_CASE("BLAS thread caps nest and overlap, the pool takes the smallest live o
     CHECK(blas_threads() == before);
   }
   CHECK(blas_threads() == before);
+  openblas_set_num_threads(original);
 }
 
 TEST_CASE("background work gets cores - 1 threads while a loop runs", "[haptics][continuity]") {

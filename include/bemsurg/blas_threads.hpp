@@ -6,7 +6,9 @@
 // 5,120-element body took 21.3 s with 2 BLAS threads and 15.6 s with 1). Caps nest and overlap
 // across threads: while any cap lives, the pool has the smallest live cap (never more than it had
 // before the first), and when the last one ends the pool gets back what it had. Where the BLAS is
-// not OpenBLAS (no pool to cap), a cap changes nothing.
+// not OpenBLAS (no pool to cap), a cap changes nothing. Debian's default OpenBLAS is the pthread
+// build, which this was measured on; its OpenMP build ties the setting to the calling thread's
+// OpenMP threads, and a cap's restore then sets what the pool had, not what that thread had.
 #pragma once
 
 #include "bemsurg/config.hpp"

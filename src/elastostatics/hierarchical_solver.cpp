@@ -177,8 +177,8 @@ void assemble_columns(const SystemContext& c, const std::vector<Index>& elements
 }
 
 /// The right-hand side of eq. 6: gravity plus the known values' columns, G t_known - H u_known, from
-/// the columns of the elements with a nonzero prescribed value, 64 elements at a time (n x 192 each,
-/// n x 576 for linear elements).
+/// the columns of the elements with a nonzero prescribed value, 192 columns at a time (n x 192 of H
+/// and G each: 64 constant or 21 linear elements).
 Eigen::VectorXd right_hand_side(const SystemContext& c, const ElastostaticProblem& p) {
   const BoundaryConditions& bc = *c.conditions;
   const int per = c.column_unknowns;
@@ -190,9 +190,10 @@ Eigen::VectorXd right_hand_side(const SystemContext& c, const ElastostaticProble
         loaded.push_back(e);
         break;
       }
-  for (std::size_t start = 0; start < loaded.size(); start += 64) {
+  const std::size_t per_chunk = std::size_t(192 / per);  // n x 192 of H and G at a time, whatever the element type
+  for (std::size_t start = 0; start < loaded.size(); start += per_chunk) {
     const std::vector<Index> chunk(loaded.begin() + static_cast<std::ptrdiff_t>(start),
-                                   loaded.begin() + static_cast<std::ptrdiff_t>(std::min(loaded.size(), start + 64)));
+                                   loaded.begin() + static_cast<std::ptrdiff_t>(std::min(loaded.size(), start + per_chunk)));
     Eigen::MatrixXd H, G;
     assemble_columns(c, chunk, H, G);
     for (std::size_t col_element = 0; col_element < chunk.size(); ++col_element)

@@ -38,16 +38,20 @@ BEMSURG_INLINE int blas_threads() noexcept { return detail::have_openblas_contro
 BEMSURG_INLINE BlasThreadCap::BlasThreadCap(int threads) noexcept : threads_(threads) {
   if (threads_ <= 0 || !detail::have_openblas_controls()) return;
   detail::BlasCapState& s = detail::blas_cap_state();
-  std::lock_guard<std::mutex> lock(s.mutex);
-  if (s.live.empty()) s.before = openblas_get_num_threads();
-  ++s.live[threads_];
-  openblas_set_num_threads(std::min(s.before, s.live.begin()->first));
+  try {
+    std::lock_guard<std::mutex> lock(s.mutex);
+    if (s.live.empty()) s.before = openblas_get_num_threads();
+    ++s.live[threads_];
+    openblas_set_num_threads(std::min(s.before, s.live.begin()->first));
+  } catch (...) {  // no memory for the map's node, or the mutex refused: no cap (slower, not wrong)
+    threads_ = 0;
+  }
 }
 
 BEMSURG_INLINE BlasThreadCap::~BlasThreadCap() {
   if (threads_ <= 0 || !detail::have_openblas_controls()) return;
   detail::BlasCapState& s = detail::blas_cap_state();
-  std::lock_guard<std::mutex> lock(s.mutex);
+  const std::lock_guard<std::mutex> lock(s.mutex);  // locked once already by this cap: it does not throw here
   const auto it = s.live.find(threads_);
   if (it != s.live.end() && --it->second == 0) s.live.erase(it);
   openblas_set_num_threads(s.live.empty() ? s.before : std::min(s.before, s.live.begin()->first));
