@@ -42,6 +42,7 @@
 #include <vector>
 
 #include "bemsurg/elastostatics/elastostatic_solver.hpp"
+#include "bemsurg/elastostatics/hierarchical_solver.hpp"
 #include "bemsurg/io/results_io.hpp"
 #include "bemsurg/mesh/brain_model.hpp"
 #include "bemsurg/mesh/conforming_split.hpp"
@@ -209,6 +210,7 @@ int main(int argc, char** argv) {
   std::string json_path, points_path, clamped_path, surface_path, organ = "brain";
   int subdivisions = 3, surface_subdivisions = 5;
   double patch_radius = 1.0, edge_length = 0.0, rim_area_loss = 0.0, hung_volume = 0.0;  // radius past the flat face: all of it
+  double hmatrix_tolerance = 0.0;  // > 0: the hierarchical backend at this compression tolerance
   std::vector<double> held_sphere, tool_sphere;
   cli::OptionParser parser = bench::command_line(
       "bench_organ_gravity", "The upside-down brain hung from a disc of its flat face under gravity (the CalculiX peer's BEM side).\n",
@@ -221,6 +223,8 @@ int main(int argc, char** argv) {
   parser.value("--hung-volume", "V", hung_volume, "scale the density so that the weight is density * g * V (m^3)").above(0.0);
   parser.value("--patch-radius", "R", patch_radius, "radius of the clamped disc on the flat face (m); 1 (default): the whole face")
       .above(0.0);
+  parser.value("--hmatrix", "T", hmatrix_tolerance, "solve on the hierarchical backend at compression tolerance T (default: dense LU)")
+      .between(1e-12, 0.1);
   parser.value("--points-out", "CSV", points_path, "write element centroids, areas and displacements to CSV");
   parser.value("--clamped-out", "CSV", clamped_path, "write the corners of the clamped elements to CSV (x0,y0,z0,...,z2)");
   parser.value("--write-surface", "PATH", surface_path, "write the finite-element mesher's surface as grouped OBJ and exit");
@@ -267,7 +271,13 @@ int main(int argc, char** argv) {
     return 1;
   }
   const ElastostaticProblem problem{mesh, material, Eigen::Vector3d(0.0, 0.0, -kGravity), bc, QuadratureOptions()};
-  const ElastostaticSolution s = solve_elastostatic(problem);
+  LinearSolverOptions solver;
+  if (hmatrix_tolerance > 0.0) {  // the hierarchical front of the report's peer (issue 40)
+    solver.backend = SolverBackend::HMatrix;
+    solver.compression_tolerance = hmatrix_tolerance;
+  }
+  const ElastostaticSolution s =
+      hmatrix_tolerance > 0.0 ? solve_elastostatic_hierarchical(problem, solver) : solve_elastostatic(problem, solver);
   const double total_s = seconds_since(start);
 
   // The support's reaction on the body must balance the weight: sum of t * area over the patch.
@@ -327,6 +337,7 @@ int main(int argc, char** argv) {
   j["elements"] = mesh.num_elements();
   j["clamped_elements"] = clamped;
   j["equations"] = s.report.equations;
+  j["backend"] = hmatrix_tolerance > 0.0 ? "hmatrix" : "dense";
   j["assembly_s"] = s.report.assembly_seconds;
   j["solve_s"] = solve_s;
   j["total_s"] = total_s;

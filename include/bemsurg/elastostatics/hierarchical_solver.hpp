@@ -114,8 +114,9 @@ class HierarchicalFactorization : public SystemFactorization {
 /// 9 per linear one: both backends' work follows n): from there its whole solve measured faster than
 /// dense LU on this project's 2-core machines (bench_hmatrix, the report's "Hierarchical matrices
 /// against dense": a resting cube crossed over at about 4,050 constant elements, n = 12,150, and
-/// 1,445 linear ones, n = 13,000, in one run with the H-LU on one BLAS thread), set a little above
-/// both, since near them the two are within their run-to-run spread and dense is the reference.
+/// 1,445 and 1,513 linear ones, n = 13,000 and 13,600, in two runs with the H-LU on one BLAS
+/// thread; at 2,028 linear elements 0.76 x dense), set at or a little above them, since near them
+/// the two are within their run-to-run spread and dense is the reference.
 inline constexpr Index kAutoHierarchicalUnknowns = 13500;
 
 /// kAutoHierarchicalUnknowns in elements of `type`, rounded up: 4,500 constant, 1,500 linear.
