@@ -113,6 +113,12 @@ std::string prepare_hint(const io::JsonReader& mesh, const std::string& path) {
          (s != 1.0 ? " and remove mesh.scale" : std::string());
 }
 
+/// A "prepare" section's target when it gives none: the backend that will solve decides
+/// (docs/organs.md, "How big"; "auto" keeps the dense default).
+Index prepare_default_elements(const Scene& scene) {
+  return scene.solver.backend == SolverBackend::HMatrix ? kDefaultPreparedElementsHierarchical : kDefaultPreparedElements;
+}
+
 /// The dense solve of the final mesh (as read, generated, refined or remeshed) must fit in memory
 /// (docs/design.md §10): refused here, before any command allocates a matrix. A mesh file as read
 /// is told the command that remeshes it; a generated or graded one with constant elements is left
@@ -133,12 +139,10 @@ void require_solvable_size(const Scene& scene, const io::JsonReader& mesh, const
                            format_gib(need) + ", more than the limit of " + format_gib(limit) + " (80 % of physical memory)";
   if (mesh.has("prepare") && !scene.graded) {  // the prepared mesh is too large: its target is at fault
     const io::JsonReader p = mesh.required("prepare");
-    throw ResourceError(
-        p.path() + ": the prepared mesh has " + std::to_string(E) + " elements (" +
-        std::to_string(3 * nodes_per_element(scene.problem.elements) * E) + " unknowns); " + fits +
-        "; ask for fewer (prepare.target_elements, a longer prepare.edge_length; the default is " +
-        std::to_string(scene.solver.backend == SolverBackend::HMatrix ? kDefaultPreparedElementsHierarchical : kDefaultPreparedElements) +
-        ")");
+    throw ResourceError(p.path() + ": the prepared mesh has " + std::to_string(E) + " elements (" +
+                        std::to_string(3 * nodes_per_element(scene.problem.elements) * E) + " unknowns); " + fits +
+                        "; ask for fewer (prepare.target_elements, a longer prepare.edge_length; the default is " +
+                        std::to_string(prepare_default_elements(scene)) + ")");
   }
   if (mesh.has("file") && !scene.graded) {
     const std::string path = io::resolve_existing(directory, mesh.required("file"));
@@ -191,10 +195,7 @@ Scene build_scene(const io::JsonDocument& document, const std::string& directory
   double graded_inside_edge = 0.0;
   if (const std::optional<io::JsonReader> r = root.optional("operating_region"); r && r->is_object())
     if (const std::optional<io::JsonReader> h = r->optional("inside_edge_length")) graded_inside_edge = h->positive();
-  // A "prepare" section without a target prepares for the backend that will solve (docs/organs.md).
-  const Index prepare_default =
-      scene.solver.backend == SolverBackend::HMatrix ? kDefaultPreparedElementsHierarchical : kDefaultPreparedElements;
-  problem.mesh = io::load_mesh(root.required("mesh"), directory, scene.mesh_source, graded_inside_edge, prepare_default);
+  problem.mesh = io::load_mesh(root.required("mesh"), directory, scene.mesh_source, graded_inside_edge, prepare_default_elements(scene));
   scene.input_elements = problem.mesh.num_elements();
   const TriangleMesh as_read = problem.mesh;  // where the rules' regions are measured ("region_area")
   // The operating region comes before the boundary conditions: it may remesh, and the rules then
