@@ -99,15 +99,18 @@ def load_average():
         return "unknown"
 
 
-# What a part's data depend on: the library, the build, the benchmark programs and the report's
+# What every part's data depend on: the library, the build, the benchmark programs and the report's
 # shared code. A part whose data ran at a commit before a change to any of these is stale; a change
 # to the part's own file is not enough (it may only change the drawing), so the part file is left out.
+# A part names the further files its data come from in its SOURCES (the organ peers: the CalculiX
+# driver and the code they share), which make that part stale and no other.
 DATA_SOURCES = ("include", "src", "benchmarks", "tests/support", "examples", "CMakeLists.txt", "cmake",
-                "scripts/report/report_lib.py", "scripts/report/calculix_peer.py", "scripts/report/peer_support.py")
+                "scripts/report/report_lib.py")
 
 
-def stale_sources(repo, commit, head):
-    """The files under DATA_SOURCES that changed between `commit` and `head` (empty: not stale)."""
+def stale_sources(repo, commit, head, extra=()):
+    """The files under DATA_SOURCES and `extra` (a part's SOURCES) that changed between `commit` and
+    `head` (empty: not stale)."""
     if not commit or commit == "unknown" or commit == head:
         return []
     try:  # a commit this repository does not hold (a shallow clone, rewritten history): not known current
@@ -117,7 +120,7 @@ def stale_sources(repo, commit, head):
         known = False
     if not known:
         return [f"(commit {commit} is not in this repository)"]
-    out = _cmd(["git", "-C", str(repo), "diff", "--name-only", commit, head, "--", *DATA_SOURCES], default="")
+    out = _cmd(["git", "-C", str(repo), "diff", "--name-only", commit, head, "--", *DATA_SOURCES, *extra], default="")
     return [line for line in out.splitlines() if line.strip()]
 
 
@@ -192,7 +195,8 @@ def write_report(ctx, parts, header, status):
         if not isinstance(st, dict):
             lines.append(f"| {p.NAME} | | never ran | | | not run |")
             continue
-        changed = stale_sources(ctx.repo, st.get("commit"), head) if "commit" in st else ["(no commit recorded)"]
+        changed = (stale_sources(ctx.repo, st.get("commit"), head, getattr(p, "SOURCES", ())) if "commit" in st
+                   else ["(no commit recorded)"])
         if changed:
             STALE[p.NAME] = changed
         state = ("**stale**: " + ", ".join(changed[:3]) + (f" and {len(changed) - 3} more" if len(changed) > 3 else "")

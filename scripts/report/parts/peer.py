@@ -32,6 +32,8 @@ import report_lib as rl  # noqa: E402
 NAME = "peer"
 TITLE = "A finite-element peer: CalculiX on an organ"
 ORDER = 20
+# Its data also come from the CalculiX driver and the code both peers share (make_report.py, DATA_SOURCES).
+SOURCES = ("scripts/report/calculix_peer.py", "scripts/report/peer_support.py")
 
 MATERIAL = {"young": 3000.0, "poisson": 0.45, "density": 1000.0, "gravity": 9.81}  # bench_organ_gravity's
 # The geometry every FE level and every bemsurg mesh shares: 20480 triangles, ~2.3 mm. Not coarser in
@@ -201,7 +203,7 @@ def render(ctx):
              "| level | h (mm) | h at the rim (mm) | nodes | C3D10 | Gmsh (s) | ccx (s) | ccx peak memory | held area (cm²) "
              "| reaction / weight | difference to next level |", "|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in fem:
-        lines.append(f"| {r['level']} | {1e3 * r['h_m']:.3g} | {1e3 * r['h_edge_m']:.3g} | {r['nodes']} | {r['elements']} | "
+        lines.append(f"| {r['level']} | {ps.size_text(r)} | {1e3 * r['h_edge_m']:.3g} | {r['nodes']} | {r['elements']} | "
                      f"{rl.seconds_text(r['mesh_s'])} | {rl.seconds_text(r['ccx_s'])} | {rl.bytes_text(r['ccx_peak_rss_bytes'])} | "
                      f"{1e4 * r['held_area_m2']:.2f} | {r['reaction_over_weight']:.4f} | {ps.pct(r.get('difference_to_next'))} |")
     lines += ["", "**bemsurg** (the same fine surface remeshed by Gmsh with edges of about h, the flat face kept with a rim "

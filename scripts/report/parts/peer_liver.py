@@ -35,6 +35,8 @@ import report_lib as rl  # noqa: E402
 NAME = "peer_liver"
 TITLE = "A second peer: the liver, hung and pressed"
 ORDER = 21
+# Its data also come from the CalculiX driver and the code both peers share (make_report.py, DATA_SOURCES).
+SOURCES = ("scripts/report/calculix_peer.py", "scripts/report/peer_support.py")
 
 MATERIAL = {"young": 5000.0, "poisson": 0.45, "density": 1060.0, "gravity": 9.81}  # examples/scenes/liver.json's tissue
 SURFACE_SUBDIVISIONS = 5
@@ -233,7 +235,7 @@ def render(ctx):
              "| level | h (mm) | nodes | C3D10 | Gmsh (s) | ccx (s) | peak memory | held area (cm²) | footprint (cm²) "
              "| forces / weight | footprint force (N) | difference to next level |", "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in fem:
-        lines.append(f"| {r['level']} | {1e3 * r['h_m']:.3g} | {r['nodes']} | {r['elements']} | {rl.seconds_text(r['mesh_s'])} | "
+        lines.append(f"| {r['level']} | {ps.size_text(r)} | {r['nodes']} | {r['elements']} | {rl.seconds_text(r['mesh_s'])} | "
                      f"{rl.seconds_text(r['ccx_s'])} | {rl.bytes_text(r['peak_rss_bytes'])} | {1e4 * r['held_area_m2']:.2f} | "
                      f"{1e4 * r['tool_area_m2']:.3f} | {r['reaction_over_weight']:.4f} | {r['tool_force_n']:.4f} | "
                      f"{ps.pct(r.get('difference_to_next'))} |")
