@@ -70,7 +70,7 @@ from pathlib import Path
 
 # Lowest first. A module may include only modules before it (docs/design.md, "Module order").
 ORDER = ["core", "mesh", "kernels", "quadrature", "solvers", "assembly", "elastostatics", "post",
-         "presolution", "cutting", "verification", "meshing", "haptics", "io", "options", "cli"]
+         "presolution", "cutting", "verification", "meshing", "haptics", "distributed", "io", "options", "cli"]
 # The modules usable from headers alone (the CMake target bemsurg::core, docs/design.md §1).
 HEADER_ONLY = ["core", "mesh", "kernels", "quadrature", "solvers", "assembly", "elastostatics", "post",
                "presolution", "cutting", "verification"]
@@ -99,7 +99,8 @@ CONSUMERS = {
 # Headers that gather others on purpose and so belong to no layer.
 AGGREGATORS = {"bemsurg.hpp"}
 # Modules whose header the umbrella leaves out, and why (docs/design.md, "Module order").
-NOT_IN_UMBRELLA = {"haptics": "a library of its own (bemsurg::haptics), linked only by device programs"}
+NOT_IN_UMBRELLA = {"haptics": "a library of its own (bemsurg::haptics), linked only by device programs",
+                   "distributed": "a library of its own (bemsurg::distributed, MPI and ScaLAPACK), linked only by programs run under mpirun"}
 # The roots of each part's include path (CMakeLists.txt, tests/ and benchmarks/CMakeLists.txt),
 # searched after the including file's own folder.
 INCLUDE_ROOTS = {"library": ("include", "src"), "tests": ("include", "src"),

@@ -12,6 +12,7 @@ packages=(
   libgmsh-dev   # the graded remesher (src/meshing/graded_remesher.cpp, optional: docs/graded.md)
   libcgal-dev   # mesh repair for `bemsurg prepare` (src/meshing/cgal_repair.cpp, optional: docs/organs.md)
   libhmat-oss-dev  # the hierarchical-matrix backend (src/elastostatics/hierarchical_solver.cpp, optional: docs/solvers.md; GPL-2.0-or-later)
+  libopenmpi-dev openmpi-bin libscalapack-openmpi-dev  # tables across MPI ranks and the scalapack solve (src/distributed/, optional: docs/distributed.md)
   locales       # de_DE.UTF-8 for the comma-decimal locale test (tests/test_locale.cpp)
   doxygen       # the API reference (target bemsurg_api_docs, docs/api/)
   clang-format  # the format check (scripts/check-structure.sh, .clang-format)

@@ -194,8 +194,13 @@ void write_report_json(const std::string& path, const RunResult& report) {
                   {"system", number(report.timings.system)}, {"solve", number(report.timings.solve)},
                   {"post", number(report.timings.post)},     {"total", number(report.timings.total)}};
   j["peak_memory_mb"] = number(report.peak_memory_mb);
+  j["ranks"] = report.ranks;
+  j["peak_memory_mb_per_rank"] = nlohmann::ordered_json::array();
+  for (double mb : report.peak_memory_mb_per_rank.empty() ? std::vector<double>{report.peak_memory_mb} : report.peak_memory_mb_per_rank)
+    j["peak_memory_mb_per_rank"].push_back(number(mb));
   const bool hierarchical = report.backend == SolverBackend::HMatrix;
-  j["solver"] = {{"method", hierarchical ? to_string(report.backend) : to_string(report.solver.method)},
+  const bool distributed = report.backend == SolverBackend::ScaLapack;
+  j["solver"] = {{"method", hierarchical || distributed ? to_string(report.backend) : to_string(report.solver.method)},
                  {"preconditioner", to_string(report.solver.preconditioner)},
                  {"iterations", report.solver.iterations},
                  {"status", to_string(report.solver.status)},
@@ -216,6 +221,17 @@ void write_report_json(const std::string& path, const RunResult& report) {
     j["backend"]["assembly_seconds"] = number(h.assembly_seconds);
     j["backend"]["factorization_seconds"] = number(h.factorization_seconds);
     j["backend"]["solve_seconds"] = number(h.solve_seconds);
+  }
+  if (distributed) {
+    const ScalapackResult& s = report.scalapack;
+    j["backend"]["process_grid"] = {s.process_rows, s.process_columns};
+    j["backend"]["block_size"] = s.block_size;
+    j["backend"]["local_rows"] = s.local_rows;
+    j["backend"]["local_columns"] = s.local_columns;
+    j["backend"]["assembly_seconds"] = number(s.assembly_seconds);
+    j["backend"]["factorization_seconds"] = number(s.factorization_seconds);
+    j["backend"]["solve_seconds"] = number(s.solve_seconds);
+    j["backend"]["gather_seconds"] = number(s.gather_seconds);
   }
   j["boundary_rules"] = nlohmann::ordered_json::array();
   for (const BoundaryRuleArea& r : report.boundary_rules) {

@@ -127,6 +127,9 @@ Index prepare_default_elements(const Scene& scene) {
 void require_solvable_size(const Scene& scene, const io::JsonReader& mesh, const std::string& directory) {
   const Index E = scene.problem.mesh.num_elements();
   const bool linear = scene.problem.elements == ElementType::Linear;
+  // A scalapack solve holds a rank's share of A*, which depends on the ranks of the run: the solve
+  // checks its rank's need itself (distributed/scalapack_solver.hpp).
+  if (scene.solver.backend == SolverBackend::ScaLapack) return;
   // The hierarchical backend's estimate where the scene asks for it or may get it ("auto": a mesh
   // too large for dense is solved hierarchically where that backend is built). A command that
   // computes a dense table checks its own need before it starts.

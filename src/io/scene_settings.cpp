@@ -52,12 +52,15 @@ LinearSolverOptions load_solver(const JsonReader& s) {
   if (const std::optional<JsonReader> v = s.optional("method")) {
     // "hmatrix": the hierarchical backend (docs/solvers.md, "Hierarchical matrices"), a direct H-LU.
     // "auto": dense LU or hmatrix, chosen per mesh by the command (choose_backend, hierarchical_solver.hpp).
+    // "scalapack": the dense LU split over MPI ranks (docs/distributed.md), one rank outside mpirun.
     if (v->is_string() && v->string() == to_string(SolverBackend::HMatrix))
       out.backend = SolverBackend::HMatrix;
+    else if (v->is_string() && v->string() == to_string(SolverBackend::ScaLapack))
+      out.backend = SolverBackend::ScaLapack;
     else if (v->is_string() && v->string() == "auto")
       out.automatic_backend = true;
     else
-      out.method = read_name(*v, parse_solver_method, "method", "lu, gmres, bicgstab, bicg, hmatrix or auto");
+      out.method = read_name(*v, parse_solver_method, "method", "lu, gmres, bicgstab, bicg, hmatrix, scalapack or auto");
   }
   if (const std::optional<JsonReader> v = s.optional("compression_tolerance")) {
     // Per far-field block, relative: below 1e-12 ACA+ works at round-off and stores little less than dense;

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "bemsurg/assembly/linear_system.hpp"
+#include "bemsurg/distributed/scalapack_solver.hpp"
 #include "bemsurg/elastostatics/hierarchical_solver.hpp"
 #include "bemsurg/io/boundary_rule_area.hpp"
 #include "bemsurg/mesh/triangle_mesh.hpp"
@@ -84,6 +85,11 @@ struct RunResult {
   SolverBackend backend = SolverBackend::Dense;  // hmatrix: `hierarchical` says what the backend did
   bool backend_automatic = false;                // chosen by "method": "auto" (report.json backend.chosen_by)
   HierarchicalResult hierarchical;
+  ScalapackResult scalapack;  // backend scalapack: the grid and the slowest rank's phases
+  /// Ranks of the run (1 outside mpirun) and each rank's peak resident memory in MiB, in rank order
+  /// (empty: one rank, peak_memory_mb).
+  int ranks = 1;
+  std::vector<double> peak_memory_mb_per_rank;
   std::vector<std::string> warnings;             // the scene's and the solve's (docs/stability.md), in that order
   std::vector<BoundaryRuleArea> boundary_rules;  // what each rule held (Scene::boundary_rules)
 };
@@ -95,11 +101,12 @@ using RunReport [[deprecated("renamed to RunResult in bemsurg 0.2")]] = RunResul
 double peak_memory_mb();
 
 /// report.json: {"element_type", "elements", "equations", "interior_points", "timings": {load, assembly, system,
-/// solve, post, total}, "peak_memory_mb", "solver": {method, preconditioner, iterations, status,
+/// solve, post, total}, "peak_memory_mb", "ranks", "peak_memory_mb_per_rank": [MiB per rank], "solver": {method, preconditioner, iterations, status,
 /// relative_residual, setup_seconds, solve_seconds}, "backend": {"name": "dense", "chosen_by"} or {"name": "hmatrix", "chosen_by",
 /// "compression_tolerance", "compression_ratio", "largest_rank", "stored_entries", "dense_entries",
 /// "leaves_full", "leaves_low_rank", "column_scale", "assembly_seconds", "factorization_seconds",
-/// "solve_seconds"}, "boundary_rules": [{"rule", "area", "region_area" (where the
+/// "solve_seconds"} or {"name": "scalapack", "chosen_by", "process_grid": [rows, columns], "block_size", "local_rows",
+/// "local_columns", "assembly_seconds", "factorization_seconds", "solve_seconds", "gather_seconds"}, "boundary_rules": [{"rule", "area", "region_area" (where the
 /// selectors describe a region), "conform", "refine_rim"}, ...], "warnings": [text, ...], "scene", "mesh", "bemsurg_version"}.
 void write_report_json(const std::string& path, const RunResult& report);
 

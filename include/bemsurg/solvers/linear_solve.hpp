@@ -16,12 +16,21 @@ namespace bemsurg {
 /// The method for A* x = b: direct LU, or a Krylov method (the paper's Table 1 re-solves).
 /// \ingroup solvers
 enum class SolverMethod { Lu, Gmres, BiCgStab, BiCg };
-/// Where the system lives (docs/solvers.md): dense (A* in full, the reference) or hierarchical (a
-/// compressed H-matrix, factorised by H-LU: elastostatics/hierarchical_solver.hpp, compiled component).
+/// Where the system lives (docs/solvers.md): dense (A* in full, the reference), hierarchical (a
+/// compressed H-matrix, factorised by H-LU: elastostatics/hierarchical_solver.hpp, compiled component)
+/// or split over MPI ranks (ScaLAPACK's block-cyclic dense LU: distributed/scalapack_solver.hpp,
+/// compiled component; docs/distributed.md).
 /// \ingroup solvers
-enum class SolverBackend { Dense, HMatrix };
-/// "dense", "hmatrix".
-inline const char* to_string(SolverBackend backend) { return backend == SolverBackend::HMatrix ? "hmatrix" : "dense"; }
+enum class SolverBackend { Dense, HMatrix, ScaLapack };
+/// "dense", "hmatrix", "scalapack".
+inline const char* to_string(SolverBackend backend) {
+  switch (backend) {
+    case SolverBackend::HMatrix: return "hmatrix";
+    case SolverBackend::ScaLapack: return "scalapack";
+    case SolverBackend::Dense: break;
+  }
+  return "dense";
+}
 
 /// The preconditioner of a Krylov method (docs/solvers.md).
 /// \ingroup solvers

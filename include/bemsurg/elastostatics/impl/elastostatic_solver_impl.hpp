@@ -88,7 +88,9 @@ BEMSURG_INLINE BoundarySolution centroid_values(const BoundarySolution& nodes) {
 BEMSURG_INLINE ElastostaticSolution solve_elastostatic(const ElastostaticProblem& problem, const LinearSolverOptions& solver) {
   if (solver.backend != SolverBackend::Dense)
     throw SolverError(std::string("solve_elastostatic is the dense backend; the solver asks for ") + to_string(solver.backend) +
-                      ": call solve_elastostatic_hierarchical (bemsurg/elastostatics/hierarchical_solver.hpp, bemsurg::hmatrix)");
+                      (solver.backend == SolverBackend::ScaLapack
+                           ? ": call solve_elastostatic_scalapack (bemsurg/distributed/scalapack_solver.hpp, bemsurg::distributed)"
+                           : ": call solve_elastostatic_hierarchical (bemsurg/elastostatics/hierarchical_solver.hpp, bemsurg::hmatrix)"));
   const Index E = problem.mesh.num_elements();
   const Index unknowns = 3 * nodes_per_element(problem.elements) * E;
   MemoryNeed memory;
