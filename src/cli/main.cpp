@@ -6,6 +6,7 @@
 #include <new>
 #include <string>
 
+#include "bemsurg/distributed/mpi_runtime.hpp"
 #include "bemsurg/error.hpp"
 #include "bemsurg/memory_budget.hpp"
 #include "bemsurg/number_text.hpp"
@@ -60,6 +61,12 @@ int main(int argc, char** argv) {
     // The sub-command sees itself as argv[0], like a program's main.
     // Cut steps replace whole table snapshots: reuse their memory (bemsurg/memory_budget.hpp).
     if (command == "cut" || command == "session") bemsurg::reuse_freed_memory();
+    // Under mpirun only table and solve share the work (docs/distributed.md); K copies of another
+    // command would each do all of it and write the same files.
+    if (command != "solve" && command != "table" && bemsurg::launcher_rank_count() > 1)
+      throw bemsurg::SolverError("bemsurg " + command + " runs as one process; under mpirun (" +
+                                 std::to_string(bemsurg::launcher_rank_count()) +
+                                 " ranks) only table and solve share the work (docs/distributed.md): run it without mpirun");
     if (command == "solve") return run_solve(argc - 1, argv + 1);
     if (command == "press") return run_press(argc - 1, argv + 1);
     if (command == "table") return run_table(argc - 1, argv + 1);

@@ -10,6 +10,8 @@
 #include <vector>
 
 #include "backend_choice.hpp"
+#include "bemsurg/distributed/mpi_runtime.hpp"
+#include "bemsurg/distributed/scalapack_solver.hpp"
 #include "bemsurg/elastostatics/elastostatic_solver.hpp"
 #include "bemsurg/elastostatics/hierarchical_solver.hpp"
 #include "bemsurg/io/results_io.hpp"
@@ -19,6 +21,7 @@
 #include "bemsurg/post/interior_evaluator.hpp"
 #include "bemsurg/timing.hpp"
 #include "commands.hpp"
+#include "on_ranks.hpp"
 
 namespace {
 
@@ -33,8 +36,11 @@ constexpr const char* kSolveUsage =
     "                 where the node variant of bc.csv gives prescribed values; docs/elements.md)\n"
     "  surface.vtk    the surface with displacement and traction fields\n"
     "  solved_mesh.obj  the mesh solved (after refine and remesh): the elements warnings name\n"
-    "  report.json    sizes, time per phase, peak memory, solver method, iterations and residual, and the\n"
-    "                 backend (dense, or hmatrix with its compression: docs/solvers.md)\n"
+    "  report.json    sizes, time per phase, peak memory (per rank), solver method, iterations and residual,\n"
+    "                 and the backend (dense, hmatrix with its compression, or scalapack with its process\n"
+    "                 grid: docs/solvers.md, docs/distributed.md)\n"
+    "\n"
+    "Under mpirun the scene's method must be \"scalapack\": the ranks share A* and rank 0 writes the outputs.\n"
     "\n"
     "The scene format is described in docs/scene-format.md.\n";
 
@@ -56,12 +62,16 @@ void print_held_areas(const bemsurg::Scene& scene) {
                 << "\n";
 }
 
-/// The run's last lines: the solver (or the hierarchical backend), the phases and what was written.
+/// The run's last lines: the solver (or the hierarchical or distributed backend), the phases and what was written.
 void print_summary(const bemsurg::RunResult& report, const std::filesystem::path& out, bool interior, bool linear) {
   using namespace bemsurg;
   const LinearSolveResult& s = report.solver;
   const HierarchicalResult& h = report.hierarchical;
-  if (report.backend == SolverBackend::HMatrix)
+  if (report.backend == SolverBackend::ScaLapack)
+    std::cout << std::setprecision(3) << "  scalapack: " << report.ranks << " rank(s) on a " << report.scalapack.process_rows << " x "
+              << report.scalapack.process_columns << " grid, pdgetrf " << report.scalapack.factorization_seconds << " s, relative residual "
+              << report.scalapack.relative_residual << "\n";
+  else if (report.backend == SolverBackend::HMatrix)
     std::cout << std::setprecision(3) << "  hmatrix: " << h.compression_ratio << " of dense storage, largest rank " << h.largest_rank
               << ", assembly " << h.assembly_seconds << " s, H-LU " << h.factorization_seconds << " s, relative residual "
               << h.relative_residual << "\n";
@@ -75,6 +85,9 @@ void print_summary(const bemsurg::RunResult& report, const std::filesystem::path
             << (linear ? ", " + (out / "corners.csv").string() + ", " + (out / "nodes.csv").string() : std::string()) << ", "
             << (out / "surface.vtk").string() << ", " << (out / "report.json").string() << "\n";
 }
+
+int solve_scene(const SolveOptions& options, const bemsurg::Scene& scene, const bemsurg::MpiRuntime& mpi,
+                bemsurg::SteadyClock::time_point start);
 
 }  // namespace
 
@@ -90,35 +103,65 @@ int run_solve(int argc, char** argv) {
     return 0;
   }
   const SteadyClock::time_point start = SteadyClock::now();
-
+  if (launcher_rank() != 0) options.quiet = true;  // rank 0 alone speaks
   const Scene scene = cli::with_chosen_backend(load_scene(options.scene), options.quiet, "bemsurg solve");
-  for (const std::string& w : scene.warnings) std::cerr << "bemsurg: warning: " << options.scene << ": " << w << "\n";
+  // MPI where the method needs it or mpirun started this process (docs/distributed.md).
+  const bool distributed = scene.solver.backend == SolverBackend::ScaLapack;
+  const MpiRuntime mpi(distributed);
+  if (!mpi.root()) options.quiet = true;
+  return cli::run_on_ranks(mpi, [&] { return solve_scene(options, scene, mpi, start); });
+}
+
+namespace {
+
+// long: the command's steps in the order a user sees them (warnings, outputs folder, the solve on
+// its backend, interior points, files, report); each is a few lines, and rank 0 alone does the last ones.
+int solve_scene(const SolveOptions& options, const bemsurg::Scene& scene, const bemsurg::MpiRuntime& mpi,
+                bemsurg::SteadyClock::time_point start) {
+  using namespace bemsurg;
+  const bool distributed = scene.solver.backend == SolverBackend::ScaLapack;
+  if (mpi.size() > 1 && !distributed)
+    throw SolverError(std::string("bemsurg solve runs on ") + std::to_string(mpi.size()) +
+                      " ranks (mpirun) only with \"method\": " + "\"scalapack\"; this scene's solver is " +
+                      (scene.solver.backend == SolverBackend::HMatrix ? "hmatrix" : to_string(scene.solver.method)) +
+                      " (run it without mpirun, or set solver.method to scalapack: docs/distributed.md)");
+  if (mpi.root())
+    for (const std::string& w : scene.warnings) std::cerr << "bemsurg: warning: " << options.scene << ": " << w << "\n";
   const SteadyClock::time_point loaded = SteadyClock::now();
 
   // Create the output directory before the (possibly long) solve, so a bad path fails at once.
+  // Rank 0 writes every output (the others may run on nodes that do not share its file system).
   namespace fs = std::filesystem;
-  std::error_code ec;
-  fs::create_directories(options.output, ec);
-  if (ec || !fs::is_directory(options.output))
-    throw IoError("cannot create the output directory '" + options.output +
-                  "': " + (ec ? ec.message() : std::string("a file of that name exists")));
-  // The mesh solved, before the solve: the element numbers of every warning refer to it.
-  write_obj((fs::path(options.output) / "solved_mesh.obj").string(), scene.problem.mesh);
+  if (mpi.root()) {
+    std::error_code ec;
+    fs::create_directories(options.output, ec);
+    if (ec || !fs::is_directory(options.output))
+      throw IoError("cannot create the output directory '" + options.output +
+                    "': " + (ec ? ec.message() : std::string("a file of that name exists")));
+    // The mesh solved, before the solve: the element numbers of every warning refer to it.
+    write_obj((fs::path(options.output) / "solved_mesh.obj").string(), scene.problem.mesh);
+  }
 
   const bool hierarchical = scene.solver.backend == SolverBackend::HMatrix;
   if (!options.quiet)
     std::cout << "bemsurg solve: " << scene.problem.mesh.num_elements() << " " << to_string(scene.problem.elements) << " elements, "
               << 3 * nodes_per_element(scene.problem.elements) * scene.problem.mesh.num_elements() << " equations, mesh "
               << scene.mesh_source << ", solver "
-              << (hierarchical ? std::string("hmatrix (compression tolerance ") + number_text(scene.solver.compression_tolerance) + ")"
-                               : std::string(to_string(scene.solver.method)))
+              << (hierarchical  ? std::string("hmatrix (compression tolerance ") + number_text(scene.solver.compression_tolerance) + ")"
+                  : distributed ? "scalapack on " + std::to_string(mpi.size()) + " rank(s)"
+                                : std::string(to_string(scene.solver.method)))
               << std::endl;
   if (!options.quiet) print_held_areas(scene);
 
-  // The dense backend (the reference) or the hierarchical one (docs/solvers.md, "Hierarchical matrices").
+  // The dense backend (the reference), the hierarchical one (docs/solvers.md, "Hierarchical matrices")
+  // or the dense LU split over the ranks (docs/distributed.md).
   HierarchicalResult backend;
-  const ElastostaticSolution solution = hierarchical ? solve_elastostatic_hierarchical(scene.problem, scene.solver, &backend)
-                                                     : solve_elastostatic(scene.problem, scene.solver);
+  ScalapackResult split;
+  const ElastostaticSolution solution = hierarchical  ? solve_elastostatic_hierarchical(scene.problem, scene.solver, &backend)
+                                        : distributed ? solve_elastostatic_scalapack(mpi, scene.problem, &split)
+                                                      : solve_elastostatic(scene.problem, scene.solver);
+  const std::vector<double> peaks = mpi.gather(peak_memory_mb());  // every rank's peak, before rank 0's post-processing
+  if (!mpi.root()) return 0;
   // A warning the scene gave at load already (slivers: "mesh: " + the same text) is not repeated.
   std::vector<std::string> solve_warnings;
   for (const std::string& w : solution.report.warnings)
@@ -163,6 +206,10 @@ int run_solve(int argc, char** argv) {
   report.backend = scene.solver.backend;
   report.backend_automatic = scene.solver.automatic_backend;
   report.hierarchical = backend;
+  report.scalapack = split;
+  report.ranks = mpi.size();
+  report.peak_memory_mb_per_rank = peaks;
+  report.peak_memory_mb_per_rank[0] = report.peak_memory_mb;  // rank 0's, after its post-processing
   report.boundary_rules = scene.boundary_rules;
   report.warnings = scene.warnings;
   report.warnings.insert(report.warnings.end(), solve_warnings.begin(), solve_warnings.end());
@@ -171,3 +218,5 @@ int run_solve(int argc, char** argv) {
   if (!options.quiet) print_summary(report, out, scene.has_interior_points, linear);
   return 0;
 }
+
+}  // namespace

@@ -2,7 +2,9 @@
 // `session` read with --table (docs/cli.md "bemsurg table"; issue 41, item 1). The
 // same region (the scene's operating_region, else every free element), backend (the scene's method;
 // "auto" chooses per mesh) and file format, key and checksum as theirs: src/cli/scene_table.hpp.
-// OUTDIR/report.json says what was computed and what it cost.
+// OUTDIR/report.json says what was computed and what it cost. Under mpirun the ranks share the
+// table's columns (issue 41, item 2; docs/distributed.md): each holds the factorisation, rank 0
+// gathers the columns and writes the same file a single process writes.
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -11,11 +13,14 @@
 #include <string>
 
 #include "backend_choice.hpp"
+#include "bemsurg/distributed/distributed_table.hpp"
+#include "bemsurg/distributed/mpi_runtime.hpp"
 #include "bemsurg/io/results_io.hpp"
 #include "bemsurg/io/scene.hpp"
 #include "bemsurg/number_text.hpp"
 #include "bemsurg/timing.hpp"
 #include "commands.hpp"
+#include "on_ranks.hpp"
 #include "scene_table.hpp"
 
 namespace {
@@ -28,7 +33,11 @@ constexpr const char* kTableUsage =
     "with --table (same format, key and checksum; an existing FILE is replaced).\n"
     "Writes OUTDIR/report.json: elements, equations, region_elements, columns, backend,\n"
     "compression_tolerance, the phases' seconds, seconds (the whole command), ranks,\n"
-    "peak_memory_mb_per_rank, table_file, table_bytes, warnings.\n";
+    "peak_memory_mb_per_rank, table_file, table_bytes, warnings; under mpirun also\n"
+    "columns_per_rank, factorization, slowest_rank_seconds, gather_seconds.\n"
+    "\n"
+    "Under mpirun -np K the K ranks share the columns; rank 0 writes FILE and OUTDIR\n"
+    "(docs/distributed.md).\n";
 
 struct TableOptions {
   std::string scene, table_file, output;
@@ -49,27 +58,61 @@ std::optional<TableOptions> parse_table(int argc, char** argv) {
   return o;
 }
 
+int table_on_ranks(const TableOptions& o, const bemsurg::MpiRuntime& mpi, bemsurg::SteadyClock::time_point t_start);
+
 }  // namespace
 
 int run_table(int argc, char** argv) {
   using namespace bemsurg;
   const std::optional<TableOptions> parsed = parse_table(argc, argv);
   if (!parsed) return 0;
-  const TableOptions& o = *parsed;
+  TableOptions o = *parsed;
+  if (launcher_rank() != 0) o.quiet = true;  // rank 0 alone speaks
   const auto t_start = SteadyClock::now();
+  const MpiRuntime mpi;  // several ranks when mpirun started this process
+  if (!mpi.root()) o.quiet = true;
+  return cli::run_on_ranks(mpi, [&] { return table_on_ranks(o, mpi, t_start); });
+}
+
+namespace {
+
+int table_on_ranks(const TableOptions& o, const bemsurg::MpiRuntime& mpi, bemsurg::SteadyClock::time_point t_start) {
+  using namespace bemsurg;
   const Scene scene = cli::with_chosen_backend(require_constant_elements(load_scene(o.scene), "bemsurg table"), o.quiet, "bemsurg table");
   if (!o.quiet)
     for (const auto& w : scene.warnings) std::cerr << "bemsurg: warning: " << w << "\n";
   std::error_code ec;
-  std::filesystem::create_directories(o.output, ec);
-  if (ec || !std::filesystem::is_directory(o.output))
-    throw IoError("cannot create the output directory '" + o.output +
-                  "': " + (ec ? ec.message() : std::string("a file of that name exists")));
-  const CachedGreensTable cached = cli::scene_table(scene, o.table_file, o.quiet, false, true);
+  if (mpi.root()) {
+    std::filesystem::create_directories(o.output, ec);
+    if (ec || !std::filesystem::is_directory(o.output))
+      throw IoError("cannot create the output directory '" + o.output +
+                    "': " + (ec ? ec.message() : std::string("a file of that name exists")));
+  }
+  DistributedTableReport shared;
+  CachedGreensTable cached;
+  if (mpi.size() == 1) {
+    cached = cli::scene_table(scene, o.table_file, o.quiet, false, true);
+  } else {
+    // A scalapack scene's table: the dense LU on every rank (the same table; docs/distributed.md).
+    LinearSolverOptions solver = scene.solver;
+    if (solver.backend == SolverBackend::ScaLapack) solver.backend = SolverBackend::Dense;
+    GreensTable computed = compute_greens_table_across_ranks(mpi, scene.problem, scene.operating_elements, solver, &shared);
+    if (mpi.root()) {
+      // Written as a single process writes it (same key, checksum and atomic rename).
+      TableCacheOptions options;
+      options.recompute = true;
+      options.backend = solver.backend;
+      options.compression_tolerance = solver.compression_tolerance;
+      options.compute = [&computed](const ElastostaticProblem&, const std::vector<Index>&, bool) { return std::move(computed); };
+      cached = load_or_compute_scene_table(scene, o.table_file, options);
+    }
+  }
+  const std::vector<double> peaks = mpi.gather(peak_memory_mb());
+  if (!mpi.root()) return 0;
   const GreensTable& table = cached.table;
   const PrecomputeTimings& t = table.timings();
   const double total = seconds_since(t_start);
-  const double peak = peak_memory_mb();
+  const double peak = peaks[0];
   nlohmann::json j;
   j["elements"] = table.num_elements();
   j["equations"] = table.num_dofs();
@@ -81,8 +124,14 @@ int run_table(int argc, char** argv) {
   j["factorization_seconds"] = t.factorization_seconds;
   j["table_seconds"] = t.table_seconds;
   j["seconds"] = total;  // the whole command
-  j["ranks"] = 1;
-  j["peak_memory_mb_per_rank"] = nlohmann::json::array({peak});
+  j["ranks"] = mpi.size();
+  j["peak_memory_mb_per_rank"] = peaks;
+  if (mpi.size() > 1) {
+    j["columns_per_rank"] = shared.columns_per_rank;
+    j["factorization"] = shared.factorization;
+    j["slowest_rank_seconds"] = shared.slowest_rank_seconds;
+    j["gather_seconds"] = shared.gather_seconds;
+  }
   j["table_file"] = o.table_file;
   j["table_bytes"] = std::filesystem::file_size(o.table_file, ec);
   j["warnings"] = table.warnings();
@@ -92,7 +141,10 @@ int run_table(int argc, char** argv) {
   if (!js) throw IoError("cannot write " + json_path);
   if (!o.quiet)
     std::cout << "table: " << table.num_elements() << " elements, " << table.columns().cols() << " columns (" << table.region().size()
-              << " region elements), backend " << to_string(table.key().backend) << "; " << fixed_text(total, 2) << " s, peak memory "
-              << fixed_text(peak, 0) << " MiB; wrote " << o.table_file << " and " << json_path << "\n";
+              << " region elements" << (mpi.size() > 1 ? ", " + std::to_string(mpi.size()) + " ranks" : std::string()) << "), backend "
+              << to_string(table.key().backend) << "; " << fixed_text(total, 2) << " s, peak memory " << fixed_text(peak, 0)
+              << " MiB; wrote " << o.table_file << " and " << json_path << "\n";
   return 0;
 }
+
+}  // namespace
