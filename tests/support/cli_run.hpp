@@ -70,16 +70,43 @@ struct CliRun {
   std::string out, err;
 };
 
-/// Runs the built program with `args` (already quoted), capturing stdout and stderr in `dir`.
-inline CliRun run_cli(const std::string& args, const TempDir& dir) {
+/// Runs `prefix` (a launcher and its options, or nothing) then the built program with `args` (already
+/// quoted), capturing stdout and stderr in `dir`.
+inline CliRun run_cli_prefixed(const std::string& prefix, const std::string& args, const TempDir& dir) {
   const std::string out = dir.file("stdout.txt"), err = dir.file("stderr.txt");
-  const std::string command = "'" + std::string(BEMSURG_CLI_PATH) + "' " + args + " >'" + out + "' 2>'" + err + "'";
+  const std::string command = prefix + "'" + std::string(BEMSURG_CLI_PATH) + "' " + args + " >'" + out + "' 2>'" + err + "'";
   const int status = std::system(command.c_str());
   CliRun r;
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   r.out = read_text(out);
   r.err = read_text(err);
   return r;
+}
+
+/// Runs the built program with `args` (already quoted), capturing stdout and stderr in `dir`.
+inline CliRun run_cli(const std::string& args, const TempDir& dir) { return run_cli_prefixed("", args, dir); }
+
+/// True when this build can launch the program on several MPI ranks (BEMSURG_MPIEXEC: tests/CMakeLists.txt).
+inline bool can_run_on_ranks() {
+#ifdef BEMSURG_MPIEXEC
+  return true;
+#else
+  return false;
+#endif
+}
+
+/// Runs the built program on `ranks` MPI ranks on this machine (mpiexec, one OpenMP and one BLAS
+/// thread per rank, allowed as root and beyond the cores: CI's container), capturing as run_cli does.
+/// Exit code -1 when this build has no MPI launcher.
+inline CliRun run_cli_on_ranks(int ranks, const std::string& args, const TempDir& dir) {
+#ifdef BEMSURG_MPIEXEC
+  return run_cli_prefixed("'" + std::string(BEMSURG_MPIEXEC) + "' -n " + std::to_string(ranks) +
+                              " --allow-run-as-root --oversubscribe -x OMP_NUM_THREADS=1 -x OPENBLAS_NUM_THREADS=1 ",
+                          args, dir);
+#else
+  (void)ranks, (void)args, (void)dir;
+  return CliRun{};
+#endif
 }
 
 }  // namespace bemsurg_test
