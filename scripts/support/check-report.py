@@ -27,6 +27,7 @@ REQUIRED = {
     "Precompute against n": "precompute against n",
     "Haptic force time and jitter": "the haptic distributions",
     "Preparing a segmentation: time and memory against input size": "prepare time and memory (issue 28)",
+    "Beyond one machine: tables and the dense solve on MPI ranks": "time and memory per rank (issue 41)",
     # The stability studies of issue 25 (docs/stability.md): one section each, named as in the issue.
     "(a) Poisson's ratio towards 0.5": "stability study (a)",
     "(b) Interior points approaching the surface": "stability study (b)",
