@@ -95,7 +95,10 @@ void assemble_local(const InfluenceAssembler& assembler, const BoundaryCondition
     for (Index j = 0; j < width; ++j) {
       const Index dof = g0 + j;
       const bool traction_known = bc.kind(dof) == BcKind::Traction;
-      A.col(c0 + j) = traction_known ? H.col(j) : Eigen::VectorXd(-G.col(j));
+      if (traction_known)  // no temporary per column: -G is written in place
+        A.col(c0 + j) = H.col(j);
+      else
+        A.col(c0 + j) = -G.col(j);
       const double value = bc.value(dof);
       if (value == 0.0) continue;
       for (Index i = 0; i < mloc; ++i) rhs(global_index(i, grid.my_row, grid.rows)) += traction_known ? G(i, j) * value : -H(i, j) * value;
