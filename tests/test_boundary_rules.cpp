@@ -251,7 +251,10 @@ TEST_CASE("refine_rim refines along the support's rim on both element types and 
     const BoundaryRuleArea& held = s.boundary_rules[0];
     CHECK(std::abs(held.area - held.region_area) <= 0.01 * held.region_area);
     CHECK(s.mesh_source.find("rim refined") < s.mesh_source.find("conformed"));
-    // Along the rim the elements (before the split) are 2^k times smaller than those they came from.
+    // Constant elements: the whole surface is refined once before the rim (refine_rim's note in
+    // scene_boundary_conditions.cpp says why; the sag is checked below).
+    CHECK(s.mesh_source.find("the whole surface refined once") < s.mesh_source.find("rim refined"));
+    // Along the rim the elements (before the split) are 2^(k + 1) times smaller than those they came from.
     REQUIRE(s.element_grading_size.size() == std::size_t(s.problem.mesh.num_elements()));
     double finest = 1.0, coarsest = 0.0;
     for (Index e = 0; e < s.problem.mesh.num_elements(); ++e) {
@@ -259,8 +262,8 @@ TEST_CASE("refine_rim refines along the support's rim on both element types and 
       finest = std::min(finest, r);
       coarsest = std::max(coarsest, r);
     }
-    CHECK(finest <= 1.01 / std::pow(2.0, k));
-    CHECK(coarsest <= 1.0 + 1e-12);
+    CHECK(finest <= 1.01 / std::pow(2.0, k + 1));
+    CHECK(coarsest <= 0.5 + 1e-12);  // every element refined at least once
     // The safe grading is no worse than the mesh's own: the refinement spread into the held side
     // as far as the rule needs (a band alone left the held elements 2^k times coarser than the
     // finest, which made a hung organ's error 2.2 times worse).
@@ -283,10 +286,21 @@ TEST_CASE("refine_rim refines along the support's rim on both element types and 
   CHECK(support_size_ratio(band.element_grading_size, held_of(band)) <= 1.1 * plain_ratio);
   // By their own sizes the grading would read steeper than the rule allows.
   CHECK(support_size_ratio(band.problem.mesh, held_of(band)) > std::max(kMaxSupportSizeRatio, 1.2 * plain_ratio));
-  for (const std::string type : {"constant", "linear"}) {
-    CAPTURE(type);
-    const Scene s = load_scene_from_string(hung_liver_scene(false, 1, type, "", 2), dir.path.string());
+  // The organ's mean sag (area-weighted u_z over the surface), and the support carrying the weight.
+  const auto sag_of = [&](const std::string& type, int rim) {
+    CAPTURE(type, rim);
+    const Scene s = load_scene_from_string(hung_liver_scene(false, rim, type, "", 2), dir.path.string());
     const ElastostaticSolution u = solve_elastostatic(s.problem);
     CHECK(support_force_z(s.problem.mesh, u.boundary) == Approx(1000.0 * 9.81 * s.problem.mesh.enclosed_volume()).epsilon(0.005));
-  }
+    double sag = 0.0;
+    for (Index e = 0; e < s.problem.mesh.num_elements(); ++e) sag += s.problem.mesh.area(e) * u.boundary.displacement(e, 2);
+    return sag / s.problem.mesh.total_area();
+  };
+  // Constant elements with the rim refined come closer to an independent answer, linear elements
+  // with the same rim refinement, than the unrefined constant elements (a rim refined alone moved
+  // them away: -0.078 m against -0.082 m unrefined and -0.124 m linear; with the whole surface
+  // refined first -0.095 m).
+  const double reference = sag_of("linear", 1), unrefined = sag_of("constant", 0), refined = sag_of("constant", 1);
+  CAPTURE(reference, unrefined, refined);
+  CHECK(std::abs(refined - reference) <= 0.8 * std::abs(unrefined - reference));
 }
