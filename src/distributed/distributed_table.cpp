@@ -85,10 +85,7 @@ GreensTable compute_greens_table_across_ranks(const MpiRuntime& mpi, const Elast
     throw InvalidArgumentError("compute_greens_table_across_ranks: tables take constant elements (a tool's traction acts on an element)");
   if (hierarchical && !hierarchical_backend_available())
     solve_elastostatic_hierarchical(problem, solver);  // throws, saying what is missing
-  if (problem.boundary_conditions.num_elements() != problem.mesh.num_elements())
-    throw BoundaryConditionError("GreensTable: the boundary conditions are for " +
-                                 std::to_string(problem.boundary_conditions.num_elements()) + " elements, the mesh has " +
-                                 std::to_string(problem.mesh.num_elements()));
+  GreensTable::require_conditions_for(problem.boundary_conditions, problem.mesh);
   std::vector<Index> elements = GreensTable::resolve_region(problem.boundary_conditions, region);
   const Index E = problem.mesh.num_elements(), n = 3 * E, R = static_cast<Index>(elements.size());
   const int K = mpi.size(), me = mpi.rank();

@@ -22,10 +22,7 @@ GreensTable hierarchical_table_on(std::shared_ptr<const ElastostaticProblem> own
                                   bool for_cuts) {
   const ElastostaticProblem& problem = *owned;
   if (!hierarchical_backend_available()) solve_elastostatic_hierarchical(problem, options);  // throws, saying what is missing
-  if (problem.boundary_conditions.num_elements() != problem.mesh.num_elements())
-    throw BoundaryConditionError("GreensTable: the boundary conditions are for " +
-                                 std::to_string(problem.boundary_conditions.num_elements()) + " elements, the mesh has " +
-                                 std::to_string(problem.mesh.num_elements()));
+  GreensTable::require_conditions_for(problem.boundary_conditions, problem.mesh);
   std::vector<Index> elements = GreensTable::resolve_region(problem.boundary_conditions, region);
   const Index E = problem.mesh.num_elements(), n = 3 * E, R = static_cast<Index>(elements.size());
   // The problem's one check (as GreensTable::compute runs it), with the hierarchical estimate (which

@@ -153,6 +153,9 @@ class GreensTable {
   /// element, in order; repeats dropped): BoundaryConditionError for an element out of range, not
   /// free, or no free element at all.
   static std::vector<Index> resolve_region(const BoundaryConditions& base, const std::vector<Index>& region);
+  /// BoundaryConditionError unless `base` has one condition per element of `mesh` (every backend's
+  /// table checks this first).
+  static void require_conditions_for(const BoundaryConditions& base, const TriangleMesh& mesh);
   /// A table from the solution of A* X = [G columns of the region's elements, R_bc + R_G] solved by
   /// another backend (presolution/hierarchical_table.hpp): `solution` is n x (3|region| + 1), the
   /// base state last; `region` as resolve_region returns it. The key records `backend` and

@@ -108,9 +108,7 @@ BEMSURG_INLINE GreensTable GreensTable::compute_on(std::shared_ptr<const Triangl
                                                    double memory_limit_bytes) {
   if (!mesh_ptr) throw InvalidArgumentError("GreensTable: no mesh");
   const TriangleMesh& mesh = *mesh_ptr;
-  if (base.num_elements() != mesh.num_elements())
-    throw BoundaryConditionError("GreensTable: the boundary conditions are for " + std::to_string(base.num_elements()) +
-                                 " elements, the mesh has " + std::to_string(mesh.num_elements()));
+  require_conditions_for(base, mesh);
   const Index E = mesh.num_elements();
   const Index n = 3 * E;
 
@@ -160,6 +158,12 @@ BEMSURG_INLINE GreensTable GreensTable::compute_on(std::shared_ptr<const Triangl
   table.set_columns_from_solution(std::move(B));
   table.build_slots();
   return table;
+}
+
+BEMSURG_INLINE void GreensTable::require_conditions_for(const BoundaryConditions& base, const TriangleMesh& mesh) {
+  if (base.num_elements() != mesh.num_elements())
+    throw BoundaryConditionError("GreensTable: the boundary conditions are for " + std::to_string(base.num_elements()) +
+                                 " elements, the mesh has " + std::to_string(mesh.num_elements()));
 }
 
 BEMSURG_INLINE std::vector<Index> GreensTable::resolve_region(const BoundaryConditions& base, const std::vector<Index>& region) {
