@@ -195,14 +195,19 @@ def verdict_text(organ, verdicts, bem, band):
     unreached = [f"{t:.0%}" for t, b, f in verdicts if not b]
     for t, b, f in loses:
         if b:
+            why = ("bemsurg's hierarchical solve still couples every element with every other (compressed blocks, "
+                   "a serial H-LU), where the sparse finite-element solve couples neighbours only"
+                   if b.get("backend") == "hmatrix" else
+                   "bemsurg's dense solve grows as n³ while the sparse finite-element solve grows far slower")
             out.append(f"At {t:.0%} CalculiX is {b['wall_s'] / f['total_s']:.2g} × quicker ({rl.seconds_text(f['total_s'])} "
-                       f"against {rl.seconds_text(b['wall_s'])}): bemsurg's dense solve grows as n³ while the sparse "
-                       "finite-element solve grows far slower.")
+                       f"against {rl.seconds_text(b['wall_s'])}): {why}.")
     if unreached:
         best = min(bem, key=lambda r: r["error_u"])
         out.append(f"None of bemsurg's configurations measured reaches {', '.join(unreached)} (its best: {best['label']}, "
-                   f"{best['error_u']:.2%}, {rl.bytes_text(best['peak_rss_bytes'])}): finer meshes than these are needed, "
-                   "and dense storage grows as n² (the hierarchical backend, issue 40, is the way to them).")
+                   f"{best['error_u']:.2%}, {rl.bytes_text(best['peak_rss_bytes'])}): finer meshes than these are needed"
+                   + (", which the hierarchical backend reaches at a memory that grows far slower than dense storage's n²."
+                      if any(r.get("backend") == "hmatrix" for r in bem) else
+                      ", and dense storage grows as n² (the hierarchical backend is the way to them)."))
     if band is not None:
         out.append(f"The reference's own error is about {band:.2%} (Richardson from its last three levels): "
                    "thresholds below it cannot be judged.")
