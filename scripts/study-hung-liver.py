@@ -86,7 +86,7 @@ def main():
     held = np.where(np.linalg.norm(v[f].mean(axis=1) - top, axis=1) <= PATCH_RADIUS)[0]
     surface = out / "surface.obj"  # the FE side's labelled copy: the patch as a surface of its own
     with open(surface, "w") as fh:
-        fh.writelines(f"v {x!r} {y!r} {z!r}\n" for x, y, z in v)
+        fh.writelines(f"v {float(x)!r} {float(y)!r} {float(z)!r}\n" for x, y, z in v)
         hs = set(held.tolist())
         for name, sel in (("free", [i for i in range(len(f)) if i not in hs]), ("held", sorted(hs))):
             fh.write(f"g {name}\n")

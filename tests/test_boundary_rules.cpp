@@ -250,10 +250,12 @@ TEST_CASE("refine_rim refines along the support's rim on both element types and 
     // The rim is refined before the split, which then still holds the region's area.
     const BoundaryRuleArea& held = s.boundary_rules[0];
     CHECK(std::abs(held.area - held.region_area) <= 0.01 * held.region_area);
-    CHECK(s.mesh_source.find("rim refined") < s.mesh_source.find("conformed"));
-    // Constant elements: the whole surface is refined once before the rim (refine_rim's note in
-    // scene_boundary_conditions.cpp says why; the sag is checked below).
-    CHECK(s.mesh_source.find("the whole surface refined once") < s.mesh_source.find("rim refined"));
+    const std::size_t rim_at = s.mesh_source.find("rules[0] rim refined (");
+    REQUIRE(rim_at != std::string::npos);
+    CHECK(rim_at < s.mesh_source.find("rules[0] conformed"));
+    // Constant elements: the whole surface is refined once before the rim
+    // (refine_surface_for_constant_rims in scene_rule_meshing.cpp says why; the sag is checked below).
+    CHECK(s.mesh_source.find("the whole surface refined once") < rim_at);
     // Along the rim the elements (before the split) are 2^(k + 1) times smaller than those they came from.
     REQUIRE(s.element_grading_size.size() == std::size_t(s.problem.mesh.num_elements()));
     double finest = 1.0, coarsest = 0.0;
@@ -275,6 +277,22 @@ TEST_CASE("refine_rim refines along the support's rim on both element types and 
   const Scene band = load_scene_from_string(hung_liver_scene(false, 2, "linear", "", 2), dir.path.string());
   require_valid_mesh(band.problem.mesh);
   CHECK(band.mesh_source.find("a band: linear elements") != std::string::npos);
+  CHECK(band.mesh_source.find("whole surface") == std::string::npos);  // linear elements: the rim alone
+  // The whole-surface step runs only for a displacement rule with a rim: not for a traction rule's
+  // refine_rim (its rim is refined alone), nor for a displacement rule holding the whole surface.
+  const Scene pulled = load_scene_from_string(
+      hung_liver_scene(false, 0, "constant",
+                       R"(, {"select": {"sphere": {"center": [-0.05, 0, 0], "radius": 0.03}}, "traction": [0, 0, -10], "refine_rim": 1})",
+                       2),
+      dir.path.string());
+  CHECK(pulled.mesh_source.find("rules[1] rim refined (") != std::string::npos);
+  CHECK(pulled.mesh_source.find("whole surface") == std::string::npos);
+  const Scene everywhere = load_scene_from_string(
+      R"({"mesh": {"generator": "liver", "subdivisions": 2}, "elements": "constant", "material": {"young_modulus": 3000, "poisson_ratio": 0.45},
+          "boundary_conditions": {"rules": [{"select": {"all": true}, "displacement": [0, 0, 0], "refine_rim": 1}]}})",
+      dir.path.string());
+  CHECK(everywhere.problem.mesh.num_elements() == plain.problem.mesh.num_elements());
+  CHECK(everywhere.mesh_source.find("whole surface") == std::string::npos);
   CHECK(spread.mesh_source.find("a band") == std::string::npos);
   CHECK(band.problem.mesh.num_elements() > plain.problem.mesh.num_elements());
   CHECK(band.problem.mesh.num_elements() < spread.problem.mesh.num_elements());
@@ -303,4 +321,20 @@ TEST_CASE("refine_rim refines along the support's rim on both element types and 
   const double reference = sag_of("linear", 1), unrefined = sag_of("constant", 0), refined = sag_of("constant", 1);
   CAPTURE(reference, unrefined, refined);
   CHECK(std::abs(refined - reference) <= 0.8 * std::abs(unrefined - reference));
+}
+
+TEST_CASE("A rule's refinement that outgrows memory is refused, naming the rules' keys", "[rules][refine_rim][scene]") {
+  // 5,120 constant elements, the whole surface refined once and the rim four levels: past 10^5
+  // elements, a dense solve of about a terabyte on any machine.
+  bemsurg_test::TempDir dir("bemsurg_test_rules_");
+  try {
+    (void)load_scene_from_string(hung_liver_scene(false, 4, "constant", "", 4), dir.path.string());
+    FAIL("no refusal");
+  } catch (const ResourceError& e) {
+    const std::string what = e.what();
+    CAPTURE(what);
+    CHECK(what.rfind("boundary_conditions.rules: \"refine_rim\"", 0) == 0);
+    CHECK(what.find("made the mesh of 5120 elements") != std::string::npos);
+    CHECK(what.find("the whole surface once first") != std::string::npos);
+  }
 }

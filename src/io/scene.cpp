@@ -5,6 +5,7 @@
 // ("boundary_conditions.rules[1].select.plane.normal") or the file and line.
 #include "bemsurg/io/scene.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -140,6 +141,15 @@ void require_solvable_size(const Scene& scene, const io::JsonReader& mesh, const
   if (need <= limit) return;
   const std::string fits = std::string(hierarchical ? "the hierarchical solve needs about " : "the dense solve needs about ") +
                            format_gib(need) + ", more than the limit of " + format_gib(limit) + " (80 % of physical memory)";
+  if (!scene.element_origin.empty()) {  // the rules' splits made it too large: their keys are at fault
+    const Index given = *std::max_element(scene.element_origin.begin(), scene.element_origin.end()) + 1;
+    throw ResourceError("boundary_conditions.rules: \"refine_rim\" and \"conform\" made the mesh of " + std::to_string(given) +
+                        " elements " + std::to_string(E) + (linear ? " linear" : "") + " elements (" +
+                        std::to_string(3 * nodes_per_element(scene.problem.elements) * E) + " unknowns); " + fits +
+                        "; ask for fewer refine_rim levels" +
+                        (linear ? "" : " (with constant elements refine_rim refines the whole surface once first)") +
+                        (hierarchical ? "" : ", or solve with \"method\": \"auto\" or \"hmatrix\""));
+  }
   if (mesh.has("prepare") && !scene.graded) {  // the prepared mesh is too large: its target is at fault
     const io::JsonReader p = mesh.required("prepare");
     throw ResourceError(p.path() + ": the prepared mesh has " + std::to_string(E) + " elements (" +

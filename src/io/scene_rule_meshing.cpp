@@ -2,6 +2,7 @@
 // (docs/scene-format.md, "What a rule holds"; docs/graded.md, "Rim refinement").
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -51,34 +52,43 @@ std::string conform_rule(const JsonReader& rule, std::size_t index, std::vector<
          (split.refinement_levels > 0 ? ", " + std::to_string(split.refinement_levels) + " red-green levels along the boundary" : "") + ")";
 }
 
-/// Whether rule `r` has a rim to refine: a boundary between its elements and the rest, or the
-/// boundary of its conforming region.
 namespace {
 
-bool has_rim(const Rule& r) {
-  if (r.conform) return true;
-  const bool any = std::find(r.selected.begin(), r.selected.end(), 1) != r.selected.end();
-  const bool all = std::find(r.selected.begin(), r.selected.end(), 0) == r.selected.end();
-  return any && !all;
+/// The elements along rule `r`'s rim: either side of an edge between its elements and the rest
+/// and, for a conforming rule, those its region's boundary crosses. None: the rule has no rim.
+std::vector<char> rim_elements(const Rule& r, const TriangleMesh& mesh, const MeshTopology& topology) {
+  const Index E = mesh.num_elements();
+  std::vector<char> marked(static_cast<std::size_t>(E), 0);
+  for (Index e = 0; e < E; ++e)
+    for (Index g : topology.neighbours(e))
+      if (g >= 0 && r.selected[std::size_t(g)] != r.selected[std::size_t(e)]) marked[std::size_t(e)] = 1;
+  if (r.conform)
+    for (Index e = 0; e < E; ++e) {
+      const std::array<Vec3, 3> c = mesh.corners(e);
+      const double inside = triangle_area_inside(c[0], c[1], c[2], *r.conform);
+      if (inside > 1e-12 * mesh.area(e) && inside < (1.0 - 1e-12) * mesh.area(e)) marked[std::size_t(e)] = 1;
+    }
+  return marked;
 }
+
+bool any_marked(const std::vector<char>& marked) { return std::find(marked.begin(), marked.end(), 1) != marked.end(); }
 
 }  // namespace
 
-/// Constant elements, a displacement rule with "refine_rim": the whole surface is refined red once
-/// before any rim is. Why: a coarse organ held on constant elements is close to right only by a
-/// cancellation, its clamp too soft by about as much as its free surface is too stiff, so a rim
-/// refined alone makes it stiffer and the error larger (2.6 % unrefined, 3.9 % and 5.2 % with one
-/// and two rim levels on issue 38's prepared liver), and so does refining a region around the
-/// support (3.7 to 5.2 % with the surface within 35 mm of the rim refined too). Refining everything
-/// once first removes most of the free surface's error, and the rim levels then lower the error
-/// (1.0 % and 1.5 %: docs/graded.md, "Rim refinement"). Returns the mesh source line's text, empty
-/// when no rule asks for it.
+/// Constant elements, a displacement rule with "refine_rim" and a rim: the whole surface is refined
+/// red once before any rim is. Why: a coarse organ held on constant elements is close to right only
+/// by a cancellation, its clamp too soft by about as much as its free surface is too stiff, so
+/// refining the rim alone makes it stiffer and the error larger, and so does refining a region
+/// around the support; refining everything once first removes most of the free surface's error,
+/// and the rim levels then lower the error (issue 38's hung liver: docs/graded.md, "Rim
+/// refinement", has the table). Returns the mesh source line's text, empty when no rule asks for it.
 std::string refine_surface_for_constant_rims(std::vector<Rule>& rules, TriangleMesh& mesh, std::vector<Index>& origin,
                                              ElementType elements) {
   if (elements != ElementType::Constant) return {};
   std::string asked;
+  const MeshTopology topology(mesh);
   for (std::size_t i = 0; i < rules.size(); ++i)
-    if (rules[i].refine_rim > 0 && rules[i].holds_displacement() && has_rim(rules[i]))
+    if (rules[i].refine_rim > 0 && rules[i].holds_displacement() && any_marked(rim_elements(rules[i], mesh, topology)))
       asked += (asked.empty() ? "" : ", ") + ("rules[" + std::to_string(i) + "]");
   if (asked.empty()) return {};
   const Index E = mesh.num_elements();
@@ -90,7 +100,7 @@ std::string refine_surface_for_constant_rims(std::vector<Rule>& rules, TriangleM
   mesh = kept.mesh;
   return "the whole surface refined once (" + std::to_string(E) + " -> " + std::to_string(mesh.num_elements()) +
          " elements) before the rim of " + asked +
-         ": constant elements, where a rim refined alone stiffens a coarse organ (docs/graded.md, Rim refinement)";
+         ": constant elements, where refining the rim alone stiffens a coarse organ (docs/graded.md, Rim refinement)";
 }
 
 /// "refine_rim": k red-green levels on the elements either side of the rule's rim (the edges
@@ -117,20 +127,11 @@ std::string refine_rule_rim(std::size_t index, std::vector<Rule>& rules, Triangl
   const Rule& r = rules[index];
   const MeshTopology topology(mesh);
   const Index E = mesh.num_elements();
-  std::vector<char> marked(static_cast<std::size_t>(E), 0), held(static_cast<std::size_t>(E), 0);
-  for (Index e = 0; e < E; ++e)
-    for (Index g : topology.neighbours(e))
-      if (g >= 0 && r.selected[std::size_t(g)] != r.selected[std::size_t(e)]) marked[std::size_t(e)] = 1;
-  if (r.conform)
-    for (Index e = 0; e < E; ++e) {
-      const std::array<Vec3, 3> c = mesh.corners(e);
-      const double inside = triangle_area_inside(c[0], c[1], c[2], *r.conform);
-      if (inside > 1e-12 * mesh.area(e) && inside < (1.0 - 1e-12) * mesh.area(e)) marked[std::size_t(e)] = 1;
-    }
+  std::vector<char> marked = rim_elements(r, mesh, topology), held(static_cast<std::size_t>(E), 0);
   for (const Rule& other : rules)
     if (other.holds_displacement())
       for (Index e = 0; e < E; ++e) held[std::size_t(e)] = held[std::size_t(e)] || other.selected[std::size_t(e)];
-  if (std::find(marked.begin(), marked.end(), 1) == marked.end()) return {};  // no rim: nothing to refine
+  if (!any_marked(marked)) return {};  // no rim: nothing to refine
   const bool spread = elements == ElementType::Constant;
   const double allowed = std::max(kMaxSupportSizeRatio, 1.05 * support_size_ratio(mesh, held));
   int rings = 0;

@@ -64,7 +64,8 @@ struct LoadedBoundaryConditions {
 /// mesh solved; the rules' and rows' elements carry over to the pieces). The values are the
 /// elements' (at the centroids, the mean of the corners' or nodes'). `as_read` is the mesh before
 /// any remesh, on which the rules' regions are measured ("region_area"); `elements`, the scene's
-/// element type, decides how far "refine_rim" spreads.
+/// element type, decides how far "refine_rim" spreads and whether it refines the whole surface first
+/// (constant elements; scene_rule_meshing.cpp).
 LoadedBoundaryConditions load_boundary_conditions(const JsonReader& conditions, const std::string& directory, TriangleMesh& mesh,
                                                   const TriangleMesh& as_read, ElementType elements);
 

@@ -58,8 +58,9 @@ struct Scene {
   /// the rules' splits). Empty when no rule changed the mesh.
   std::vector<Index> element_origin;
   /// The size (mean edge length) each solved element counts with in the safe-grading rule: its
-  /// own, or for a piece of a conforming split the size of the element it was cut from. Empty
-  /// when no rule changed the mesh (every element counts with its own).
+  /// own, or for a piece of a conforming split or a linear rim band the size of the element it was
+  /// cut from. Empty when every element counts with its own (no rule changed the mesh, or only
+  /// constant elements' refine_rim did).
   std::vector<double> element_grading_size;
 
   /// The scene file as given and the directory relative paths in it are resolved against.
