@@ -286,6 +286,70 @@ TEST_CASE("a cut step's first response is exact on the tools' reach and complete
   CHECK_THROWS_AS(elements_within_reach(*table->mesh(), table->region(), {Vec3(0, 0, 0)}, -1.0), InvalidArgumentError);
 }
 
+TEST_CASE("over an explicit inverse a cut step's first response is exact on the rows within reach", "[cut][table]") {
+  // GreensTableOptions::explicit_inverse (solvers/explicit_inverse.hpp; docs/cutting.md, "First
+  // response on the rows within reach"): the first response solves nothing and is exact on the rows
+  // and columns of the elements within reach (against the complete table); the complete table, which
+  // reuses the first response's V_s^T A0^-1, equals the table computed from scratch after every step.
+  const Body body(box_mesh(Vec3(0, 0, 0), Vec3(1, 1, 0.5), 4, 4, 2));
+  GreensTableOptions options = body.options(body.top);
+  options.explicit_inverse = true;
+  auto table = std::make_shared<const GreensTable>(GreensTable::compute(body.mesh, body.material, body.base, options));
+  REQUIRE(table->solver()->has_rows());
+  CHECK(table->timings().inversion_seconds > 0.0);
+  std::mt19937 rng(139);
+  std::vector<Index> candidates = body.top;
+  double worst_rows = 0.0, worst_base = 0.0, worst_scratch = 0.0, stale = 0.0;
+  for (int step = 0; step < 5; ++step) {
+    const SyntheticStep s =
+        step == 3 ? bemsurg::testing::move_vertex(*table->mesh(), table->mesh()->faces()(candidates[2], 0), Vec3(0.0, 0.0, -0.04))
+                  : bemsurg::testing::random_split(*table->mesh(), candidates, 0.1, rng);
+    for (Index e : s.delta.added) candidates.push_back(e);
+    CutChange change = integrate_cut_change(*table->mesh(), *s.mesh, s.delta, table->material(), table->quadrature(), table->gravity());
+    const CutTableStep cut(table, s.mesh, s.delta, std::move(change));
+    const std::vector<Index> changed = s.delta.changed();
+    const Vec3 tool = s.mesh->centroid(changed.front());
+    const std::vector<Index> reach = elements_within_reach(*s.mesh, cut.region(), {tool}, 0.3);
+    REQUIRE(!reach.empty());
+    REQUIRE(reach.size() < cut.region().size());
+    GreensTableUpdateResult first_report;
+    const auto first = cut.first_response(reach, &first_report);
+    CHECK(first->stale_outside_region());
+    CHECK(first_report.solve_columns == 0);  // no triangular solve: one GEMM with the inverse
+    CHECK(first->region() == reach);
+    const auto complete = cut.complete();
+    CHECK_FALSE(complete->stale_outside_region());
+    REQUIRE(complete->solver()->has_rows());
+    const double scale = complete->columns().cwiseAbs().maxCoeff();
+    const double base_scale = complete->base_displacement().cwiseAbs().maxCoeff();
+    for (Index e : reach)
+      for (Index f : reach)
+        for (int a = 0; a < 3; ++a)
+          for (int b = 0; b < 3; ++b) {
+            const double x = first->columns()(3 * f + b, 3 * first->region_slot(e) + a);
+            const double y = complete->columns()(3 * f + b, 3 * complete->region_slot(e) + a);
+            worst_rows = std::max(worst_rows, std::abs(x - y) / scale);
+          }
+    for (Index f : reach)
+      for (int b = 0; b < 3; ++b)
+        worst_base =
+            std::max(worst_base, std::abs(first->base_displacement()(3 * f + b) - complete->base_displacement()(3 * f + b)) / base_scale);
+    // Outside the reach the first response is the table before the step: it differs (the test would
+    // not see a first response that is the complete table).
+    stale = std::max(stale, relative_max(first->base_displacement(), complete->base_displacement()));
+    worst_scratch = std::max(worst_scratch, table_difference(*complete, from_scratch(*complete, body)));
+    table = complete;
+  }
+  INFO("rows within reach vs complete: " << worst_rows << ", base state " << worst_base << ", complete vs scratch " << worst_scratch
+                                         << ", outside the reach " << stale);
+  CHECK(worst_rows <= kCut);
+  CHECK(worst_base <= kCut);
+  CHECK(worst_scratch <= kCut);
+  CHECK(stale > 1e3 * kCut);
+  WARN("explicit inverse: rows within reach vs complete " << worst_rows << ", base state " << worst_base << ", complete vs scratch "
+                                                          << worst_scratch << ", outside the reach " << stale);
+}
+
 TEST_CASE("a table update that reshapes supported elements equals the table computed from scratch", "[cut][table]") {
   // The cutter never reshapes a supported element, but GreensTable::updated takes any delta: the
   // rows of supported dofs hold reactions (kept apart from the columns), and must enter the

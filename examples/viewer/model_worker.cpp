@@ -492,6 +492,7 @@ void ModelWorker::do_precompute() {
   options.gravity = g;
   options.quadrature = p.quadrature;
   options.region = operating;
+  options.explicit_inverse = true;  // the viewer cuts in two phases: first responses read rows of A*^-1 (docs/cutting.md)
   const double t0 = now_seconds();
   // The shared-mesh forms keep the factorisation and the mesh, so cuts can update the table.
   std::shared_ptr<const GreensTable> table;
@@ -509,7 +510,7 @@ void ModelWorker::do_precompute() {
   const PrecomputeTimings& t = table->timings();
   const double e = double(p.mesh.num_elements()), n = 3.0 * e, mm = 3.0 * double(table->region().size());
   if (!hierarchical && t.assembly_seconds > 0.0) c_assembly_ = t.assembly_seconds / (e * e);
-  if (!hierarchical && t.factorization_seconds > 0.0) c_factor_ = t.factorization_seconds / (n * n * n);
+  if (!hierarchical && t.factorization_seconds > 0.0) c_factor_ = (t.factorization_seconds + t.inversion_seconds) / (n * n * n);
   if (!hierarchical && t.table_seconds > 0.0) c_table_ = t.table_seconds / (n * n * mm);
   cut_system_.reset();  // a new reference: the next cut step starts from it
   reference_ = table;

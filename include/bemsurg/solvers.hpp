@@ -9,6 +9,7 @@
 /// - bicgstab.hpp
 /// - block_jacobi_preconditioner.hpp
 /// - dense_lu.hpp
+/// - explicit_inverse.hpp
 /// - gmres.hpp
 /// - identity_preconditioner.hpp
 /// - krylov_options.hpp
@@ -27,6 +28,7 @@
 #include "bemsurg/solvers/bicgstab.hpp"
 #include "bemsurg/solvers/block_jacobi_preconditioner.hpp"
 #include "bemsurg/solvers/dense_lu.hpp"
+#include "bemsurg/solvers/explicit_inverse.hpp"
 #include "bemsurg/solvers/gmres.hpp"
 #include "bemsurg/solvers/identity_preconditioner.hpp"
 #include "bemsurg/solvers/krylov_options.hpp"

@@ -15,11 +15,13 @@ namespace bemsurg::cli {
 /// updated after cuts, so it is computed even when a matching file exists, with its factorisation kept. A
 /// scene whose solver method is "hmatrix" computes (and keys) its table on the hierarchical backend
 /// (bemsurg::hmatrix); its cuts update the kept H-LU.
-/// `recompute`: compute and replace the file even when it matches (`bemsurg table`).
+/// `recompute`: compute and replace the file even when it matches (`bemsurg table`). `explicit_inverse`: a
+/// dense table for cuts keeps A*^-1 (cuts in two phases: sessions; docs/cutting.md).
 inline CachedGreensTable scene_table(const Scene& scene, const std::string& table_file, bool quiet, bool for_cuts = false,
-                                     bool recompute = false) {
+                                     bool recompute = false, bool explicit_inverse = false) {
   TableCacheOptions options;
   options.for_cuts = for_cuts;
+  options.explicit_inverse = explicit_inverse;
   options.recompute = recompute;
   if (scene.solver.backend == SolverBackend::HMatrix) {
     options.backend = SolverBackend::HMatrix;

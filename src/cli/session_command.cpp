@@ -177,7 +177,7 @@ int run_session(int argc, char** argv) {
   bemsurg::write_obj((std::filesystem::path(output) / "solved_mesh.obj").string(), p.mesh);
   // The table: loaded when a matching file is given, else computed on the operating region
   // (and saved when asked): src/cli/scene_table.hpp.
-  bemsurg::CachedGreensTable cached = bemsurg::cli::scene_table(scene, table_file, quiet, script.has_cuts());
+  bemsurg::CachedGreensTable cached = bemsurg::cli::scene_table(scene, table_file, quiet, script.has_cuts(), false, script.has_cuts());
   bemsurg::GreensTable& table = cached.table;
   const bool loaded = cached.loaded_from_file;
   auto mesh_ptr = std::make_shared<const bemsurg::TriangleMesh>(p.mesh);

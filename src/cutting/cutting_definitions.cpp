@@ -6,6 +6,7 @@
 
 #include "bemsurg/cutting/impl/cut_checks_impl.hpp"
 #include "bemsurg/cutting/impl/cut_groove_impl.hpp"
+#include "bemsurg/cutting/impl/cut_table_step_impl.hpp"
 #include "bemsurg/cutting/impl/cut_work_impl.hpp"
 #include "bemsurg/cutting/impl/surface_cutter_impl.hpp"
 #include "bemsurg/cutting/impl/table_update_impl.hpp"

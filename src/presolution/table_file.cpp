@@ -215,7 +215,8 @@ CachedGreensTable load_or_compute_greens_table(const ElastostaticProblem& proble
       out.warnings.push_back(std::string(e.what()) + "; recomputing");
     }
   }
-  out.table = options.compute ? options.compute(problem, region, options.for_cuts) : GreensTable::compute(problem, region);
+  out.table = options.compute ? options.compute(problem, region, options.for_cuts)
+                              : GreensTable::compute(problem, region, 0.0, options.for_cuts && options.explicit_inverse);
   if (options.for_cuts && !out.table.has_factorization())
     throw SolverError("load_or_compute_greens_table: the " + std::string(to_string(options.backend)) +
                       " backend's table kept no factorisation, which the exact updates after a cut need");

@@ -130,5 +130,6 @@ std::shared_ptr<const GreensTable> recomputed_table_after(const GreensTable& tab
 
 // Definitions (header-only: the numerical core needs no compiled library, docs/design.md).
 #ifndef BEMSURG_SEPARATE_COMPILATION  // else compiled once by the library (bemsurg/config.hpp)
+#include "bemsurg/cutting/impl/cut_table_step_impl.hpp"
 #include "bemsurg/cutting/impl/table_update_impl.hpp"
 #endif

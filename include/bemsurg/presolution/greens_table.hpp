@@ -56,6 +56,10 @@ struct GreensTableOptions {
   QuadratureOptions quadrature;
   /// Refuse (ResourceError) when the estimate exceeds this many bytes; 0 = 80 % of physical memory.
   double memory_limit_bytes = 0.0;
+  /// Keep A*^-1 itself (solvers/explicit_inverse.hpp) instead of its LU, for tables that will be cut:
+  /// a cut's first response then reads rows of it (docs/cutting.md, "First response on the rows
+  /// within reach"). Costs dgetri's 4/3 n^3 flops at precompute in the LU's storage (no more memory).
+  bool explicit_inverse = false;
 };
 
 /// Wall-clock seconds of the three phases of the one-time precomputation.
@@ -64,6 +68,7 @@ struct PrecomputeTimings {
   double assembly_seconds = 0.0;       // H, G, gravity, A* and the right-hand sides
   double factorization_seconds = 0.0;  // LU of A* (LAPACK dgetrf when BLAS is linked)
   double table_seconds = 0.0;          // multi-right-hand-side back-substitution (dgetrs)
+  double inversion_seconds = 0.0;      // A*^-1 from the LU (dgetri), when the table keeps it (GreensTableOptions::explicit_inverse)
 };
 
 /// What a table was computed for, to identify its file: a saved table is used only when all of it matches. The
@@ -137,11 +142,13 @@ class GreensTable {
   /// physical memory), BoundaryConditionError for an unsupported body or a region element that is
   /// not free, InvalidMaterialError, InvalidArgumentError for linear elements, SolverError for a
   /// singular A*.
-  static GreensTable compute(const ElastostaticProblem& problem, const std::vector<Index>& region = {}, double memory_limit_bytes = 0.0);
+  /// `explicit_inverse`: as GreensTableOptions::explicit_inverse.
+  static GreensTable compute(const ElastostaticProblem& problem, const std::vector<Index>& region = {}, double memory_limit_bytes = 0.0,
+                             bool explicit_inverse = false);
   /// The same for a mesh snapshot shared with its other users (no copy of the mesh kept;
   /// problem.mesh is not read).
   static GreensTable compute(std::shared_ptr<const TriangleMesh> mesh, const ElastostaticProblem& problem,
-                             const std::vector<Index>& region = {}, double memory_limit_bytes = 0.0);
+                             const std::vector<Index>& region = {}, double memory_limit_bytes = 0.0, bool explicit_inverse = false);
   /// The same from its parts (GreensTableOptions carries region, gravity, quadrature and the limit).
   static GreensTable compute(const TriangleMesh& mesh, const Material& material, const BoundaryConditions& base,
                              const GreensTableOptions& options = {});
@@ -187,6 +194,10 @@ class GreensTable {
   std::uint64_t version() const { return version_; }
   /// True when the table kept what a cut update (updated_table) needs (computed, not read from a file).
   bool has_factorization() const { return solver_ != nullptr && mesh_ != nullptr; }
+  /// True for a cut's first response on the rows within reach (cutting/table_update.hpp): exact on
+  /// its region's elements (their rows of its columns and of the base state), the table before the
+  /// step elsewhere, until the complete table follows. False for every complete table.
+  bool stale_outside_region() const { return stale_outside_region_; }
   /// The mesh the table was computed for (null for a table read from a file).
   const std::shared_ptr<const TriangleMesh>& mesh() const { return mesh_; }
   /// The solver of A* (the kept LU plus the low-rank correction of the cuts since); null when none.
@@ -252,7 +263,7 @@ class GreensTable {
   friend struct detail::GreensTableParts;
   static GreensTable compute_on(std::shared_ptr<const TriangleMesh> mesh, const Material& material, const BoundaryConditions& base,
                                 const Eigen::Vector3d& gravity, const QuadratureOptions& quadrature, const std::vector<Index>& region,
-                                double memory_limit_bytes);
+                                double memory_limit_bytes, bool explicit_inverse = false);
   void build_slots();
   /// Base displacement and traction from the solution x of A* x = b (u on traction dofs, t on
   /// displacement dofs) and the prescribed values of `bc`.
@@ -269,6 +280,7 @@ class GreensTable {
   PrecomputeTimings timings_;
   // Kept for the cut updates (cutting/table_update.hpp) (empty for a table read from a file).
   std::uint64_t version_ = 0;
+  bool stale_outside_region_ = false;
   std::shared_ptr<const TriangleMesh> mesh_;
   std::shared_ptr<const LowRankUpdatedLu> solver_;
   TableRecompute recompute_;  // empty: the dense LU

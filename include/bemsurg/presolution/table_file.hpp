@@ -37,6 +37,9 @@ struct TableCacheOptions {
   /// Compute even when a matching file exists: the table will be updated after cuts, which needs the
   /// factorisation a file does not keep.
   bool for_cuts = false;
+  /// With for_cuts on the dense backend: keep A*^-1 instead of its LU (GreensTableOptions::explicit_inverse),
+  /// for work that cuts in two phases (sessions, the viewer), whose first response then reads rows of it.
+  bool explicit_inverse = false;
   /// Compute even when a matching file exists, and replace it (`bemsurg table`: the file is the product).
   bool recompute = false;
   /// Save a computed table to the file (written to a private name and renamed into place, so processes that

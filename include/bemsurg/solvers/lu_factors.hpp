@@ -11,6 +11,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/LU>
+#include <algorithm>
 #include <string>
 #include <utility>
 #include <vector>
@@ -68,6 +69,31 @@ class LuFactors : public SystemFactorization {
   /// Bytes held: n^2 doubles and n pivots.
   std::size_t bytes() const override { return static_cast<std::size_t>(lu_.size()) * sizeof(double) + pivots_.size() * sizeof(int); }
   const Eigen::MatrixXd& factors() const { return lu_; }
+
+  /// A^-1, computed in the factors' own storage (LAPACK dgetri, 4/3 n^3 flops; without BLAS, Eigen
+  /// solves the identity): the factorisation is used up (solvers/explicit_inverse.hpp).
+  Eigen::MatrixXd inverse_in_place() && {
+    const Index n = size();
+    if (n == 0) throw SolverError("LuFactors::inverse_in_place: no factorisation");
+#ifdef BEMSURG_HAVE_BLAS
+    std::vector<lapack_int> ipiv(pivots_.begin(), pivots_.end());
+    double query = 0.0;
+    lapack_int info = LAPACKE_dgetri_work(LAPACK_COL_MAJOR, lapack_int(n), lu_.data(), lapack_int(n), ipiv.data(), &query, -1);
+    if (info != 0) throw SolverError("LAPACK dgetri (workspace query) failed with info " + std::to_string(info));
+    std::vector<double> work(static_cast<std::size_t>(std::max<double>(query, double(n))));
+    info =
+        LAPACKE_dgetri_work(LAPACK_COL_MAJOR, lapack_int(n), lu_.data(), lapack_int(n), ipiv.data(), work.data(), lapack_int(work.size()));
+    if (info != 0) throw SolverError("LAPACK dgetri failed with info " + std::to_string(info) + " (A* singular)");
+    pivots_.clear();
+    return std::move(lu_);
+#else
+    Eigen::MatrixXd inv = Eigen::MatrixXd::Identity(n, n);
+    solve_in_place(inv);
+    lu_.resize(0, 0);
+    pivots_.clear();
+    return inv;
+#endif
+  }
 
   /// B <- A^-1 B (B has size() rows; any number of columns, solved together: BLAS-3).
   void solve_in_place(Eigen::Ref<Eigen::MatrixXd> B) const override {

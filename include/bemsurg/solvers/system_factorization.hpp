@@ -26,6 +26,9 @@ class SystemFactorization {
   virtual void solve_in_place(Eigen::Ref<Eigen::MatrixXd> B) const = 0;
   /// Bytes the factors hold (what the table's memory report counts).
   virtual std::size_t bytes() const = 0;
+  /// (A^-1)^T when A^-1 is stored (solvers/explicit_inverse.hpp), else null: a cut's first response
+  /// reads rows of A^-1, its columns (docs/cutting.md, "First response on the rows within reach").
+  virtual const Eigen::MatrixXd* inverse_transposed() const { return nullptr; }
 
  protected:
   SystemFactorization() = default;

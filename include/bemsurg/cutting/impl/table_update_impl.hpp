@@ -37,6 +37,8 @@ struct CutStepState {
   std::vector<Index> fresh_cols;     // FreshColumns::table_cols
   std::vector<Index> fresh_sources;  // FreshColumns::sources
   Eigen::MatrixXd Z;                 // A'^-1 U_s
+  Eigen::MatrixXd Us, Vs;            // the step's change of A* (SystemChange), kept from a first response on rows for the completion
+  Eigen::MatrixXd Qs;                // V_s^T K^-1 from a first response on rows (explicit inverse), which the completion reuses
   // The fresh columns' right-hand sides, then the base state's b' last; solved column by column as
   // the tables asked for need them (fresh_solved), the base state always with U_s.
   Eigen::MatrixXd F;
@@ -178,33 +180,35 @@ struct GreensTableParts {
     double snapshot_seconds = 0.0, gemm_seconds = 0.0, finish_seconds = 0.0;
   };
 
-  /// The columns of the new table for the region slots `slots` (ascending indices into the region
-  /// after the step; null: all of them, the complete table), in that order.
-  static Eigen::MatrixXd columns_after_cut(const GreensTable& g, const CutChange& change, const Eigen::MatrixXd& Z,
-                                           const Eigen::MatrixXd& CTt, const Eigen::MatrixXd& F, const FreshColumns& fresh,
-                                           Index region_after_size, const std::vector<Index>* slots, TableProfile* profile) {
-    const auto t0 = SteadyClock::now();
-    const Index n = g.num_dofs(), n1 = change.n_after, d = change.size();
-    const Index R0 = static_cast<Index>(g.region_.size()), R1 = region_after_size;
-    std::vector<Index> out_slot(static_cast<std::size_t>(R1), -1);  // region slot -> output slot
+  /// Which region slots after the step a table keeps, and where: out_slot[s] is slot s's place in
+  /// the output (-1: not kept); the kept old slots (s < |R0|) come first.
+  struct SlotMap {
+    std::vector<Index> out_slot;
     Index kept = 0, kept_old = 0;
+  };
+  static SlotMap slot_map(Index R0, Index R1, const std::vector<Index>* slots) {
+    SlotMap m;
+    m.out_slot.assign(static_cast<std::size_t>(R1), -1);
     for (Index s = 0; s < R1; ++s)
       if (!slots || std::binary_search(slots->begin(), slots->end(), s)) {
-        out_slot[static_cast<std::size_t>(s)] = kept++;
-        kept_old += s < R0 ? 1 : 0;
+        m.out_slot[static_cast<std::size_t>(s)] = m.kept++;
+        m.kept_old += s < R0 ? 1 : 0;
       }
-    Eigen::MatrixXd ZZ(n1, 2 * d);
-    ZZ.leftCols(d) = Z.leftCols(d);
-    ZZ.rightCols(d) = -Z.rightCols(d);
-    // The new n' x 3|kept| table. A fresh matrix per step (snapshots are immutable): advise huge pages
-    // before the first touch, which otherwise costs one page fault per 4 KiB. Reaction rows are
-    // gathered and scattered column by column: a row of a column-major matrix touches one page per
-    // entry. (Panels of columns updated in cache were measured slower: narrow GEMMs cost more than
-    // the passes over memory they save.)
+    return m;
+  }
+
+  /// The new n' x 3|kept| table before the step's correction: the kept old columns with their
+  /// reactions in the rows of supported dofs, zeros in the added rows and the new slots' columns.
+  /// A fresh matrix per step (snapshots are immutable): advise huge pages before the first touch,
+  /// which otherwise costs one page fault per 4 KiB. Reaction rows are gathered and scattered column
+  /// by column: a row of a column-major matrix touches one page per entry. (Panels of columns updated
+  /// in cache were measured slower: narrow GEMMs cost more than the passes over memory they save.)
+  static Eigen::MatrixXd old_columns_snapshot(const GreensTable& g, Index n1, const SlotMap& map) {
+    const Index n = g.num_dofs(), R0 = static_cast<Index>(g.region_.size());
     const Index S0 = static_cast<Index>(g.reaction_dofs_.size());
-    Eigen::MatrixXd T = large_dense_matrix(n1, 3 * kept);
+    Eigen::MatrixXd T = large_dense_matrix(n1, 3 * map.kept);
     for (Index s = 0; s < R0; ++s) {
-      const Index o = out_slot[static_cast<std::size_t>(s)];
+      const Index o = map.out_slot[static_cast<std::size_t>(s)];
       if (o < 0) continue;
       T.block(0, 3 * o, n, 3) = g.columns_.middleCols(3 * s, 3);
       for (int a = 0; a < 3; ++a) {
@@ -213,8 +217,26 @@ struct GreensTableParts {
         for (Index i = 0; i < S0; ++i) col[g.reaction_dofs_[static_cast<std::size_t>(i)]] = r[i];
       }
     }
-    T.bottomLeftCorner(n1 - n, 3 * kept_old).setZero();
-    T.rightCols(3 * (kept - kept_old)).setZero();
+    T.bottomLeftCorner(n1 - n, 3 * map.kept_old).setZero();
+    T.rightCols(3 * (map.kept - map.kept_old)).setZero();
+    return T;
+  }
+
+  /// The columns of the new table for the region slots `slots` (ascending indices into the region
+  /// after the step; null: all of them, the complete table), in that order.
+  static Eigen::MatrixXd columns_after_cut(const GreensTable& g, const CutChange& change, const Eigen::MatrixXd& Z,
+                                           const Eigen::MatrixXd& CTt, const Eigen::MatrixXd& F, const FreshColumns& fresh,
+                                           Index region_after_size, const std::vector<Index>* slots, TableProfile* profile) {
+    const auto t0 = SteadyClock::now();
+    const Index n1 = change.n_after, d = change.size();
+    const Index R0 = static_cast<Index>(g.region_.size());
+    const SlotMap map = slot_map(R0, region_after_size, slots);
+    const std::vector<Index>& out_slot = map.out_slot;
+    const Index kept_old = map.kept_old;
+    Eigen::MatrixXd ZZ(n1, 2 * d);
+    ZZ.leftCols(d) = Z.leftCols(d);
+    ZZ.rightCols(d) = -Z.rightCols(d);
+    Eigen::MatrixXd T = old_columns_snapshot(g, n1, map);
     const auto t1 = SteadyClock::now();
     // One GEMM, both halves of Z: the kept old slots come first and in CTt's order.
     if (d > 0 && kept_old > 0) T.leftCols(3 * kept_old).noalias() += ZZ * CTt.transpose();
@@ -256,6 +278,15 @@ struct GreensTableParts {
     s.timing.system_seconds = s.timing.change_seconds;
   }
 
+  /// The step's change of A* in low-rank form (system_change), once per step.
+  static void system_change_of(CutStepState& s) {
+    if (s.Us.size() > 0) return;
+    SystemChange system = system_change(*s.change, s.before->base_conditions(), s.bc);
+    s.X = std::move(system.X);
+    s.Us = std::move(system.Us);
+    s.Vs = std::move(system.Vs);
+  }
+
   /// The fresh columns that a table over `slots` (null: all) needs and that are not solved yet.
   static std::vector<Index> fresh_wanted(const CutStepState& s, const std::vector<Index>* slots) {
     std::vector<char> in(s.region.size(), slots ? 0 : 1);
@@ -284,15 +315,19 @@ struct GreensTableParts {
     LowRankUpdateProfile lu_profile;
     double finish_s = 0.0;
     if (first) {
-      SystemChange system = system_change(*s.change, s.before->base_conditions(), s.bc);
+      system_change_of(s);
       s.timing.change_seconds += seconds_since(t_system);
-      // Z: K^-1 U_s, then A*_after^-1 U_s (push-through: no further LU solve).
-      s.solver = std::make_shared<const LowRankUpdatedLu>(s.before->solver_->updated(n1, system.Us, system.Vs, &s.Z, &B, &lu_profile));
+      // Z: K^-1 U_s, then A*_after^-1 U_s (push-through: no further LU solve). A first response on
+      // rows computed V_s^T K^-1 already: the new solver keeps it (Q) without a second GEMM.
+      s.solver = std::make_shared<const LowRankUpdatedLu>(
+          s.before->solver_->updated(n1, s.Us, s.Vs, &s.Z, &B, &lu_profile, s.Qs.size() > 0 ? &s.Qs : nullptr));
       const auto t_finish = SteadyClock::now();
       s.solver->finish_solve(s.Z);
       s.solver->finish_solve(B);  // K^-1 B came with U_s's solve
       finish_s = seconds_since(t_finish);
-      s.X = std::move(system.X);
+      s.Us.resize(0, 0);
+      s.Vs.resize(0, 0);
+      s.Qs.resize(0, 0);
       s.F.col(nf) = B.col(k);
     } else {
       const auto t_solve = SteadyClock::now();
@@ -318,13 +353,11 @@ struct GreensTableParts {
 
   /// The new table over the region slots `slots` (ascending; null: all, the complete table) from a
   /// prepared step. `report` gets the table phase and its profile (the system phase as prepared).
-  static std::shared_ptr<const GreensTable> table_of(CutStepState& s, const std::vector<Index>* slots, GreensTableUpdateResult* report) {
-    solve_for(s, slots);
-    const auto t_table = SteadyClock::now();
+  /// A new table's parts that do not depend on its columns: version, mesh, key, conditions, and its
+  /// region (the slots listed, or all), with `old_columns` the table columns of the step's table
+  /// behind the kept old slots.
+  static std::shared_ptr<GreensTable> table_shell(const CutStepState& s, const std::vector<Index>* slots, std::vector<Index>& old_columns) {
     const GreensTable& g = *s.before;
-    const CutChange& change = *s.change;
-    const Index nf = static_cast<Index>(s.fresh_cols.size());
-    const FreshColumns fresh{s.fresh_cols, s.fresh_sources};
     auto out = std::make_shared<GreensTable>();
     GreensTable& t = *out;
     t.version_ = g.version_ + 1;
@@ -338,8 +371,7 @@ struct GreensTableParts {
     t.base_kinds_ = s.bc.kinds();
     t.base_values_ = s.bc.values();
     t.rhs_ = s.rhs;
-    t.set_base_state(s.bc, s.F.col(nf));
-    std::vector<Index> old_columns;  // the table columns of g behind the kept old slots
+    old_columns.clear();
     if (slots) {
       t.region_.clear();
       for (Index slot : *slots) {
@@ -350,6 +382,20 @@ struct GreensTableParts {
     } else {
       t.region_ = s.region;
     }
+    return out;
+  }
+
+  static std::shared_ptr<const GreensTable> table_of(CutStepState& s, const std::vector<Index>* slots, GreensTableUpdateResult* report) {
+    solve_for(s, slots);
+    const auto t_table = SteadyClock::now();
+    const GreensTable& g = *s.before;
+    const CutChange& change = *s.change;
+    const Index nf = static_cast<Index>(s.fresh_cols.size());
+    const FreshColumns fresh{s.fresh_cols, s.fresh_sources};
+    std::vector<Index> old_columns;  // the table columns of g behind the kept old slots
+    std::shared_ptr<GreensTable> out = table_shell(s, slots, old_columns);
+    GreensTable& t = *out;
+    t.set_base_state(s.bc, s.F.col(nf));
     TableProfile profile;
     const auto t_coefficients = SteadyClock::now();
     const Eigen::MatrixXd CTt = correction_coefficients_transposed(g, change, s.X, slots ? &old_columns : nullptr);
@@ -372,6 +418,106 @@ struct GreensTableParts {
       const double d = static_cast<double>(change.size()), cols0 = static_cast<double>(slots ? old_columns.size() : 3 * g.region_.size());
       report->table_gemm_flops = d > 0 ? 2.0 * n0 * cols0 * d + 2.0 * n1 * 2.0 * d * cols0 : 0.0;
       report->snapshot_bytes = static_cast<std::size_t>(t.columns_.size() + t.reactions_.size()) * sizeof(double);
+    }
+    return out;
+  }
+
+  /// A first response exact on the rows of the elements in `slots` (ascending region slots after the
+  /// step, not all of them) and on their columns (docs/cutting.md, "First response on the rows within
+  /// reach"): over an explicit inverse (LowRankUpdatedLu::has_rows) the rows R of Z = A'^-1 U_s, of
+  /// the fresh columns and of the base state cost one GEMM (V_s^T A0^-1, which the completion keeps)
+  /// and products with |R| or the rank rows; the table's rows R are then T_R + Z_R CT (+ the fresh
+  /// columns' rows), and its other rows, and the base state's, are the table's before the step
+  /// (stale_outside_region()). Nothing is solved for the completion but V_s^T A0^-1; the step's
+  /// state is otherwise unchanged. `report`: the step's integration and change, this call's work as
+  /// its system and table phases, and the rank after the step.
+  static std::shared_ptr<const GreensTable> rows_table_of(CutStepState& s, const std::vector<Index>& slots,
+                                                          GreensTableUpdateResult* report) {
+    const auto t_system = SteadyClock::now();
+    const GreensTable& g = *s.before;
+    const CutChange& change = *s.change;
+    system_change_of(s);
+    const double change_s = seconds_since(t_system);
+    const Index n = g.num_dofs(), n1 = change.n_after, d = change.size(), nf = static_cast<Index>(s.fresh_cols.size());
+    const Index R0 = static_cast<Index>(g.region_.size());
+    std::vector<Index> rows;  // the dofs of the kept elements, in slot order
+    for (Index slot : slots)
+      for (int a = 0; a < 3; ++a) rows.push_back(3 * s.region[static_cast<std::size_t>(slot)] + a);
+    const SlotMap map = slot_map(R0, static_cast<Index>(s.region.size()), &slots);
+    std::vector<Index> wanted;  // fresh columns of kept slots
+    for (std::size_t i = 0; i < s.fresh_cols.size(); ++i)
+      if (map.out_slot[static_cast<std::size_t>(s.fresh_cols[i] / 3)] >= 0) wanted.push_back(static_cast<Index>(i));
+    const Index k = static_cast<Index>(wanted.size());
+    Eigen::MatrixXd also(n1, k + 1);
+    for (Index c = 0; c < k; ++c) also.col(c) = s.F.col(wanted[static_cast<std::size_t>(c)]);
+    also.col(k) = s.F.col(nf);
+    LowRankUpdateProfile lu_profile;
+    LowRankUpdatedLu::RowsOfUpdate r = g.solver_->rows_after_update(n1, s.Us, s.Vs, rows, also, &lu_profile);
+    s.Qs = std::move(r.Qs);
+    const double system_s = seconds_since(t_system);
+
+    const auto t_table = SteadyClock::now();
+    std::vector<Index> old_columns;
+    std::shared_ptr<GreensTable> out = table_shell(s, &slots, old_columns);
+    GreensTable& t = *out;
+    t.stale_outside_region_ = true;
+    // The base state: the solution before the step (added dofs 0), exact on the rows R.
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(n1);
+    for (Index q = 0; q < n; ++q)
+      x(q) = g.base_kinds_[static_cast<std::size_t>(q)] == BcKind::Traction ? g.base_displacement_(q) : g.base_traction_(q);
+    for (std::size_t i = 0; i < rows.size(); ++i) x(rows[i]) = r.also_rows(static_cast<Index>(i), k);
+    t.set_base_state(s.bc, x);
+    TableProfile profile;
+    const auto t_coefficients = SteadyClock::now();
+    const Eigen::MatrixXd CTt = correction_coefficients_transposed(g, change, s.X, &old_columns);
+    profile.gemm_seconds = seconds_since(t_coefficients);
+    const auto t_snapshot = SteadyClock::now();
+    Eigen::MatrixXd T = old_columns_snapshot(g, n1, map);
+    profile.snapshot_seconds = seconds_since(t_snapshot);
+    const auto t_rows = SteadyClock::now();
+    // The change of the rows R (the new slots' columns are zero in T, so adding sets them), added
+    // column by column: a row of the column-major table touches one cache line per entry.
+    const Index m = static_cast<Index>(rows.size());
+    Eigen::MatrixXd dR = Eigen::MatrixXd::Zero(m, T.cols());
+    if (d > 0 && map.kept_old > 0) {
+      Eigen::MatrixXd ZZ(m, 2 * d);
+      ZZ.leftCols(d) = r.z_rows.leftCols(d);
+      ZZ.rightCols(d) = -r.z_rows.rightCols(d);
+      dR.leftCols(3 * map.kept_old).noalias() = ZZ * CTt.transpose();
+    }
+    for (Index c = 0; c < k; ++c) {
+      const Index col = s.fresh_cols[static_cast<std::size_t>(wanted[static_cast<std::size_t>(c)])];
+      dR.col(3 * map.out_slot[static_cast<std::size_t>(col / 3)] + col % 3) += r.also_rows.col(c);
+    }
+    for (Index c = 0; c < T.cols(); ++c) {
+      double* to = T.col(c).data();
+      const double* from = dR.col(c).data();
+      for (Index i = 0; i < m; ++i) to[rows[static_cast<std::size_t>(i)]] += from[i];
+    }
+    const Eigen::MatrixXd& TR = dR;  // checked for finiteness below
+    profile.gemm_seconds += seconds_since(t_rows);
+    const auto t_checks = SteadyClock::now();
+    if (!TR.allFinite() || !x.allFinite()) throw SolverError("updated_table: the table has non-finite entries");
+    t.set_columns_from_solution(std::move(T));
+    t.build_slots();
+    t.timings_ = g.timings_;
+    profile.finish_seconds = seconds_since(t_checks);
+    if (report) {
+      *report = s.timing;
+      report->change_seconds += change_s;
+      report->solve_seconds = lu_profile.base_solve_seconds;  // the GEMM V_s^T A0^-1
+      report->solve_columns = 0;
+      report->correction_seconds = lu_profile.correction_seconds;
+      report->system_seconds += system_s;
+      report->table_seconds = seconds_since(t_table);
+      report->total_seconds = report->system_seconds + report->table_seconds;
+      report->snapshot_seconds = profile.snapshot_seconds;
+      report->gemm_seconds = profile.gemm_seconds;
+      report->finish_seconds = profile.finish_seconds;
+      report->table_gemm_flops = 2.0 * double(m) * double(old_columns.size()) * 2.0 * double(d);
+      report->snapshot_bytes = static_cast<std::size_t>(t.columns_.size() + t.reactions_.size()) * sizeof(double);
+      report->rank = g.solver_->rank() + s.Us.cols();
+      report->added_region_elements = static_cast<Index>(s.region.size() - g.region_.size());
     }
     return out;
   }
@@ -414,107 +560,5 @@ struct GreensTableParts {
 };
 
 }  // namespace detail
-
-BEMSURG_INLINE std::vector<Index> region_after_cut(const GreensTable& g, const TriangleMesh& after, const MeshDelta& delta,
-                                                   const GreensTableUpdateOptions& options) {
-  std::vector<Index> region = g.region();
-  Index free_count = 0;
-  for (Index e = 0; e < g.num_elements(); ++e) free_count += g.is_free(e) ? 1 : 0;
-  const bool all_free = free_count == static_cast<Index>(g.region().size());
-  double reach = options.join_distance;
-  if (!(reach > 0.0)) {
-    double largest = 0.0;
-    for (Index e : delta.changed())
-      if (e >= 0 && e < after.num_elements()) largest = std::max(largest, after.diameter(e));
-    reach = 3.0 * largest;
-  }
-  for (Index e : delta.added) {  // new cut surface: traction-free, so a tool may act on it
-    if (e < 0 || e >= after.num_elements()) continue;
-    bool join = all_free;
-    for (std::size_t s = 0; !join && s < g.region().size(); ++s)
-      join = (after.centroid(e) - after.centroid(g.region()[s])).squaredNorm() <= reach * reach;
-    if (join) region.push_back(e);
-  }
-  return region;
-}
-
-BEMSURG_INLINE std::vector<Index> elements_within_reach(const TriangleMesh& mesh, const std::vector<Index>& region,
-                                                        const std::vector<Eigen::Vector3d>& tools, double reach) {
-  std::vector<Index> out;
-  if (!(reach >= 0.0) || !std::isfinite(reach))
-    throw InvalidArgumentError("elements_within_reach: the reach must be finite and not negative, got " + number_text(reach));
-  for (const Eigen::Vector3d& p : tools)
-    if (!p.allFinite()) throw InvalidArgumentError("elements_within_reach: a tool position is not finite");
-  for (Index e : region) {
-    if (e < 0 || e >= mesh.num_elements())
-      throw InvalidArgumentError("elements_within_reach: region element " + std::to_string(e) + " is not on the mesh");
-    for (const Eigen::Vector3d& p : tools)
-      if ((mesh.centroid(e) - p).squaredNorm() <= reach * reach) {
-        out.push_back(e);
-        break;
-      }
-  }
-  return out;
-}
-
-BEMSURG_INLINE CutTableStep::CutTableStep(std::shared_ptr<const GreensTable> table, std::shared_ptr<const TriangleMesh> after,
-                                          const MeshDelta& delta, CutChange change, const GreensTableUpdateOptions& options) {
-  if (!table) throw InvalidArgumentError("CutTableStep: no table");
-  detail::GreensTableParts::check_update(*table, after.get(), delta, change);
-  auto s = std::make_shared<detail::CutStepState>();
-  s->keep_before = std::move(table);
-  s->before = s->keep_before.get();
-  s->keep_change = std::make_shared<const CutChange>(std::move(change));
-  s->change = s->keep_change.get();
-  s->after = std::move(after);
-  s->delta = delta;
-  detail::GreensTableParts::prepare(*s, options);
-  state_ = std::move(s);
-}
-
-BEMSURG_INLINE const std::vector<Index>& CutTableStep::region() const { return state_->region; }
-
-BEMSURG_INLINE const GreensTableUpdateResult& CutTableStep::result() const { return state_->timing; }
-
-BEMSURG_INLINE std::shared_ptr<const GreensTable> CutTableStep::first_response(const std::vector<Index>& reach,
-                                                                               GreensTableUpdateResult* report) const {
-  std::vector<char> wanted(static_cast<std::size_t>(state_->after->num_elements()), 0);
-  for (Index e : reach) {
-    if (e < 0 || e >= state_->after->num_elements())
-      throw InvalidArgumentError("CutTableStep::first_response: element " + std::to_string(e) + " is not on the cut mesh");
-    wanted[static_cast<std::size_t>(e)] = 1;
-  }
-  std::vector<Index> slots;
-  for (std::size_t s = 0; s < state_->region.size(); ++s)
-    if (wanted[static_cast<std::size_t>(state_->region[s])]) slots.push_back(static_cast<Index>(s));
-  if (slots.size() < state_->region.size()) return detail::GreensTableParts::table_of(*state_, &slots, report);
-  // A reach that covers the whole region (a small operating region, a large tool) asks for the
-  // complete table: made once, and complete() hands out the same snapshot.
-  return complete(report);
-}
-
-BEMSURG_INLINE std::shared_ptr<const GreensTable> CutTableStep::complete(GreensTableUpdateResult* report) const {
-  if (!state_->complete) state_->complete = detail::GreensTableParts::table_of(*state_, nullptr, &state_->complete_report);
-  if (report) *report = state_->complete_report;
-  return state_->complete;
-}
-
-BEMSURG_INLINE std::shared_ptr<const GreensTable> updated_table(const GreensTable& table, std::shared_ptr<const TriangleMesh> after,
-                                                                const MeshDelta& delta, const GreensTableUpdateOptions& options,
-                                                                GreensTableUpdateResult* report) {
-  return detail::GreensTableParts::updated(table, std::move(after), delta, options, report);
-}
-
-BEMSURG_INLINE std::shared_ptr<const GreensTable> updated_table(const GreensTable& table, std::shared_ptr<const TriangleMesh> after,
-                                                                const MeshDelta& delta, const CutChange& change,
-                                                                const GreensTableUpdateOptions& options, GreensTableUpdateResult* report) {
-  return detail::GreensTableParts::updated(table, std::move(after), delta, change, options, report);
-}
-
-BEMSURG_INLINE std::shared_ptr<const GreensTable> recomputed_table_after(const GreensTable& table,
-                                                                         std::shared_ptr<const TriangleMesh> after, const MeshDelta& delta,
-                                                                         const GreensTableUpdateOptions& options) {
-  return detail::GreensTableParts::recomputed_after(table, std::move(after), delta, options);
-}
 
 }  // namespace bemsurg

@@ -18,6 +18,7 @@
 #include "bemsurg/memory_budget.hpp"
 #include "bemsurg/quadrature/quadrature_cost.hpp"
 #include "bemsurg/solvers/dense_lu.hpp"
+#include "bemsurg/solvers/explicit_inverse.hpp"
 #include "bemsurg/solvers/lu_factors.hpp"
 #include "bemsurg/solvers/lu_in_place.hpp"
 #include "bemsurg/timing.hpp"
@@ -80,16 +81,16 @@ BEMSURG_INLINE double GreensTable::estimate_bytes(Index num_elements, Index regi
 BEMSURG_INLINE double GreensTable::default_memory_limit_bytes() { return bemsurg::default_memory_limit_bytes(); }
 
 BEMSURG_INLINE GreensTable GreensTable::compute(const ElastostaticProblem& problem, const std::vector<Index>& region,
-                                                double memory_limit_bytes) {
-  return compute(std::make_shared<const TriangleMesh>(problem.mesh), problem, region, memory_limit_bytes);
+                                                double memory_limit_bytes, bool explicit_inverse) {
+  return compute(std::make_shared<const TriangleMesh>(problem.mesh), problem, region, memory_limit_bytes, explicit_inverse);
 }
 
 BEMSURG_INLINE GreensTable GreensTable::compute(std::shared_ptr<const TriangleMesh> mesh, const ElastostaticProblem& problem,
-                                                const std::vector<Index>& region, double memory_limit_bytes) {
+                                                const std::vector<Index>& region, double memory_limit_bytes, bool explicit_inverse) {
   if (problem.elements != ElementType::Constant)
     throw InvalidArgumentError("GreensTable: pre-solution tables use constant elements; the problem has linear ones (docs/elements.md)");
   return compute_on(std::move(mesh), problem.material, problem.boundary_conditions, problem.gravity, problem.quadrature, region,
-                    memory_limit_bytes);
+                    memory_limit_bytes, explicit_inverse);
 }
 
 BEMSURG_INLINE GreensTable GreensTable::compute(const TriangleMesh& mesh, const Material& material, const BoundaryConditions& base,
@@ -99,13 +100,14 @@ BEMSURG_INLINE GreensTable GreensTable::compute(const TriangleMesh& mesh, const 
 
 BEMSURG_INLINE GreensTable GreensTable::compute(std::shared_ptr<const TriangleMesh> mesh, const Material& material,
                                                 const BoundaryConditions& base, const GreensTableOptions& options) {
-  return compute_on(std::move(mesh), material, base, options.gravity, options.quadrature, options.region, options.memory_limit_bytes);
+  return compute_on(std::move(mesh), material, base, options.gravity, options.quadrature, options.region, options.memory_limit_bytes,
+                    options.explicit_inverse);
 }
 
 BEMSURG_INLINE GreensTable GreensTable::compute_on(std::shared_ptr<const TriangleMesh> mesh_ptr, const Material& material,
                                                    const BoundaryConditions& base, const Eigen::Vector3d& gravity,
                                                    const QuadratureOptions& quadrature, const std::vector<Index>& region,
-                                                   double memory_limit_bytes) {
+                                                   double memory_limit_bytes, bool explicit_inverse) {
   if (!mesh_ptr) throw InvalidArgumentError("GreensTable: no mesh");
   const TriangleMesh& mesh = *mesh_ptr;
   require_conditions_for(base, mesh);
@@ -143,11 +145,15 @@ BEMSURG_INLINE GreensTable GreensTable::compute_on(std::shared_ptr<const Triangl
   }
   table.timings_.assembly_seconds = seconds_since(t0);
   table.rhs_ = B.col(3 * R);
-  auto lu = std::make_shared<const LuFactors>(LuFactors::factor(std::move(A), &table.timings_.factorization_seconds));
+  LuFactors lu = LuFactors::factor(std::move(A), &table.timings_.factorization_seconds);
   t0 = SteadyClock::now();
-  lu->solve_in_place(B);
+  lu.solve_in_place(B);  // dgetrs: the table's columns before the factors are inverted, which would not make them cheaper
   table.timings_.table_seconds = seconds_since(t0);
-  table.solver_ = std::make_shared<const LowRankUpdatedLu>(lu);
+  if (explicit_inverse)
+    table.solver_ = std::make_shared<const LowRankUpdatedLu>(
+        std::make_shared<const ExplicitInverse>(ExplicitInverse::from(std::move(lu), &table.timings_.inversion_seconds)));
+  else
+    table.solver_ = std::make_shared<const LowRankUpdatedLu>(std::make_shared<const LuFactors>(std::move(lu)));
   table.mesh_ = std::move(mesh_ptr);
   table.quadrature_ = quadrature;
   table.base_values_ = base.values();
@@ -275,7 +281,7 @@ BEMSURG_INLINE std::shared_ptr<const GreensTable> GreensTable::refactored() cons
 BEMSURG_INLINE GreensTable GreensTable::recomputed_on(std::shared_ptr<const TriangleMesh> mesh, const BoundaryConditions& base,
                                                       const std::vector<Index>& region) const {
   if (recompute_) return recompute_(std::move(mesh), key_.material, base, key_.gravity, quadrature_, region);
-  return compute_on(std::move(mesh), key_.material, base, key_.gravity, quadrature_, region, 0.0);
+  return compute_on(std::move(mesh), key_.material, base, key_.gravity, quadrature_, region, 0.0, solver_ && solver_->has_rows());
 }
 
 BEMSURG_INLINE std::shared_ptr<const GreensTable> GreensTable::with_young_modulus(double young_modulus, double gravity_factor) const {
