@@ -19,6 +19,7 @@
 #include "bemsurg/solvers/low_rank_updated_lu.hpp"
 #include "bemsurg/solvers/lu_factors.hpp"
 #include "bemsurg/solvers/partitioned_inverse.hpp"
+#include "bemsurg/solvers/structured_products.hpp"
 #include "support/synthetic_cuts.hpp"
 #include "support/test_constants.hpp"
 
@@ -284,6 +285,49 @@ TEST_CASE("a cut step's first response is exact on the tools' reach and complete
   CHECK(worst_complete <= kCut);  // one code path: measured 0 (bit for bit)
   CHECK(worst_scratch <= kCut);   // measured 4.7e-15
   CHECK_THROWS_AS(elements_within_reach(*table->mesh(), table->region(), {Vec3(0, 0, 0)}, -1.0), InvalidArgumentError);
+}
+
+TEST_CASE("products with a step's structure equal the dense products they replace", "[cut][algebra]") {
+  // selected_columns_transposed_times multiplies long runs of chosen columns in place and gathers the
+  // others into panels; the unit-column products take scaled rows or columns instead of flops. Each
+  // against the dense product of the gathered matrices (the same sums, in another order: a few eps).
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const Index n = 300, cols = 120, width = 5;
+  Eigen::MatrixXd A(n, cols), M(n, width);
+  for (Index i = 0; i < A.size(); ++i) A.data()[i] = u(rng);
+  for (Index i = 0; i < M.size(); ++i) M.data()[i] = u(rng);
+  // Runs of 40 and 2, single columns, a descending pair and a repeat, so both paths and every flush run.
+  std::vector<Index> chosen;
+  for (Index c = 10; c < 50; ++c) chosen.push_back(c);
+  for (Index c : {3, 4, 99, 7, 6, 6, 119, 0}) chosen.push_back(c);
+  for (Index c = 60; c < 62; ++c) chosen.push_back(c);
+  Eigen::MatrixXd gathered(n, static_cast<Index>(chosen.size()));
+  for (std::size_t i = 0; i < chosen.size(); ++i) gathered.col(static_cast<Index>(i)) = A.col(chosen[i]);
+  const Eigen::MatrixXd expected = gathered.transpose() * M;
+  const double bound = 4.0 * n * kEps;
+  for (const auto& [panel, run] : std::vector<std::pair<Index, Index>>{{192, 96}, {3, 16}, {1, 1}, {4, 1000}}) {
+    Eigen::MatrixXd out = Eigen::MatrixXd::Constant(expected.rows(), expected.cols(), 1e300);
+    selected_columns_transposed_times(A, chosen, M, out, panel, run);
+    CHECK(relative_max(out, expected) <= bound);
+  }
+  Eigen::MatrixXd none(0, width);
+  selected_columns_transposed_times(A, {}, M, none);  // no columns: nothing to do, no panel
+
+  // Unit columns: zero, one non-zero (scaled), two non-zeros (dense).
+  Eigen::MatrixXd C = Eigen::MatrixXd::Zero(n, 4);
+  C(17, 1) = -2.5;
+  C(3, 2) = 1.0;
+  C(250, 2) = 0.5;
+  for (Index i = 0; i < n; ++i) C(i, 3) = u(rng);
+  CHECK(unit_column_row(C, 0) == -1);
+  CHECK(unit_column_row(C, 1) == 17);
+  CHECK(unit_column_row(C, 2) == -2);
+  CHECK(unit_column_row(C, 3) == -2);
+  Eigen::MatrixXd B(40, n);
+  for (Index i = 0; i < B.size(); ++i) B.data()[i] = u(rng);
+  CHECK(relative_max(times_sparse_columns(B, C), B * C) <= bound);
+  CHECK(relative_max(sparse_columns_transposed_times(C, B.transpose()), C.transpose() * B.transpose()) <= bound);
 }
 
 TEST_CASE("over an explicit inverse a cut step's first response is exact on the rows within reach", "[cut][table]") {

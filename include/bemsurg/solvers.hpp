@@ -41,4 +41,5 @@
 #include "bemsurg/solvers/lu_in_place.hpp"
 #include "bemsurg/solvers/near_field_preconditioner.hpp"
 #include "bemsurg/solvers/partitioned_inverse.hpp"
+#include "bemsurg/solvers/structured_products.hpp"
 #include "bemsurg/solvers/system_factorization.hpp"

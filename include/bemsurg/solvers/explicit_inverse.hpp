@@ -19,6 +19,7 @@
 
 #include "bemsurg/error.hpp"
 #include "bemsurg/solvers/lu_factors.hpp"
+#include "bemsurg/solvers/structured_products.hpp"
 #include "bemsurg/solvers/system_factorization.hpp"
 #include "bemsurg/timing.hpp"
 #include "bemsurg/types.hpp"
@@ -57,17 +58,11 @@ class ExplicitInverse : public SystemFactorization {
       throw SolverError("ExplicitInverse::solve_in_place: " + std::to_string(B.rows()) + " rows, expected " + std::to_string(n));
     std::vector<Index> dense;
     for (Index j = 0; j < B.cols(); ++j) {
-      Index at = -1, count = 0;
-      for (Index i = 0; i < n && count < 2; ++i)
-        if (B(i, j) != 0.0) {
-          at = i;
-          ++count;
-        }
-      if (count == 0) continue;
-      if (count == 1) {
+      const Index at = unit_column_row(B, j);
+      if (at >= 0) {
         const double v = B(at, j);
         B.col(j) = v * inverse_transposed_.row(at).transpose();
-      } else {
+      } else if (at == -2) {
         dense.push_back(j);
       }
     }

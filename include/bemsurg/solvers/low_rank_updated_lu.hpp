@@ -26,6 +26,7 @@
 #include "bemsurg/dense_storage.hpp"
 #include "bemsurg/error.hpp"
 #include "bemsurg/number_text.hpp"
+#include "bemsurg/solvers/structured_products.hpp"
 #include "bemsurg/solvers/system_factorization.hpp"
 #include "bemsurg/timing.hpp"
 #include "bemsurg/types.hpp"
@@ -117,7 +118,7 @@ class LowRankUpdatedLu {
     out.rightCols(n1 - n0) = V.bottomRows(n1 - n0).transpose();
     std::vector<Index> dense;
     for (Index j = 0; j < k; ++j) {
-      const Index at = unit_row(V.topRows(n0), j);
+      const Index at = unit_column_row(V.topRows(n0), j);
       if (at >= 0)
         out.row(j).head(n0) = V(at, j) * B0t.col(at).transpose();
       else if (at == -2)
@@ -161,24 +162,52 @@ class LowRankUpdatedLu {
     RowsOfUpdate out;
     out.Qs = left_base_inverse(Vs);
     const auto t1 = SteadyClock::now();
-    // Rows of K_new^-1, held transposed (new_size x m): the inverse's rows are contiguous columns of
-    // B0t; unit rows for added dofs. Products with it are Kt^T M.
-    Eigen::MatrixXd Kt = Eigen::MatrixXd::Zero(new_size, m);
+    // Rows R of K_new^-1 M for M = [Us, also]: the inverse's rows are columns of B0t (gathered in
+    // panels, selected_columns_transposed_times; no new_size x |R| copy), unit rows for added dofs.
+    // The step's unit columns (E_D in Us) are entries of the inverse, not products.
+    for (Index row : rows)
+      if (row < 0 || row >= new_size) throw InvalidArgumentError("LowRankUpdatedLu::rows_after_update: row out of range");
+    std::vector<Index> dense;  // Us's columns that need the product
+    std::vector<Index> unit_at(static_cast<std::size_t>(k), -1);
+    for (Index j = 0; j < k; ++j) {
+      unit_at[static_cast<std::size_t>(j)] = unit_column_row(Us, j);
+      if (unit_at[static_cast<std::size_t>(j)] == -2) dense.push_back(j);
+    }
+    const Index kd = static_cast<Index>(dense.size()), c = also.cols();
+    Eigen::MatrixXd M(n0, kd + c);
+    for (Index j = 0; j < kd; ++j) M.col(j) = Us.col(dense[static_cast<std::size_t>(j)]).head(n0);
+    M.rightCols(c) = also.topRows(n0);
+    std::vector<Index> base_rows, base_at;  // rows below n0, and where they go
+    for (Index i = 0; i < m; ++i)
+      if (rows[static_cast<std::size_t>(i)] < n0) {
+        base_rows.push_back(rows[static_cast<std::size_t>(i)]);
+        base_at.push_back(i);
+      }
+    Eigen::MatrixXd P(static_cast<Index>(base_rows.size()), kd + c);
+    selected_columns_transposed_times(B0t, base_rows, M, P);
+    Eigen::MatrixXd KM = Eigen::MatrixXd::Zero(m, k + c);  // (K_new^-1 [Us, also])_R
+    for (std::size_t b = 0; b < base_rows.size(); ++b) {
+      for (Index j = 0; j < kd; ++j) KM(base_at[b], dense[static_cast<std::size_t>(j)]) = P(static_cast<Index>(b), j);
+      KM.row(base_at[b]).tail(c) = P.row(static_cast<Index>(b)).tail(c);
+    }
     for (Index i = 0; i < m; ++i) {
       const Index row = rows[static_cast<std::size_t>(i)];
-      if (row < 0 || row >= new_size) throw InvalidArgumentError("LowRankUpdatedLu::rows_after_update: row out of range");
-      if (row < n0)
-        Kt.col(i).head(n0) = B0t.col(row);
-      else
-        Kt(row, i) = 1.0;
+      if (row >= n0) {  // K_new is the identity there
+        KM.row(i).head(k) = Us.row(row);
+        KM.row(i).tail(c) = also.row(row);
+        continue;
+      }
+      for (Index j = 0; j < k; ++j) {
+        const Index at = unit_at[static_cast<std::size_t>(j)];
+        if (at >= 0) KM(i, j) = at < n0 ? Us(at, j) * B0t(at, row) : 0.0;  // (A0^-1)(row, at)
+      }
     }
     Eigen::MatrixXd WR(m, r);  // rows of W_new = [W, K^-1 Us]
     for (Index i = 0; i < m; ++i) {
       const Index row = rows[static_cast<std::size_t>(i)];
       if (r0 > 0) WR.row(i).head(r0) = row < n_ ? Eigen::RowVectorXd(W_.row(row)) : Eigen::RowVectorXd::Zero(r0);
     }
-    // The step's unit columns (E_D in Us and Vs) are gathers, not products.
-    WR.rightCols(k) = sparse_columns_transposed_times(Us, Kt).transpose();
+    WR.rightCols(k) = KM.leftCols(k);
     // C_new = [[C, Q Us], [Vs^T W, I + Qs Us]] (Q's columns for added dofs are zero: V's rows are).
     Eigen::MatrixXd Cn(r, r), QU(r, k);
     if (r0 > 0) {
@@ -198,7 +227,7 @@ class LowRankUpdatedLu {
     Eigen::MatrixXd Qa(r, also.cols());
     if (r0 > 0) Qa.topRows(r0).noalias() = Q_ * also.topRows(n_);
     Qa.bottomRows(k).noalias() = out.Qs * also;
-    out.also_rows.noalias() = Kt.transpose() * also;
+    out.also_rows = KM.rightCols(c);
     out.also_rows.noalias() -= WR * lu.solve(Qa);
     if (profile) {
       profile->base_solve_seconds = seconds_between(t0, t1);
@@ -287,56 +316,6 @@ class LowRankUpdatedLu {
   }
 
  private:
-  /// The row of the one non-zero of column j of C (-1: none, -2: more than one).
-  static Index unit_row(const Eigen::Ref<const Eigen::MatrixXd>& C, Index j) {
-    Index at = -1;
-    for (Index i = 0; i < C.rows(); ++i)
-      if (C(i, j) != 0.0) {
-        if (at >= 0) return -2;
-        at = i;
-      }
-    return at;
-  }
-  /// M C, with C's columns of one non-zero taken as scaled columns of M.
-  static Eigen::MatrixXd times_sparse_columns(const Eigen::Ref<const Eigen::MatrixXd>& M, const Eigen::Ref<const Eigen::MatrixXd>& C) {
-    Eigen::MatrixXd out = Eigen::MatrixXd::Zero(M.rows(), C.cols());
-    std::vector<Index> dense;
-    for (Index j = 0; j < C.cols(); ++j) {
-      const Index at = unit_row(C, j);
-      if (at >= 0)
-        out.col(j) = C(at, j) * M.col(at);
-      else if (at == -2)
-        dense.push_back(j);
-    }
-    if (dense.empty()) return out;
-    Eigen::MatrixXd Cd(C.rows(), static_cast<Index>(dense.size()));
-    for (std::size_t c = 0; c < dense.size(); ++c) Cd.col(static_cast<Index>(c)) = C.col(dense[c]);
-    Eigen::MatrixXd P(M.rows(), Cd.cols());
-    P.noalias() = M * Cd;
-    for (std::size_t c = 0; c < dense.size(); ++c) out.col(dense[c]) = P.col(static_cast<Index>(c));
-    return out;
-  }
-  /// C^T M, with C's columns of one non-zero taken as scaled rows of M.
-  static Eigen::MatrixXd sparse_columns_transposed_times(const Eigen::Ref<const Eigen::MatrixXd>& C,
-                                                         const Eigen::Ref<const Eigen::MatrixXd>& M) {
-    Eigen::MatrixXd out = Eigen::MatrixXd::Zero(C.cols(), M.cols());
-    std::vector<Index> dense;
-    for (Index j = 0; j < C.cols(); ++j) {
-      const Index at = unit_row(C, j);
-      if (at >= 0)
-        out.row(j) = C(at, j) * M.row(at);
-      else if (at == -2)
-        dense.push_back(j);
-    }
-    if (dense.empty()) return out;
-    Eigen::MatrixXd Cd(C.rows(), static_cast<Index>(dense.size()));
-    for (std::size_t c = 0; c < dense.size(); ++c) Cd.col(static_cast<Index>(c)) = C.col(dense[c]);
-    Eigen::MatrixXd P(Cd.cols(), M.cols());
-    P.noalias() = Cd.transpose() * M;
-    for (std::size_t c = 0; c < dense.size(); ++c) out.row(dense[c]) = P.row(static_cast<Index>(c));
-    return out;
-  }
-
   void check_rows(Index rows, const char* where) const {
     if (empty()) throw SolverError(std::string("LowRankUpdatedLu::") + where + ": no factorisation");
     if (rows != n_)

@@ -16,6 +16,7 @@
 #include "bemsurg/error.hpp"
 #include "bemsurg/number_text.hpp"
 #include "bemsurg/solvers/low_rank_updated_lu.hpp"
+#include "bemsurg/solvers/structured_products.hpp"
 #include "bemsurg/timing.hpp"
 
 namespace bemsurg {
@@ -152,13 +153,14 @@ struct GreensTableParts {
       coef_t.noalias() = -g.columns_.transpose() * Xt;
       if (!g.reaction_dofs_.empty()) coef_t.noalias() -= g.reactions_.transpose() * Xr_t;
     } else {
-      Eigen::MatrixXd T(n, m), R(g.reactions_.rows(), m);
-      for (Index i = 0; i < m; ++i) {
-        T.col(i) = g.columns_.col(column(i));
-        R.col(i) = g.reactions_.col(column(i));
+      // The chosen columns where they lie: a copy of them would be a fresh n x m matrix (first touches).
+      selected_columns_transposed_times(g.columns_, *columns, Xt, coef_t);
+      coef_t = -coef_t;
+      if (!g.reaction_dofs_.empty()) {
+        Eigen::MatrixXd r(m, d);
+        selected_columns_transposed_times(g.reactions_, *columns, Xr_t, r);
+        coef_t -= r;
       }
-      coef_t.noalias() = -T.transpose() * Xt;
-      if (!g.reaction_dofs_.empty()) coef_t.noalias() -= R.transpose() * Xr_t;
     }
     for (Index i = 0; i < m; ++i) {
       const Index col = column(i), k = 3 * g.region_[static_cast<std::size_t>(col / 3)] + col % 3;
@@ -475,29 +477,38 @@ struct GreensTableParts {
     Eigen::MatrixXd T = old_columns_snapshot(g, n1, map);
     profile.snapshot_seconds = seconds_since(t_snapshot);
     const auto t_rows = SteadyClock::now();
-    // The change of the rows R (the new slots' columns are zero in T, so adding sets them), added
-    // column by column: a row of the column-major table touches one cache line per entry.
-    const Index m = static_cast<Index>(rows.size());
-    Eigen::MatrixXd dR = Eigen::MatrixXd::Zero(m, T.cols());
-    if (d > 0 && map.kept_old > 0) {
-      Eigen::MatrixXd ZZ(m, 2 * d);
-      ZZ.leftCols(d) = r.z_rows.leftCols(d);
-      ZZ.rightCols(d) = -r.z_rows.rightCols(d);
-      dR.leftCols(3 * map.kept_old).noalias() = ZZ * CTt.transpose();
-    }
+    // The change of the rows R (the new slots' columns are zero in T, so adding sets them), made in
+    // panels of columns and added column by column: one reused |R| x 64 panel stays in cache for
+    // its scatter, where a whole |R| x 3|kept| change would be a fresh matrix (first touches), and a
+    // row of the column-major table touches one cache line per entry.
+    const Index m = static_cast<Index>(rows.size()), cols = T.cols(), width = 64;
+    Eigen::MatrixXd ZZ(m, 2 * d);
+    ZZ.leftCols(d) = r.z_rows.leftCols(d);
+    ZZ.rightCols(d) = -r.z_rows.rightCols(d);
+    std::vector<Index> fresh_of(static_cast<std::size_t>(cols), -1);  // a table column's fresh column in also_rows
     for (Index c = 0; c < k; ++c) {
       const Index col = s.fresh_cols[static_cast<std::size_t>(wanted[static_cast<std::size_t>(c)])];
-      dR.col(3 * map.out_slot[static_cast<std::size_t>(col / 3)] + col % 3) += r.also_rows.col(c);
+      fresh_of[static_cast<std::size_t>(3 * map.out_slot[static_cast<std::size_t>(col / 3)] + col % 3)] = c;
     }
-    for (Index c = 0; c < T.cols(); ++c) {
-      double* to = T.col(c).data();
-      const double* from = dR.col(c).data();
-      for (Index i = 0; i < m; ++i) to[rows[static_cast<std::size_t>(i)]] += from[i];
+    Eigen::MatrixXd dR(m, std::min(width, cols));
+    bool finite = true;
+    for (Index c0 = 0; c0 < cols; c0 += width) {
+      const Index w = std::min(width, cols - c0), old = std::max<Index>(0, std::min(w, 3 * map.kept_old - c0));
+      auto panel = dR.leftCols(w);
+      panel.setZero();
+      if (d > 0 && old > 0) panel.leftCols(old).noalias() = ZZ * CTt.middleRows(c0, old).transpose();
+      for (Index c = 0; c < w; ++c)
+        if (fresh_of[static_cast<std::size_t>(c0 + c)] >= 0) panel.col(c) += r.also_rows.col(fresh_of[static_cast<std::size_t>(c0 + c)]);
+      finite = finite && panel.allFinite();
+      for (Index c = 0; c < w; ++c) {
+        double* to = T.col(c0 + c).data();
+        const double* from = panel.col(c).data();
+        for (Index i = 0; i < m; ++i) to[rows[static_cast<std::size_t>(i)]] += from[i];
+      }
     }
-    const Eigen::MatrixXd& TR = dR;  // checked for finiteness below
     profile.gemm_seconds += seconds_since(t_rows);
     const auto t_checks = SteadyClock::now();
-    if (!TR.allFinite() || !x.allFinite()) throw SolverError("updated_table: the table has non-finite entries");
+    if (!finite || !x.allFinite()) throw SolverError("updated_table: the table has non-finite entries");
     t.set_columns_from_solution(std::move(T));
     t.build_slots();
     t.timings_ = g.timings_;
