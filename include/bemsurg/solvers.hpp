@@ -22,6 +22,7 @@
 /// - lu_in_place.hpp
 /// - near_field_preconditioner.hpp
 /// - partitioned_inverse.hpp
+/// - structured_products.hpp
 /// - system_factorization.hpp
 
 #include "bemsurg/solvers/bicg.hpp"
