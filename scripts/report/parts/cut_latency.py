@@ -25,6 +25,9 @@ TITLE = "Cut-step latency against n"
 ORDER = 40
 
 GOALS = [(1584, 0.020, "20 ms at n = 1,584"), (9000, 0.25, "0.25 s at n = 9,000")]  # docs/cutting.md, "Timing"
+# Issue 39's goals for the first response (the loop's exact rows within reach), checked against first_response_seconds.
+FIRST_GOALS = [(1620, 0.020, "first response 20 ms at n = 1,620"), (4704, 0.050, "first response 50 ms at n = 4,704"),
+               (8976, 0.100, "first response 0.1 s at n = 8,976")]
 QUICK_EQUATIONS = "1344,1800,2400"  # 1,344: the smallest box with room for the cut (bench_cut's block_near)
 FULL_EQUATIONS = "1584,3000,4752,9000,12000,15000"
 # Where a step's time goes (GreensTableUpdateResult's profile), in the order the step takes them.
@@ -79,7 +82,12 @@ def _chart(ctx, rows, fits):
     series = [("exact_seconds", "exact update to the complete table" + (" (two phases)" if two_phase else " (system + table)"),
                "tab:red", "o", "-")]
     if two_phase:
-        series += [("first_response_seconds", "first response (columns within 2 cm of the probe)", "tab:blue", "D", "-")]
+        series += [("first_response_seconds", "first response (rows within 2 cm of the probe, over the explicit inverse)",
+                    "tab:blue", "D", "-")]
+        if all("first_response_lu_seconds" in r for r in rows):
+            series += [("first_response_lu_seconds", "first response over the LU (columns within reach)", "tab:brown", "P", "-.")]
+        if all("first_response_floor_seconds" in r for r in rows):
+            series += [("first_response_floor_seconds", "first response's floor (V_sᵀ A0⁻¹ at the dgemm rate)", "tab:blue", "1", ":")]
         if all("first_response_beside_seconds" in r for r in rows):
             series += [("first_response_beside_seconds", "first response, probe 5 cm beside the cut", "tab:cyan", "d", "-.")]
         series += [("one_step_seconds", "the same step in one call (before the split)", "tab:orange", "x", "--")]
@@ -92,6 +100,9 @@ def _chart(ctx, rows, fits):
     for (n_goal, seconds, label), colour in zip(GOALS, ["tab:green", "tab:purple"]):
         ax.axhline(seconds, color=colour, lw=1.2, alpha=0.8, label=f"goal {label} (★: that n)")
         ax.plot([n_goal], [seconds], marker="*", ms=11, color=colour, ls="none")
+    if two_phase:
+        ax.plot([g[0] for g in FIRST_GOALS], [g[1] for g in FIRST_GOALS], marker="*", ms=11, color="tab:blue", mfc="none",
+                ls="none", label="first response goals (issue 39): 20 ms, 50 ms, 0.1 s at n = 1,620, 4,704, 8,976")
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.xaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:,.0f}"))
@@ -188,6 +199,18 @@ def _goal_text(rows):
         verdict = "met" if value <= seconds else "**missed**"
         text.append(f"Goal {label}: {verdict}, {rl.seconds_text(value)} {where}, {value / seconds:.2g}x the goal; "
                     f"the floor there is {rl.seconds_text(floor)} ({floor / seconds:.2g}x the goal).")
+    if all("first_response_seconds" in r for r in rows):
+        for n_goal, seconds, label in FIRST_GOALS:
+            value, n, interpolated = _at(rows, n_goal, "first_response_seconds")
+            if value is None:
+                continue
+            where = f"at n = {n:,}" + (" (interpolated log-log)" if interpolated else "")
+            floor = ""
+            if all("first_response_floor_seconds" in r for r in rows):
+                f, _, _ = _at(rows, n_goal, "first_response_floor_seconds")
+                floor = f"; its GEMM's floor there is {rl.seconds_text(f)} ({f / seconds:.2g}x the goal)"
+            text.append(f"Goal {label}: {'met' if value <= seconds else '**missed**'}, {rl.seconds_text(value)} {where}, "
+                        f"{value / seconds:.2g}x the goal{floor}.")
     for _, seconds, label in GOALS:
         ok = [r["equations"] for r in rows if r["exact_seconds"] <= seconds]
         text.append(f"Largest n measured within {rl.seconds_text(seconds)}: " + (f"{max(ok):,}." if ok else "none."))
