@@ -185,29 +185,26 @@ class LowRankUpdatedLu {
       }
     Eigen::MatrixXd P(static_cast<Index>(base_rows.size()), kd + c);
     selected_columns_transposed_times(B0t, base_rows, M, P);
-    Eigen::MatrixXd KM = Eigen::MatrixXd::Zero(m, k + c);  // (K_new^-1 [Us, also])_R
+    // Rows of W_new = [W, K^-1 Us] and of K^-1 also, written where Woodbury's finish reads them.
+    Eigen::MatrixXd WR = Eigen::MatrixXd::Zero(m, r);
+    out.also_rows.resize(m, c);
     for (std::size_t b = 0; b < base_rows.size(); ++b) {
-      for (Index j = 0; j < kd; ++j) KM(base_at[b], dense[static_cast<std::size_t>(j)]) = P(static_cast<Index>(b), j);
-      KM.row(base_at[b]).tail(c) = P.row(static_cast<Index>(b)).tail(c);
+      for (Index j = 0; j < kd; ++j) WR(base_at[b], r0 + dense[static_cast<std::size_t>(j)]) = P(static_cast<Index>(b), j);
+      out.also_rows.row(base_at[b]) = P.row(static_cast<Index>(b)).tail(c);
     }
     for (Index i = 0; i < m; ++i) {
       const Index row = rows[static_cast<std::size_t>(i)];
+      if (r0 > 0 && row < n_) WR.row(i).head(r0) = W_.row(row);
       if (row >= n0) {  // K_new is the identity there
-        KM.row(i).head(k) = Us.row(row);
-        KM.row(i).tail(c) = also.row(row);
+        WR.row(i).tail(k) = Us.row(row);
+        out.also_rows.row(i) = also.row(row);
         continue;
       }
       for (Index j = 0; j < k; ++j) {
         const Index at = unit_at[static_cast<std::size_t>(j)];
-        if (at >= 0) KM(i, j) = at < n0 ? Us(at, j) * B0t(at, row) : 0.0;  // (A0^-1)(row, at)
+        if (at >= 0) WR(i, r0 + j) = at < n0 ? Us(at, j) * B0t(at, row) : 0.0;  // (A0^-1)(row, at)
       }
     }
-    Eigen::MatrixXd WR(m, r);  // rows of W_new = [W, K^-1 Us]
-    for (Index i = 0; i < m; ++i) {
-      const Index row = rows[static_cast<std::size_t>(i)];
-      if (r0 > 0) WR.row(i).head(r0) = row < n_ ? Eigen::RowVectorXd(W_.row(row)) : Eigen::RowVectorXd::Zero(r0);
-    }
-    WR.rightCols(k) = KM.leftCols(k);
     // C_new = [[C, Q Us], [Vs^T W, I + Qs Us]] (Q's columns for added dofs are zero: V's rows are).
     Eigen::MatrixXd Cn(r, r), QU(r, k);
     if (r0 > 0) {
@@ -227,7 +224,6 @@ class LowRankUpdatedLu {
     Eigen::MatrixXd Qa(r, also.cols());
     if (r0 > 0) Qa.topRows(r0).noalias() = Q_ * also.topRows(n_);
     Qa.bottomRows(k).noalias() = out.Qs * also;
-    out.also_rows = KM.rightCols(c);
     out.also_rows.noalias() -= WR * lu.solve(Qa);
     if (profile) {
       profile->base_solve_seconds = seconds_between(t0, t1);
