@@ -51,6 +51,7 @@
 #include "bemsurg/memory_budget.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/presolution/greens_table.hpp"
+#include "bemsurg/snapshot_buffers.hpp"
 #include "bemsurg/solvers/dense_lu.hpp"
 #include "bench_support.hpp"
 
@@ -139,7 +140,7 @@ std::vector<Step> cut_steps(const Body& b, int extensions, CutOptions options = 
   return steps;
 }
 
-double relative_max(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+double relative_max(const Eigen::Ref<const Eigen::MatrixXd>& a, const Eigen::Ref<const Eigen::MatrixXd>& b) {
   return (a - b).cwiseAbs().maxCoeff() / std::max(1e-300, b.cwiseAbs().maxCoeff());
 }
 
@@ -278,7 +279,7 @@ std::array<int, 3> block_near(long long equations) {
 /// One latency size: the cut's steps on the box nearest `N` equations, each timed, and the
 /// refactorisation after the last. Its own scope, so that its tables are freed before the next
 /// measurement (n = 15,000: 1.8 GB per LU).
-json latency_point(int N) {
+json latency_point(int N, bool pooled) {
   const auto c = block_near(N);
   const Body body = make_body(c[0], c[1], c[2]);
   const int extensions = 5;
@@ -309,6 +310,10 @@ json latency_point(int N) {
   std::shared_ptr<const GreensTable> before_last;
   std::vector<double> first, one_step, reach_count, first_columns, beside, beside_columns;
   double first_agreement = 0.0;
+  // The two-phase chain's tables draw their storage from one pool, as CutSystemUpdate's do (docs/cutting.md,
+  // "Snapshot storage"); --fresh-pages measures them on fresh memory, as the one-call chain is.
+  GreensTableUpdateOptions two_phase_options;
+  if (pooled) two_phase_options.buffers = std::make_shared<SnapshotBufferPool>();
   int index = 0;
   for (const Step& s : steps) {
     GreensTableUpdateResult r;
@@ -322,7 +327,7 @@ json latency_point(int N) {
     auto two_phases = [&] {
       const auto t0 = SteadyClock::now();
       CutChange change = integrate_cut_change(*t->mesh(), *s.mesh, s.delta, t->material(), t->quadrature(), t->gravity());
-      const CutTableStep cut(t, s.mesh, s.delta, std::move(change));
+      const CutTableStep cut(t, s.mesh, s.delta, std::move(change), two_phase_options);
       // A probe where the step cut: its first new element (a cut step always adds some; else its first changed one).
       const std::vector<Index> changed = s.delta.changed();
       const Index at = !s.delta.added.empty() ? s.delta.added.front() : !changed.empty() ? changed.front() : 0;
@@ -361,7 +366,7 @@ json latency_point(int N) {
     auto beside_first = [&] {
       const auto t0 = SteadyClock::now();
       CutChange change = integrate_cut_change(*t->mesh(), *s.mesh, s.delta, t->material(), t->quadrature(), t->gravity());
-      const CutTableStep cut(t, s.mesh, s.delta, std::move(change));
+      const CutTableStep cut(t, s.mesh, s.delta, std::move(change), two_phase_options);
       const Eigen::Vector3d at = s.mesh->centroid(!s.delta.added.empty() ? s.delta.added.front() : s.delta.changed().front());
       Index probe = cut.region().front();
       for (Index e : cut.region())
@@ -433,6 +438,7 @@ json latency_point(int N) {
           {"beside_metres", kBeside},
           {"reach_metres", kReach},
           {"first_response_agreement", first_agreement},
+          {"snapshot_buffers_reused", pooled ? two_phase_options.buffers->counts().reused : 0},
           {"block", {c[0], c[1], c[2]}},
           {"region_elements", before_last->region().size()},
           {"steps", steps.size()},
@@ -472,13 +478,13 @@ double dgemm_gflops(Index n, Index k, int repeats) {
   return 2.0 * double(n) * double(n) * double(k) / std::max(1e-12, median(secs)) * 1e-9;
 }
 
-void latency(const std::vector<int>& equations, json& out) {
+void latency(const std::vector<int>& equations, bool pooled, json& out) {
   std::printf("\nCut-step latency, exact update of system + table (region: 1,000 free elements nearest the cut)\n");
   std::printf("%7s %7s %5s %10s %10s %10s %10s %10s %10s %10s %9s %10s %8s %9s %5s %8s %9s\n", "n", "region", "d", "exact s", "first s",
               "first LU s", "beside s", "one call s", "integr. s", "system s", "table s", "refactor s", "agree", "rank", "GF/s", "floor s",
               "ex/floor");
   for (int N : equations) {
-    json row = latency_point(N);
+    json row = latency_point(N, pooled);
     const Index n = row["equations"].get<Index>(), k = std::max<Index>(1, row["changed_columns"].get<Index>());
     const double rate = dgemm_gflops(n, k, 5);
     // The arithmetic floor (docs/cutting.md, "Where a step's time goes"): the LU solves a step
@@ -674,6 +680,7 @@ bool write_csv_dir(const std::string& dir, const json& report) {
                     "beside_metres",
                     "reach_metres",
                     "first_response_agreement",
+                    "snapshot_buffers_reused",
                     "integration_seconds",
                     "system_seconds",
                     "table_seconds",
@@ -726,7 +733,8 @@ int main(int argc, char** argv) {
   parser.flag("--no-gap", no_gap, "leave out the narrow-gap study");
   parser.flag("--no-table1", no_table1, "leave out Table 1");
   parser.flag("--no-latency", no_latency, "leave out the latency study");
-  parser.flag("--fresh-pages", fresh_pages, "return freed memory to the system (bemsurg cut reuses it)");
+  parser.flag("--fresh-pages", fresh_pages,
+              "return freed memory to the system and give the two-phase chain no snapshot pool (bemsurg cut reuses both)");
   if (const std::optional<int> status = cli::parse_command_line(parser, argc, argv)) return *status;
   const bool gap = !no_gap, do_table1 = !no_table1, do_latency = !no_latency, reuse_memory = !fresh_pages;
   // As bemsurg cut and session do: freed table snapshots are reused rather than returned to the
@@ -774,7 +782,7 @@ int main(int argc, char** argv) {
       const double rate = dgemm_gflops(static_cast<Index>(std::max(table1_equations.back(), 384)), 100, 5);
       for (json& row : report["table1"]) row["dgemm_gflops"] = rate;
     }
-    if (do_latency) latency(equations, report["latency"]);
+    if (do_latency) latency(equations, reuse_memory, report["latency"]);
     if (gap) gap_study(quick, report["gap"]);
   } catch (const std::exception& e) {
     std::cerr << "bench_cut: " << e.what() << "\n";

@@ -227,7 +227,9 @@ int main(int argc, char** argv) {
 
   auto session_options = [](bool after) {
     haptics::SessionOptions o;
-    o.cut_hook = haptics::surface_cut_hook();  // a fresh cutter per run
+    const haptics::SurfaceCuts cuts = haptics::surface_cuts();  // a fresh cutter per run, made ready as bemsurg session does
+    o.cut_hook = cuts.hook;
+    o.cut_prepare = cuts.prepare;
     if (!after) {
       o.background_steps = false;
       o.limit_background_threads = false;

@@ -16,6 +16,7 @@
 #include "bemsurg/cutting/cut_system_update.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/presolution/greens_table.hpp"
+#include "bemsurg/snapshot_buffers.hpp"
 #include "bemsurg/solvers/low_rank_updated_lu.hpp"
 #include "bemsurg/solvers/lu_factors.hpp"
 #include "bemsurg/solvers/partitioned_inverse.hpp"
@@ -37,7 +38,7 @@ namespace {
 using bemsurg_test::kEps;
 constexpr double kCut = 25.0 * 408.0 * kEps;  // 2.3e-12
 
-double relative_max(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+double relative_max(const Eigen::Ref<const Eigen::MatrixXd>& a, const Eigen::Ref<const Eigen::MatrixXd>& b) {
   return (a - b).cwiseAbs().maxCoeff() / std::max(1e-300, b.cwiseAbs().maxCoeff());
 }
 
@@ -285,6 +286,110 @@ TEST_CASE("a cut step's first response is exact on the tools' reach and complete
   CHECK(worst_complete <= kCut);  // one code path: measured 0 (bit for bit)
   CHECK(worst_scratch <= kCut);   // measured 4.7e-15
   CHECK_THROWS_AS(elements_within_reach(*table->mesh(), table->region(), {Vec3(0, 0, 0)}, -1.0), InvalidArgumentError);
+}
+
+TEST_CASE("a snapshot pool hands out the smallest buffer let go of that fits, and frees beyond its size", "[cut][storage]") {
+  auto pool = std::make_shared<SnapshotBufferPool>(2, 0.25);
+  std::shared_ptr<double> a = pool->acquire(1000);
+  const double* a_data = a.get();
+  CHECK(pool->counts().allocated == 1);
+  a.reset();  // back to the pool, with room for 1250 doubles
+  CHECK(pool->counts().held == 1);
+  CHECK(pool->counts().held_bytes == 1250.0 * sizeof(double));
+  std::shared_ptr<double> b = pool->acquire(1200);  // fits in the slack
+  CHECK(b.get() == a_data);
+  CHECK(pool->counts().reused == 1);
+  CHECK(pool->counts().held == 0);
+  std::shared_ptr<double> c = pool->acquire(2000), d = pool->acquire(400), e = pool->acquire(3000);
+  CHECK(pool->counts().allocated == 4);
+  const double* c_data = c.get();
+  const double* e_data = e.get();
+  b.reset();
+  c.reset();
+  d.reset();  // a third buffer: the smallest (d's, 500 doubles) is freed
+  CHECK(pool->counts().held == 2);
+  CHECK(pool->counts().held_bytes == (1250.0 + 2500.0) * sizeof(double));
+  std::shared_ptr<double> f = pool->acquire(1300);  // the smallest that fits: c's, not b's (too small)
+  CHECK(f.get() == c_data);
+  std::weak_ptr<SnapshotBufferPool> gone = pool;
+  pool.reset();  // buffers still out outlive their pool and are freed with their last owner (ASan checks)
+  CHECK(gone.expired());
+  CHECK(e.get() == e_data);
+  e.reset();
+  f.reset();
+  std::shared_ptr<double> g = SnapshotBufferPool::fresh(10);
+  g.get()[9] = 1.0;
+  CHECK(g.get()[9] == 1.0);
+}
+
+TEST_CASE("cut steps on a snapshot pool reuse the storage of tables let go of and equal the steps on fresh storage", "[cut][table]") {
+  // GreensTableUpdateOptions::buffers (docs/cutting.md, "Snapshot storage"): the tables of a chain of
+  // steps take their columns from buffers earlier tables gave back. Each equals the table of the
+  // same step on fresh storage (the same arithmetic), and a table still held is never written again.
+  const Body body(box_mesh(Vec3(0, 0, 0), Vec3(1, 1, 0.5), 4, 4, 2));
+  auto table = std::make_shared<const GreensTable>(GreensTable::compute(body.mesh, body.material, body.base, body.options(body.top)));
+  GreensTableUpdateOptions pooled;
+  // A quarter to spare: on this small body a step's table is ~7 % larger than the last (a real
+  // organ's, 1-2 %: the default 1/16), and a buffer comes back two steps after it was taken.
+  pooled.buffers = std::make_shared<SnapshotBufferPool>(2, 0.25);
+  std::mt19937 rng(56);
+  std::vector<Index> candidates = body.top;
+  std::shared_ptr<const GreensTable> held;  // one table kept from each step to the next, as the haptic loop keeps its model
+  Eigen::MatrixXd held_columns;
+  double worst = 0.0;
+  for (int step = 0; step < 4; ++step) {
+    const SyntheticStep s = bemsurg::testing::random_split(*table->mesh(), candidates, 0.1, rng);
+    for (Index e : s.delta.added) candidates.push_back(e);
+    CutChange change = integrate_cut_change(*table->mesh(), *s.mesh, s.delta, table->material(), table->quadrature(), table->gravity());
+    const CutChange same = change;
+    const CutTableStep cut(table, s.mesh, s.delta, std::move(change), pooled);
+    const std::vector<Index> reach = elements_within_reach(*s.mesh, cut.region(), {s.mesh->centroid(s.delta.added.front())}, 0.3);
+    const auto first = cut.first_response(reach);
+    const auto complete = cut.complete();
+    const CutTableStep fresh_cut(table, s.mesh, s.delta, same);
+    const auto fresh_first = fresh_cut.first_response(reach);
+    const auto fresh_complete = updated_table(*table, s.mesh, s.delta, same);
+    worst = std::max({worst, table_difference(*first, *fresh_first), table_difference(*complete, *fresh_complete)});
+    if (held) CHECK(held->columns() == held_columns);  // its buffer did not go to another table
+    held = first;
+    held_columns = first->columns();
+    table = complete;  // the table before and this step's first response are let go of (held keeps one)
+  }
+  const SnapshotBufferPool::Counts counts = pooled.buffers->counts();
+  INFO("buffers reused " << counts.reused << ", allocated " << counts.allocated << ", pooled vs fresh " << worst);
+  CHECK(counts.reused >= 3);           // steps 3 and 4 draw on the tables of steps 1 and 2: measured 3 of 8
+  CHECK(worst <= 4.0 * 408.0 * kEps);  // the same sums in the same order: measured 0
+  // A copy of a table shares its storage; a rescaled table gets its own.
+  const Eigen::MatrixXd before = table->columns();
+  const auto stiffer = table->with_young_modulus(2.0 * table->material().young_modulus);
+  CHECK(table->columns() == before);
+  CHECK(relative_max(stiffer->columns(), 0.5 * before) <= 4.0 * kEps);
+}
+
+TEST_CASE("a CutSystemUpdate that reserved its snapshot buffers takes its steps' tables from them", "[cut][storage]") {
+  // reserve_snapshot_buffers (what a session does before its clock starts): the first steps find
+  // touched storage too, and later ones the storage of the tables let go of.
+  const Body body(box_mesh(Vec3(0, 0, 0), Vec3(1, 1, 0.5), 4, 4, 2));
+  auto table0 = std::make_shared<const GreensTable>(GreensTable::compute(body.mesh, body.material, body.base, body.options(body.top)));
+  CutSystemOptions options;
+  options.table.buffers = std::make_shared<SnapshotBufferPool>(3, 0.5);  // this small body's tables grow ~7 % a step
+  CutSystemUpdate system(table0, options);
+  system.reserve_snapshot_buffers();
+  CHECK(options.table.buffers->counts().held == 3);
+  CHECK(options.table.buffers->counts().held_bytes >= 3.0 * 1.5 * double(table0->columns().size()) * sizeof(double));
+  system.reserve_snapshot_buffers();  // already there: nothing more
+  CHECK(options.table.buffers->counts().held == 3);
+  std::mt19937 rng(3);
+  std::vector<Index> candidates = body.top;
+  for (int step = 0; step < 4; ++step) {
+    const SyntheticStep s = bemsurg::testing::random_split(*system.table()->mesh(), candidates, 0.1, rng);
+    for (Index e : s.delta.added) candidates.push_back(e);
+    REQUIRE(system.apply(s.mesh, s.delta, CutUpdateMethod::Exact).accepted);
+  }
+  const SnapshotBufferPool::Counts counts = options.table.buffers->counts();
+  CHECK(counts.allocated == 0);
+  CHECK(counts.reused == 4);
+  CHECK(table_difference(*system.table(), from_scratch(*system.table(), body)) <= kCut);
 }
 
 TEST_CASE("products with a step's structure equal the dense products they replace", "[cut][algebra]") {

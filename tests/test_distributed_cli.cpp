@@ -48,7 +48,7 @@ nlohmann::json read_json(const std::string& path) {
 }
 
 /// max |a - b| / max |b| over two matrices of one shape.
-double relative_difference(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+double relative_difference(const Eigen::Ref<const Eigen::MatrixXd>& a, const Eigen::Ref<const Eigen::MatrixXd>& b) {
   REQUIRE(a.rows() == b.rows());
   REQUIRE(a.cols() == b.cols());
   return (a - b).cwiseAbs().maxCoeff() / b.cwiseAbs().maxCoeff();

@@ -382,7 +382,14 @@ TEST_CASE("a cut through the session hook swaps the new table in between ticks",
                       Catch::Contains("the cut of tool 'scalpel' at t = 0.1") && Catch::Contains("not wired"));
   }
   SECTION("with a hook") {
+    int prepared = 0;
+    options.cut_prepare = [&](const std::shared_ptr<const GreensTable>& t) {
+      CHECK(calls == 0);  // before the first step
+      CHECK(t == b.table);
+      ++prepared;
+    };
     options.cut_hook = [&](const CutRequest& r) {
+      CHECK(prepared == 1);
       ++calls;
       CHECK(r.step == calls - 1);
       CHECK(r.table == (calls == 1 ? b.table : soft));  // the current snapshot
@@ -391,6 +398,7 @@ TEST_CASE("a cut through the session hook swaps the new table in between ticks",
     Session session(b.mesh, b.table, load_action_script_from_string(script), options);
     Collect c;
     const SessionResult r = session.run(&c);
+    CHECK(prepared == 1);
     CHECK(calls == 2);
     CHECK(r.cuts == 2);
     CHECK(c.cuts == std::vector<int>{1, 2});

@@ -21,7 +21,7 @@
 namespace {
 
 /// Largest difference of two matrices relative to the larger entry of the second.
-double relative_max(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+double relative_max(const Eigen::Ref<const Eigen::MatrixXd>& a, const Eigen::Ref<const Eigen::MatrixXd>& b) {
   return (a - b).cwiseAbs().maxCoeff() / std::max(1e-300, b.cwiseAbs().maxCoeff());
 }
 

@@ -49,7 +49,9 @@ std::string write_temp(const std::string& name, const std::string& text) {
 
 constexpr double kEps = std::numeric_limits<double>::epsilon();
 
-double max_relative(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) { return (a - b).cwiseAbs().maxCoeff() / b.cwiseAbs().maxCoeff(); }
+double max_relative(const Eigen::Ref<const Eigen::MatrixXd>& a, const Eigen::Ref<const Eigen::MatrixXd>& b) {
+  return (a - b).cwiseAbs().maxCoeff() / b.cwiseAbs().maxCoeff();
+}
 
 }  // namespace
 

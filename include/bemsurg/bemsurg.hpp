@@ -15,6 +15,7 @@
 #include "bemsurg/material.hpp"
 #include "bemsurg/memory_budget.hpp"
 #include "bemsurg/number_text.hpp"
+#include "bemsurg/snapshot_buffers.hpp"
 #include "bemsurg/timing.hpp"
 #include "bemsurg/types.hpp"
 #include "bemsurg/version.hpp"

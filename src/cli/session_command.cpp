@@ -169,7 +169,9 @@ int run_session(int argc, char** argv) {
   bemsurg::haptics::SessionOptions options;
   options.virtual_clock = virtual_clock;
   options.loop.realtime_priority = realtime_priority;
-  options.cut_hook = bemsurg::haptics::surface_cut_hook();
+  const bemsurg::haptics::SurfaceCuts cuts = bemsurg::haptics::surface_cuts();
+  options.cut_hook = cuts.hook;
+  options.cut_prepare = cuts.prepare;
 
   const bemsurg::ElastostaticProblem& p = scene.problem;
   // The mesh of the session before any cut: the element numbers of every warning refer to it.

@@ -435,6 +435,7 @@ SessionResult Session::run(SessionObserver* observer) {
     }
   HapticLoopOptions ls = options_.loop;
   ls.rate_hz = script_.rate_hz;
+  if (script_.has_cuts() && options_.cut_prepare) options_.cut_prepare(table_);  // before the clock starts
   HapticLoop loop(ls, devices);
   const auto wall0 = std::chrono::steady_clock::now();
   simulation_step(loop, observer, result);  // the first model is waiting before the first tick

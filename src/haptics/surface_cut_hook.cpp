@@ -11,24 +11,40 @@
 
 namespace bemsurg::haptics {
 
-CutHook surface_cut_hook() {
-  struct State {
-    std::unique_ptr<CutSystemUpdate> system;
-    std::shared_ptr<const GreensTable> returned;  // the table the last step handed to the session
-    int action = -1;
+namespace {
+struct SurfaceCutState {
+  std::unique_ptr<CutSystemUpdate> system;
+  std::shared_ptr<const GreensTable> returned;  // the table the last step handed to the session
+  int action = -1;
+
+  /// The cut entry point on `table`: a table the hook did not hand out (the session's first, or
+  /// another session's) gets a new one.
+  void cut_from(const std::shared_ptr<const GreensTable>& table) {
+    if (system && table == returned) return;
+    system.reset();  // joins a refactorisation still running for the old table
+    // Refactorisations run inside the step: the hook already runs on the session's simulation side,
+    // whose single thread leaves the haptic loop its core, and a session's trace stays deterministic.
+    CutSystemOptions options;
+    options.background_refactor = false;
+    system = std::make_unique<CutSystemUpdate>(table, options);
+    returned = table;
+    action = -1;
+  }
+};
+}  // namespace
+
+CutHook surface_cut_hook() { return surface_cuts().hook; }
+
+SurfaceCuts surface_cuts() {
+  auto state = std::make_shared<SurfaceCutState>();
+  SurfaceCuts cuts;
+  cuts.prepare = [state](const std::shared_ptr<const GreensTable>& table) {
+    if (!table || !table->has_factorization()) return;  // the first step will say why it cannot cut
+    state->cut_from(table);
+    state->system->reserve_snapshot_buffers();
   };
-  auto state = std::make_shared<State>();
-  return [state](const CutRequest& r) -> CutResult {
-    // A table the hook did not hand out (the session's first, or another session's): cut from it.
-    if (!state->system || r.table != state->returned) {
-      state->system.reset();  // joins a refactorisation still running for the old table
-      // Refactorisations run inside the step: the hook already runs on the session's simulation side,
-      // whose single thread leaves the haptic loop its core, and a session's trace stays deterministic.
-      CutSystemOptions options;
-      options.background_refactor = false;
-      state->system = std::make_unique<CutSystemUpdate>(r.table, options);
-      state->action = -1;
-    }
+  cuts.hook = [state](const CutRequest& r) -> CutResult {
+    state->cut_from(r.table);
     if (state->action != r.action) {  // a new cut action opens a new groove
       state->system->begin_cut();
       state->action = r.action;
@@ -52,6 +68,7 @@ CutHook surface_cut_hook() {
     state->returned = state->system->table();
     return {state->returned->mesh(), state->returned, {}};
   };
+  return cuts;
 }
 
 }  // namespace bemsurg::haptics

@@ -44,6 +44,7 @@
 #include "bemsurg/error.hpp"
 #include "bemsurg/mesh/mesh_delta.hpp"
 #include "bemsurg/presolution/greens_table.hpp"
+#include "bemsurg/snapshot_buffers.hpp"
 #include "bemsurg/solvers/linear_solve.hpp"
 #include "bemsurg/timing.hpp"
 
@@ -108,6 +109,8 @@ struct CutSystemOptions {
   bool background_refactor = true;
   /// Build the explicit A* at once (the iterative modes need it; built on first use otherwise).
   bool keep_matrix = false;
+  /// The table updates' options. Without `table.buffers` the update makes its own pool, so that each
+  /// step's tables reuse the storage of the tables the program let go of (docs/cutting.md, "Snapshot storage").
   GreensTableUpdateOptions table;
 };
 
@@ -153,6 +156,9 @@ class CutSystemUpdate {
     if (!table_ || !table_->has_factorization())
       throw InvalidArgumentError("CutSystemUpdate: the table must be computed (with its factorisation), not read from a file");
     x_ = solution_of(*table_);
+    // Three buffers: a step's two tables, and the next step's first response while the loop still
+    // blends from this step's (docs/cutting.md, "Snapshot storage").
+    if (!options_.table.buffers) options_.table.buffers = std::make_shared<SnapshotBufferPool>(3);
     if (options_.keep_matrix) build_matrix();
   }
   CutSystemUpdate(const CutSystemUpdate&) = delete;
@@ -168,6 +174,11 @@ class CutSystemUpdate {
   /// The explicit A* of the current system (kept for the iterative modes, or with keep_matrix;
   /// empty otherwise): what a fresh factorisation of the current system would factorise.
   const Eigen::MatrixXd& matrix() const { return A_; }
+  /// Touches now the storage of the next steps' tables (three buffers of the current table's size, with
+  /// the pool's room to spare: SnapshotBufferPool::reserve), for a caller that knows cuts will come
+  /// and has time before them (a session before its clock starts): the first steps then cost what
+  /// later ones do, whose tables reuse the storage of the tables let go of (docs/cutting.md, "Snapshot storage").
+  void reserve_snapshot_buffers() { options_.table.buffers->reserve(table()->columns().size(), 3); }
   /// True when a background refactorisation is running.
   bool refactor_running() const { return busy_.load(); }
   /// Blocks until a running background refactorisation has finished (and published, if still current).

@@ -18,6 +18,7 @@
 #include "bemsurg/mesh/mesh_delta.hpp"
 #include "bemsurg/mesh/triangle_mesh.hpp"
 #include "bemsurg/presolution/greens_table.hpp"
+#include "bemsurg/snapshot_buffers.hpp"
 
 namespace bemsurg {
 
@@ -28,6 +29,10 @@ struct GreensTableUpdateOptions {
   /// their centroid lies within this distance of a region element's centroid. 0: three times the
   /// largest diameter among the step's changed elements.
   double join_distance = 0.0;
+  /// Where the new tables' columns are stored: buffers that earlier tables of the chain let go of
+  /// (snapshot_buffers.hpp; their pages already touched, docs/cutting.md "Snapshot storage"). Null:
+  /// fresh memory for every table. CutSystemUpdate gives its steps one pool.
+  std::shared_ptr<SnapshotBufferPool> buffers;
 };
 
 /// Wall-clock seconds of one table update after a cut step, by phase, and what it left. The profile

@@ -50,6 +50,10 @@ struct CutResult {
 };
 /// The cutting module's entry point for sessions. Unset: a session refuses scripts with cuts.
 using CutHook = std::function<CutResult(const CutRequest&)>;
+/// Makes ready what the cut hook's first steps will need, for the session's table (e.g. touched storage
+/// for their tables: docs/cutting.md, "Snapshot storage"). A session whose script cuts calls it once,
+/// before its clock starts.
+using CutPrepare = std::function<void(const std::shared_ptr<const GreensTable>&)>;
 
 /// How a Session runs: virtual or real-time clock, the simulation and graphics rates, how far sphere and flat tools may slide,
 /// the haptic loop's options and the hook that computes cuts.
@@ -65,6 +69,8 @@ struct SessionOptions {
   double slide_margin_radii = 1.0;
   HapticLoopOptions loop;  // rate_hz is taken from the script
   CutHook cut_hook;
+  /// Called once before the clock starts when the script cuts (unset: nothing to make ready).
+  CutPrepare cut_prepare;
   /// Real-time sessions: a cut step runs on a background thread (BackgroundTask) while the
   /// simulation side keeps beating the heartbeat and the loop renders the old model; false: on the
   /// simulation thread, which then stops beating while it computes (the behaviour before 0.4, kept

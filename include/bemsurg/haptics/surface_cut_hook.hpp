@@ -14,4 +14,14 @@ namespace bemsurg::haptics {
 /// concurrently); a refused step throws ContactError naming the action's step and the reason.
 CutHook surface_cut_hook();
 
+/// surface_cut_hook's cuts and what makes them ready: `prepare` sets up the hook's cut entry point on the
+/// session's table and touches the storage of its first steps' tables (CutSystemUpdate::reserve_snapshot_buffers),
+/// so that the first steps cost what later ones do (SessionOptions::cut_prepare).
+/// \ingroup haptics
+struct SurfaceCuts {
+  CutHook hook;
+  CutPrepare prepare;
+};
+SurfaceCuts surface_cuts();
+
 }  // namespace bemsurg::haptics

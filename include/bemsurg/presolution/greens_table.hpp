@@ -11,7 +11,10 @@
 // Storage is column-major with one column per region dof: a contact lookup reads whole columns,
 // which is contiguous (three rows of a column-major table would touch a new cache line, often a
 // new page, per entry: about a hundred times slower when measured).
-// Rows of displacement-prescribed dofs hold the prescribed change, zero.
+// Rows of displacement-prescribed dofs hold the prescribed change, zero. The columns live in a buffer
+// the table shares with its copies (never written once the table is made), so that a cut's chain of
+// snapshots can draw its tables' storage from the buffers the tables let go of leave behind
+// (snapshot_buffers.hpp; docs/cutting.md, "Snapshot storage"); columns() views it.
 //
 // After a cut (docs/design.md §7, §9) the table is not recomputed: the cutting module's
 // updated_table (bemsurg/cutting/table_update.hpp) returns a NEW table (an immutable snapshot,
@@ -37,6 +40,7 @@
 #include "bemsurg/mesh/mesh_delta.hpp"
 #include "bemsurg/mesh/triangle_mesh.hpp"
 #include "bemsurg/quadrature/element_quadrature.hpp"
+#include "bemsurg/snapshot_buffers.hpp"
 #include "bemsurg/solvers/linear_solve.hpp"
 #include "bemsurg/solvers/low_rank_updated_lu.hpp"
 #include "bemsurg/solvers/lu_in_place.hpp"
@@ -236,18 +240,19 @@ class GreensTable {
   /// Base state (gravity and the base conditions): displacement and traction of every dof.
   const Eigen::VectorXd& base_displacement() const { return base_displacement_; }
   const Eigen::VectorXd& base_traction() const { return base_traction_; }
-  /// n x 3|region|: displacement of every dof per unit traction on each region dof.
-  const Eigen::MatrixXd& columns() const { return columns_; }
+  /// n x 3|region|: displacement of every dof per unit traction on each region dof. A view of the
+  /// table's storage (column-major, leading dimension n), valid while the table lives.
+  Eigen::Map<const Eigen::MatrixXd> columns() const { return {columns_data_.get(), columns_rows_, columns_cols_}; }
   /// Displacement of element `row` (3) per unit traction on element `col` (3): G_{row,col}.
-  Eigen::Matrix3d block(Index row, Index col) const { return columns_.block<3, 3>(3 * row, 3 * region_slot(col)); }
+  Eigen::Matrix3d block(Index row, Index col) const { return columns().block<3, 3>(3 * row, 3 * region_slot(col)); }
   /// Pointer to the first of the three columns of region element `col` (contiguous, length n each).
-  const double* column_data(Index col) const { return columns_.data() + 3 * region_slot(col) * columns_.rows(); }
+  const double* column_data(Index col) const { return columns_data_.get() + 3 * region_slot(col) * columns_rows_; }
 
   const PrecomputeTimings& timings() const { return timings_; }
   /// Bytes held: the table, the base state, the reaction rows and, when kept, the solver (the LU
   /// factors are shared between a table and the tables updated from it).
   std::size_t bytes() const {
-    return static_cast<std::size_t>(columns_.size() + reactions_.size() + 4 * base_displacement_.size()) * sizeof(double) +
+    return static_cast<std::size_t>(columns_rows_ * columns_cols_ + reactions_.size() + 4 * base_displacement_.size()) * sizeof(double) +
            (solver_ ? solver_->bytes() + solver_->base()->bytes() : 0);
   }
   /// Traction on the displacement-prescribed dofs (reaction_dofs(), in order) per unit traction on
@@ -268,7 +273,13 @@ class GreensTable {
   /// Base displacement and traction from the solution x of A* x = b (u on traction dofs, t on
   /// displacement dofs) and the prescribed values of `bc`.
   void set_base_state(const BoundaryConditions& bc, const Eigen::Ref<const Eigen::VectorXd>& x);
+  /// The table's columns from the solution X of A* X = [region columns of G] (n x 3|region|): the rows
+  /// of displacement-prescribed dofs move to reactions_ and become zero. The first takes X's storage.
   void set_columns_from_solution(Eigen::MatrixXd&& X);
+  /// The same for a solution held in `data` (rows x cols, column-major; a buffer of a
+  /// SnapshotBufferPool), which the table keeps.
+  void set_columns_from_solution(std::shared_ptr<double> data, Index rows, Index cols);
+  Eigen::Map<Eigen::MatrixXd> writable_columns() { return {columns_data_.get(), columns_rows_, columns_cols_}; }
 
   GreensTableKey key_;
   std::vector<Index> region_;
@@ -276,7 +287,8 @@ class GreensTable {
   Eigen::VectorXd base_displacement_;
   Eigen::VectorXd base_traction_;
   std::vector<BcKind> base_kinds_;
-  Eigen::MatrixXd columns_;
+  std::shared_ptr<double> columns_data_;  // n x 3|region|, column-major; shared with the table's copies
+  Index columns_rows_ = 0, columns_cols_ = 0;
   PrecomputeTimings timings_;
   // Kept for the cut updates (cutting/table_update.hpp) (empty for a table read from a file).
   std::uint64_t version_ = 0;

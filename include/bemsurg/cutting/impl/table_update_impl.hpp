@@ -49,6 +49,7 @@ struct CutStepState {
   GreensTableUpdateResult timing;               // integration and the system phase with its profile (the solves so far)
   std::shared_ptr<const GreensTable> complete;  // CutTableStep::complete's table, once made
   GreensTableUpdateResult complete_report;
+  std::shared_ptr<SnapshotBufferPool> buffers;  // GreensTableUpdateOptions::buffers: where the new tables' columns come from
 };
 
 /// The cut update's access to a GreensTable's parts (a friend of GreensTable).
@@ -150,11 +151,11 @@ struct GreensTableParts {
     Eigen::MatrixXd Xr_t(static_cast<Index>(g.reaction_dofs_.size()), d);
     for (std::size_t i = 0; i < g.reaction_dofs_.size(); ++i) Xr_t.row(static_cast<Index>(i)) = Xt.row(g.reaction_dofs_[i]);
     if (!columns) {
-      coef_t.noalias() = -g.columns_.transpose() * Xt;
+      coef_t.noalias() = -g.columns().transpose() * Xt;
       if (!g.reaction_dofs_.empty()) coef_t.noalias() -= g.reactions_.transpose() * Xr_t;
     } else {
       // The chosen columns where they lie: a copy of them would be a fresh n x m matrix (first touches).
-      selected_columns_transposed_times(g.columns_, *columns, Xt, coef_t);
+      selected_columns_transposed_times(g.columns(), *columns, Xt, coef_t);
       coef_t = -coef_t;
       if (!g.reaction_dofs_.empty()) {
         Eigen::MatrixXd r(m, d);
@@ -172,7 +173,7 @@ struct GreensTableParts {
       const auto it = std::lower_bound(g.reaction_dofs_.begin(), g.reaction_dofs_.end(), k);
       const bool reaction = it != g.reaction_dofs_.end() && *it == k;
       for (Index i = 0; i < m; ++i)
-        CTt(i, d + j) = k >= n ? 0.0 : reaction ? g.reactions_(it - g.reaction_dofs_.begin(), column(i)) : g.columns_(k, column(i));
+        CTt(i, d + j) = k >= n ? 0.0 : reaction ? g.reactions_(it - g.reaction_dofs_.begin(), column(i)) : g.columns()(k, column(i));
     }
     return CTt;
   }
@@ -199,20 +200,35 @@ struct GreensTableParts {
     return m;
   }
 
+  /// A new table's columns: rows x cols in a buffer of the step's pool (GreensTableUpdateOptions::buffers)
+  /// or a fresh one.
+  struct SnapshotColumns {
+    std::shared_ptr<double> data;
+    Index rows = 0, cols = 0;
+    Eigen::Map<Eigen::MatrixXd> view() const { return {data.get(), rows, cols}; }
+  };
+  static SnapshotColumns snapshot_columns(const std::shared_ptr<SnapshotBufferPool>& buffers, Index rows, Index cols) {
+    return {buffers ? buffers->acquire(rows * cols) : SnapshotBufferPool::fresh(rows * cols), rows, cols};
+  }
+
   /// The new n' x 3|kept| table before the step's correction: the kept old columns with their
   /// reactions in the rows of supported dofs, zeros in the added rows and the new slots' columns.
-  /// A fresh matrix per step (snapshots are immutable): advise huge pages before the first touch,
-  /// which otherwise costs one page fault per 4 KiB. Reaction rows are gathered and scattered column
-  /// by column: a row of a column-major matrix touches one page per entry. (Panels of columns updated
-  /// in cache were measured slower: narrow GEMMs cost more than the passes over memory they save.)
-  static Eigen::MatrixXd old_columns_snapshot(const GreensTable& g, Index n1, const SlotMap& map) {
+  /// Snapshots are immutable, so each step writes a new one: into a buffer a table let go of when the
+  /// step has a pool (its pages already touched), else into fresh memory advised for huge pages (whose
+  /// first touch otherwise costs one page fault per 4 KiB). Reaction rows are gathered and scattered
+  /// column by column: a row of a column-major matrix touches one page per entry. (Panels of columns
+  /// updated in cache were measured slower: narrow GEMMs cost more than the passes over memory they save.)
+  static SnapshotColumns old_columns_snapshot(const GreensTable& g, Index n1, const SlotMap& map,
+                                              const std::shared_ptr<SnapshotBufferPool>& buffers) {
     const Index n = g.num_dofs(), R0 = static_cast<Index>(g.region_.size());
     const Index S0 = static_cast<Index>(g.reaction_dofs_.size());
-    Eigen::MatrixXd T = large_dense_matrix(n1, 3 * map.kept);
+    SnapshotColumns out = snapshot_columns(buffers, n1, 3 * map.kept);
+    Eigen::Map<Eigen::MatrixXd> T = out.view();
+    const Eigen::Map<const Eigen::MatrixXd> before = g.columns();
     for (Index s = 0; s < R0; ++s) {
       const Index o = map.out_slot[static_cast<std::size_t>(s)];
       if (o < 0) continue;
-      T.block(0, 3 * o, n, 3) = g.columns_.middleCols(3 * s, 3);
+      T.block(0, 3 * o, n, 3) = before.middleCols(3 * s, 3);
       for (int a = 0; a < 3; ++a) {
         double* col = T.col(3 * o + a).data();
         const double* r = g.reactions_.col(3 * s + a).data();
@@ -221,14 +237,15 @@ struct GreensTableParts {
     }
     T.bottomLeftCorner(n1 - n, 3 * map.kept_old).setZero();
     T.rightCols(3 * (map.kept - map.kept_old)).setZero();
-    return T;
+    return out;
   }
 
   /// The columns of the new table for the region slots `slots` (ascending indices into the region
   /// after the step; null: all of them, the complete table), in that order.
-  static Eigen::MatrixXd columns_after_cut(const GreensTable& g, const CutChange& change, const Eigen::MatrixXd& Z,
+  static SnapshotColumns columns_after_cut(const GreensTable& g, const CutChange& change, const Eigen::MatrixXd& Z,
                                            const Eigen::MatrixXd& CTt, const Eigen::MatrixXd& F, const FreshColumns& fresh,
-                                           Index region_after_size, const std::vector<Index>* slots, TableProfile* profile) {
+                                           Index region_after_size, const std::vector<Index>* slots,
+                                           const std::shared_ptr<SnapshotBufferPool>& buffers, TableProfile* profile) {
     const auto t0 = SteadyClock::now();
     const Index n1 = change.n_after, d = change.size();
     const Index R0 = static_cast<Index>(g.region_.size());
@@ -238,7 +255,8 @@ struct GreensTableParts {
     Eigen::MatrixXd ZZ(n1, 2 * d);
     ZZ.leftCols(d) = Z.leftCols(d);
     ZZ.rightCols(d) = -Z.rightCols(d);
-    Eigen::MatrixXd T = old_columns_snapshot(g, n1, map);
+    const SnapshotColumns out = old_columns_snapshot(g, n1, map, buffers);
+    Eigen::Map<Eigen::MatrixXd> T = out.view();
     const auto t1 = SteadyClock::now();
     // One GEMM, both halves of Z: the kept old slots come first and in CTt's order.
     if (d > 0 && kept_old > 0) T.leftCols(3 * kept_old).noalias() += ZZ * CTt.transpose();
@@ -256,7 +274,7 @@ struct GreensTableParts {
       profile->gemm_seconds += seconds_between(t1, t2);
       profile->finish_seconds += seconds_since(t2);
     }
-    return T;
+    return out;
   }
 
   /// The step's cheap parts, before any solve (CutTableStep's construction): the conditions, region,
@@ -276,6 +294,7 @@ struct GreensTableParts {
     s.rhs = rhs_after_cut(change, g.rhs_, before, s.bc);
     s.F = fresh_right_hand_sides(g, change, fresh, s.rhs);
     s.timing.integration_seconds = change.integration_seconds;
+    s.buffers = options.buffers;
     s.timing.change_seconds = seconds_since(t_change);
     s.timing.system_seconds = s.timing.change_seconds;
   }
@@ -402,10 +421,10 @@ struct GreensTableParts {
     const auto t_coefficients = SteadyClock::now();
     const Eigen::MatrixXd CTt = correction_coefficients_transposed(g, change, s.X, slots ? &old_columns : nullptr);
     profile.gemm_seconds = seconds_since(t_coefficients);  // X T is most of it
-    Eigen::MatrixXd T = columns_after_cut(g, change, s.Z, CTt, s.F, fresh, static_cast<Index>(s.region.size()), slots, &profile);
+    SnapshotColumns T = columns_after_cut(g, change, s.Z, CTt, s.F, fresh, static_cast<Index>(s.region.size()), slots, s.buffers, &profile);
     const auto t_checks = SteadyClock::now();
-    if (!T.allFinite()) throw SolverError("updated_table: the table has non-finite entries");
-    t.set_columns_from_solution(std::move(T));
+    if (!T.view().allFinite()) throw SolverError("updated_table: the table has non-finite entries");
+    t.set_columns_from_solution(std::move(T.data), T.rows, T.cols);
     t.build_slots();
     t.timings_ = g.timings_;
     profile.finish_seconds += seconds_since(t_checks);
@@ -419,7 +438,7 @@ struct GreensTableParts {
       const double n0 = static_cast<double>(g.num_dofs()), n1 = static_cast<double>(change.n_after);
       const double d = static_cast<double>(change.size()), cols0 = static_cast<double>(slots ? old_columns.size() : 3 * g.region_.size());
       report->table_gemm_flops = d > 0 ? 2.0 * n0 * cols0 * d + 2.0 * n1 * 2.0 * d * cols0 : 0.0;
-      report->snapshot_bytes = static_cast<std::size_t>(t.columns_.size() + t.reactions_.size()) * sizeof(double);
+      report->snapshot_bytes = static_cast<std::size_t>(t.columns().size() + t.reactions_.size()) * sizeof(double);
     }
     return out;
   }
@@ -474,7 +493,8 @@ struct GreensTableParts {
     const Eigen::MatrixXd CTt = correction_coefficients_transposed(g, change, s.X, &old_columns);
     profile.gemm_seconds = seconds_since(t_coefficients);
     const auto t_snapshot = SteadyClock::now();
-    Eigen::MatrixXd T = old_columns_snapshot(g, n1, map);
+    SnapshotColumns snapshot = old_columns_snapshot(g, n1, map, s.buffers);
+    Eigen::Map<Eigen::MatrixXd> T = snapshot.view();
     profile.snapshot_seconds = seconds_since(t_snapshot);
     const auto t_rows = SteadyClock::now();
     // The change of the rows R (the new slots' columns are zero in T, so adding sets them), made in
@@ -509,7 +529,7 @@ struct GreensTableParts {
     profile.gemm_seconds += seconds_since(t_rows);
     const auto t_checks = SteadyClock::now();
     if (!finite || !x.allFinite()) throw SolverError("updated_table: the table has non-finite entries");
-    t.set_columns_from_solution(std::move(T));
+    t.set_columns_from_solution(std::move(snapshot.data), snapshot.rows, snapshot.cols);
     t.build_slots();
     t.timings_ = g.timings_;
     profile.finish_seconds = seconds_since(t_checks);
@@ -526,7 +546,7 @@ struct GreensTableParts {
       report->gemm_seconds = profile.gemm_seconds;
       report->finish_seconds = profile.finish_seconds;
       report->table_gemm_flops = 2.0 * double(m) * double(old_columns.size()) * 2.0 * double(d);
-      report->snapshot_bytes = static_cast<std::size_t>(t.columns_.size() + t.reactions_.size()) * sizeof(double);
+      report->snapshot_bytes = static_cast<std::size_t>(t.columns().size() + t.reactions_.size()) * sizeof(double);
       report->rank = g.solver_->rank() + s.Us.cols();
       report->added_region_elements = static_cast<Index>(s.region.size() - g.region_.size());
     }

@@ -246,9 +246,20 @@ BEMSURG_INLINE void GreensTable::set_base_state(const BoundaryConditions& bc, co
 }
 
 BEMSURG_INLINE void GreensTable::set_columns_from_solution(Eigen::MatrixXd&& X) {
+  // The table keeps X's storage: the matrix moves into the buffer's owner (no copy).
+  const Index rows = X.rows(), cols = X.cols();
+  auto owner = std::make_shared<Eigen::MatrixXd>(std::move(X));
+  set_columns_from_solution(std::shared_ptr<double>(owner, owner->data()), rows, cols);
+}
+
+BEMSURG_INLINE void GreensTable::set_columns_from_solution(std::shared_ptr<double> data, Index rows, Index cols) {
   // Rows of displacement-prescribed dofs: the solution there is a traction (kept as reactions_,
   // which the cut updates need); the table holds the change of the prescribed displacement, zero.
-  const Index n = X.rows();
+  columns_data_ = std::move(data);
+  columns_rows_ = rows;
+  columns_cols_ = cols;
+  Eigen::Map<Eigen::MatrixXd> X = writable_columns();
+  const Index n = rows;
   reaction_dofs_.clear();
   for (Index k = 0; k < n; ++k)
     if (base_kinds_[static_cast<std::size_t>(k)] == BcKind::Displacement) reaction_dofs_.push_back(k);
@@ -260,7 +271,6 @@ BEMSURG_INLINE void GreensTable::set_columns_from_solution(Eigen::MatrixXd&& X) 
       reactions_(i, c) = x;
       x = 0.0;
     }
-  columns_.swap(X);
 }
 
 BEMSURG_INLINE BoundaryConditions GreensTable::base_conditions() const {
@@ -312,7 +322,9 @@ BEMSURG_INLINE std::shared_ptr<const GreensTable> GreensTable::with_young_modulu
     else
       t.base_traction_(k) *= gravity_factor;
   }
-  t.columns_ *= scale;
+  // The copy shares this table's storage: the scaled columns get their own.
+  t.columns_data_ = SnapshotBufferPool::fresh(columns_rows_ * columns_cols_);
+  t.writable_columns() = scale * columns();
   t.solver_.reset();  // A* changes with E: no cut update from a rescaled table
   t.rhs_.resize(0);
   return out;
@@ -324,11 +336,10 @@ BEMSURG_INLINE GreensTable::GreensTable(GreensTableKey key, std::vector<Index> r
       region_(std::move(region)),
       base_displacement_(std::move(base_displacement)),
       base_traction_(std::move(base_traction)),
-      base_kinds_(std::move(base_kinds)),
-      columns_(std::move(columns)) {
+      base_kinds_(std::move(base_kinds)) {
   const Index n = 3 * key_.num_elements;
-  if (base_displacement_.size() != n || base_traction_.size() != n || static_cast<Index>(base_kinds_.size()) != n || columns_.rows() != n ||
-      columns_.cols() != 3 * static_cast<Index>(region_.size()))
+  if (base_displacement_.size() != n || base_traction_.size() != n || static_cast<Index>(base_kinds_.size()) != n || columns.rows() != n ||
+      columns.cols() != 3 * static_cast<Index>(region_.size()))
     throw ResourceError("GreensTable: stored parts have inconsistent sizes");
   base_values_.resize(n);
   for (Index k = 0; k < n; ++k)
@@ -336,6 +347,10 @@ BEMSURG_INLINE GreensTable::GreensTable(GreensTableKey key, std::vector<Index> r
   for (Index e : region_)
     if (e < 0 || e >= key_.num_elements) throw ResourceError("GreensTable: stored region element out of range");
   build_slots();
+  columns_rows_ = columns.rows();
+  columns_cols_ = columns.cols();
+  auto owner = std::make_shared<Eigen::MatrixXd>(std::move(columns));  // its storage, not a copy
+  columns_data_ = std::shared_ptr<double>(owner, owner->data());
 }
 
 BEMSURG_INLINE void GreensTable::build_slots() {
@@ -356,7 +371,7 @@ BEMSURG_INLINE void GreensTable::displacement_field(const Index* elements, const
   // the BLAS threads and the haptic thread may be spinning on (on 2 cores that was measured to
   // stall for far longer than the work itself).
   double* out = u.data();
-  const Index ld = columns_.rows();
+  const Index ld = columns_rows_;
   for (Index c = 0; c < count; ++c) {
     const double* c0 = column_data(elements[c]);
     const double* c1 = c0 + ld;
