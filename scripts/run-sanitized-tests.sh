@@ -36,7 +36,9 @@ BUILD_DIR=${BUILD_DIR:-$default_dir}
 # Unity build (the libraries, the CLI and the viewer's core in batches of 8 files, each test program as
 # one unit, tests/CMakeLists.txt): these trees are built once per CI run and never edited in, and
 # batching saves parsing Eigen and nlohmann-json, and instantiating the header-only core, again per file.
-cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1" "${sanitizer[@]}" -DCMAKE_UNITY_BUILD=ON \
+source scripts/support/build-generator.sh  # Ninja for a new tree when installed
+build_generator "$BUILD_DIR"
+cmake -S . -B "$BUILD_DIR" "${generator[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1" "${sanitizer[@]}" -DCMAKE_UNITY_BUILD=ON \
   -DBEMSURG_BUILD_TESTS=ON -DBEMSURG_BUILD_BENCHMARKS=OFF -DBEMSURG_BUILD_EXAMPLES=OFF -DBEMSURG_VIEWER_GUI=OFF \
   -DBEMSURG_WARNINGS_AS_ERRORS="${BEMSURG_WARNINGS_AS_ERRORS:-OFF}" -DBEMSURG_WITH_MPI=OFF
 root=$PWD

@@ -9,7 +9,9 @@ BUILD_DIR=${BUILD_DIR:-build}
 # Everything builds as a unity build, test programs included (one translation unit per program,
 # tests/CMakeLists.txt): each unit parses Eigen once per batch and instantiates the header-only
 # core's templates once per program instead of once per file (docs/development.md, "CI, step by step").
-cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release -DBEMSURG_BUILD_TESTS=ON -DBEMSURG_BUILD_BENCHMARKS=ON -DCMAKE_UNITY_BUILD=ON \
+source scripts/support/build-generator.sh  # Ninja for a new tree when installed
+build_generator "$BUILD_DIR"
+cmake -S . -B "$BUILD_DIR" "${generator[@]}" -DCMAKE_BUILD_TYPE=Release -DBEMSURG_BUILD_TESTS=ON -DBEMSURG_BUILD_BENCHMARKS=ON -DCMAKE_UNITY_BUILD=ON \
   -DBEMSURG_WARNINGS_AS_ERRORS="${BEMSURG_WARNINGS_AS_ERRORS:-OFF}"
 cmake --build "$BUILD_DIR" -j"${JOBS:-2}"
 cd "$BUILD_DIR"

@@ -5,7 +5,7 @@
 set -euo pipefail
 
 packages=(
-  build-essential cmake pkg-config
+  build-essential cmake pkg-config ninja-build  # ninja: README's test command builds with it (scripts/run-tests.sh)
   libeigen3-dev catch2 libsuitesparse-dev libopenblas-dev liblapacke-dev nlohmann-json3-dev
   libglfw3-dev libimgui-dev libstb-dev libgl-dev libegl-dev xvfb xauth
   gnuplot-nox python3-matplotlib python3-pil python3-numpy
