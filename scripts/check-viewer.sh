@@ -25,7 +25,8 @@ if [ -z "${DISPLAY:-}" ] && [ -z "${BEMSURG_CHECK_VIEWER_INNER:-}" ]; then
 fi
 
 if [ ! -x "$VIEWER" ]; then
-  cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release >/dev/null
+  # README's test command leaves the window out of its tree (BEMSURG_VIEWER_GUI=OFF): turn it on.
+  cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release -DBEMSURG_VIEWER_GUI=ON >/dev/null
   cmake --build "$BUILD_DIR" -j"${JOBS:-2}" --target bemsurg_viewer
 fi
 [ -x "$VIEWER" ] || { echo "check-viewer: $VIEWER was not built (GLFW, OpenGL or imgui missing?)" >&2; exit 1; }

@@ -10,7 +10,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup-deps.sh
 BUILD_DIR=${BUILD_DIR:-build}
-cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release -DBEMSURG_BUILD_TESTS=OFF -DBEMSURG_BUILD_BENCHMARKS=OFF
+# The window on (README's test command builds the viewer's core only, in the same tree).
+cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release -DBEMSURG_BUILD_TESTS=OFF -DBEMSURG_BUILD_BENCHMARKS=OFF -DBEMSURG_VIEWER_GUI=ON
 targets=(bemsurg_cli)
 # The target list first, then the test: `... | grep -q` under pipefail fails whenever grep stops
 # reading early and cmake gets SIGPIPE, which silently dropped the viewer from the demo.
