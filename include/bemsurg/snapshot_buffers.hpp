@@ -34,7 +34,9 @@ class SnapshotBufferPool : public std::enable_shared_from_this<SnapshotBufferPoo
   };
 
   /// Use through std::make_shared (the buffers' deleters find the pool through a weak pointer).
-  explicit SnapshotBufferPool(std::size_t max_buffers = 2, double slack = 1.0 / 16.0) : max_buffers_(max_buffers), slack_(slack) {}
+  explicit SnapshotBufferPool(std::size_t max_buffers = 2, double slack = 1.0 / 16.0) : max_buffers_(max_buffers), slack_(slack) {
+    held_.reserve(max_buffers_ + 1);  // give_back runs in deleters (noexcept): it never reallocates
+  }
   SnapshotBufferPool(const SnapshotBufferPool&) = delete;
   SnapshotBufferPool& operator=(const SnapshotBufferPool&) = delete;
   ~SnapshotBufferPool();

@@ -4,6 +4,7 @@
 #include "bemsurg/haptics/surface_cut_hook.hpp"
 
 #include <memory>
+#include <new>
 #include <string>
 
 #include "bemsurg/cutting/cut_system_update.hpp"
@@ -41,7 +42,12 @@ SurfaceCuts surface_cuts() {
   cuts.prepare = [state](const std::shared_ptr<const GreensTable>& table) {
     if (!table || !table->has_factorization()) return;  // the first step will say why it cannot cut
     state->cut_from(table);
-    state->system->reserve_snapshot_buffers();
+    try {
+      state->system->reserve_snapshot_buffers();
+    } catch (const std::bad_alloc&) {
+      // Reserving only saves time: without the memory the steps allocate their tables as they go
+      // (and say so, as a ResourceError, if even that fails).
+    }
   };
   cuts.hook = [state](const CutRequest& r) -> CutResult {
     state->cut_from(r.table);

@@ -30,38 +30,40 @@ BEMSURG_INLINE double* SnapshotBufferPool::allocate(Eigen::Index count) {
 BEMSURG_INLINE std::shared_ptr<double> SnapshotBufferPool::owned(double* data, Eigen::Index capacity,
                                                                  const std::shared_ptr<SnapshotBufferPool>& pool) {
   std::weak_ptr<SnapshotBufferPool> home = pool;
-  try {
-    return std::shared_ptr<double>(data, [home, capacity](double* p) {
-      if (const std::shared_ptr<SnapshotBufferPool> to = home.lock())
-        to->give_back(p, capacity);
-      else
-        std::free(p);
-    });
-  } catch (...) {  // the control block could not be allocated: the deleter was not run
-    std::free(data);
-    throw;
-  }
+  // Should the control block not be allocated, the constructor runs the deleter itself (the buffer
+  // goes back or is freed) and rethrows: called outside the pool's lock for that reason.
+  return std::shared_ptr<double>(data, [home, capacity](double* p) {
+    if (const std::shared_ptr<SnapshotBufferPool> to = home.lock())
+      to->give_back(p, capacity);
+    else
+      std::free(p);
+  });
 }
 
 BEMSURG_INLINE std::shared_ptr<double> SnapshotBufferPool::fresh(Eigen::Index count) { return owned(allocate(count), count, nullptr); }
 
 BEMSURG_INLINE std::shared_ptr<double> SnapshotBufferPool::acquire(Eigen::Index count) {
   std::shared_ptr<SnapshotBufferPool> self = shared_from_this();
+  Held found{nullptr, 0};
   {
     std::lock_guard<std::mutex> lock(mutex_);
     auto best = held_.end();
     for (auto it = held_.begin(); it != held_.end(); ++it)
       if (it->capacity >= count && (best == held_.end() || it->capacity < best->capacity)) best = it;
     if (best != held_.end()) {
-      const Held h = *best;
+      found = *best;
       held_.erase(best);
       ++reused_;
-      return owned(h.data, h.capacity, self);
     }
+  }
+  if (found.data) return owned(found.data, found.capacity, self);  // outside the lock: see owned()
+  const auto capacity = static_cast<Eigen::Index>(std::ceil(static_cast<double>(count) * (1.0 + std::max(0.0, slack_))));
+  double* data = allocate(capacity);
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
     ++allocated_;
   }
-  const auto capacity = static_cast<Eigen::Index>(std::ceil(static_cast<double>(count) * (1.0 + std::max(0.0, slack_))));
-  return owned(allocate(capacity), capacity, self);
+  return owned(data, capacity, self);
 }
 
 BEMSURG_INLINE void SnapshotBufferPool::reserve(Eigen::Index count, std::size_t buffers) {
