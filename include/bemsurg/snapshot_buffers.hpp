@@ -5,6 +5,8 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <memory>
 #include <mutex>
@@ -61,6 +63,10 @@ class SnapshotBufferPool : public std::enable_shared_from_this<SnapshotBufferPoo
     Eigen::Index capacity;
   };
   static double* allocate(Eigen::Index count);
+  /// `count` with the pool's room to spare: the capacity of a fresh buffer.
+  Eigen::Index with_slack(Eigen::Index count) const {
+    return static_cast<Eigen::Index>(std::ceil(static_cast<double>(count) * (1.0 + std::max(0.0, slack_))));
+  }
   static std::shared_ptr<double> owned(double* data, Eigen::Index capacity, const std::shared_ptr<SnapshotBufferPool>& pool);
   void give_back(double* data, Eigen::Index capacity);
 

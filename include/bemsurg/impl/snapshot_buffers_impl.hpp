@@ -57,7 +57,7 @@ BEMSURG_INLINE std::shared_ptr<double> SnapshotBufferPool::acquire(Eigen::Index 
     }
   }
   if (found.data) return owned(found.data, found.capacity, self);  // outside the lock: see owned()
-  const auto capacity = static_cast<Eigen::Index>(std::ceil(static_cast<double>(count) * (1.0 + std::max(0.0, slack_))));
+  const Eigen::Index capacity = with_slack(count);
   double* data = allocate(capacity);
   {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -75,7 +75,7 @@ BEMSURG_INLINE void SnapshotBufferPool::reserve(Eigen::Index count, std::size_t 
     for (const Held& h : held_) fitting += h.capacity >= count ? 1 : 0;
     missing = buffers > fitting ? buffers - fitting : 0;
   }
-  const auto capacity = static_cast<Eigen::Index>(std::ceil(static_cast<double>(count) * (1.0 + std::max(0.0, slack_))));
+  const Eigen::Index capacity = with_slack(count);
   for (std::size_t i = 0; i < missing; ++i) {
     double* data = allocate(capacity);
     std::fill(data, data + capacity, 0.0);  // the first touches, now

@@ -12,7 +12,6 @@
 #include <vector>
 
 #include "bemsurg/cutting/table_update.hpp"
-#include "bemsurg/dense_storage.hpp"
 #include "bemsurg/error.hpp"
 #include "bemsurg/number_text.hpp"
 #include "bemsurg/solvers/low_rank_updated_lu.hpp"

@@ -245,11 +245,17 @@ BEMSURG_INLINE void GreensTable::set_base_state(const BoundaryConditions& bc, co
   }
 }
 
+namespace detail {
+/// A matrix's storage as a table's column buffer: the matrix moves into the buffer's owner (no copy).
+inline std::shared_ptr<double> storage_of(Eigen::MatrixXd&& m) {
+  auto owner = std::make_shared<Eigen::MatrixXd>(std::move(m));
+  return std::shared_ptr<double>(owner, owner->data());
+}
+}  // namespace detail
+
 BEMSURG_INLINE void GreensTable::set_columns_from_solution(Eigen::MatrixXd&& X) {
-  // The table keeps X's storage: the matrix moves into the buffer's owner (no copy).
   const Index rows = X.rows(), cols = X.cols();
-  auto owner = std::make_shared<Eigen::MatrixXd>(std::move(X));
-  set_columns_from_solution(std::shared_ptr<double>(owner, owner->data()), rows, cols);
+  set_columns_from_solution(detail::storage_of(std::move(X)), rows, cols);
 }
 
 BEMSURG_INLINE void GreensTable::set_columns_from_solution(std::shared_ptr<double> data, Index rows, Index cols) {
@@ -349,8 +355,7 @@ BEMSURG_INLINE GreensTable::GreensTable(GreensTableKey key, std::vector<Index> r
   build_slots();
   columns_rows_ = columns.rows();
   columns_cols_ = columns.cols();
-  auto owner = std::make_shared<Eigen::MatrixXd>(std::move(columns));  // its storage, not a copy
-  columns_data_ = std::shared_ptr<double>(owner, owner->data());
+  columns_data_ = detail::storage_of(std::move(columns));
 }
 
 BEMSURG_INLINE void GreensTable::build_slots() {
