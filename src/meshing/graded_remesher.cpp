@@ -1,8 +1,11 @@
 // Graded remeshing of a closed surface with Gmsh (mesh/graded_remesher.hpp, docs/graded.md).
 //
-// The one compiled file that talks to Gmsh, so the rest of bemsurg neither includes gmsh.h nor
-// needs libgmsh; built without BEMSURG_HAVE_GMSH it keeps the same interface and says why it
-// cannot remesh.
+// The one compiled file that talks to Gmsh, so the rest of bemsurg neither includes Gmsh's headers
+// nor needs libgmsh; built without BEMSURG_HAVE_GMSH it keeps the same interface and says why it
+// cannot remesh. Gmsh is loaded when the first remesh asks for it (dlopen of its C API), not at
+// program start: Debian's libgmsh pulls in about 90 shared libraries (OpenCASCADE, FLTK, image
+// codecs), whose symbol binding cost every bemsurg program about 0.13 s at start-up, remeshing or
+// not (docs/development.md, "CI, step by step").
 #include "bemsurg/meshing/graded_remesher.hpp"
 
 #include <algorithm>
@@ -11,6 +14,7 @@
 #include <limits>
 #include <mutex>
 #include <string>
+#include <type_traits>
 #include <unordered_map>
 #include <vector>
 
@@ -22,7 +26,8 @@
 #include "bemsurg/number_text.hpp"
 
 #ifdef BEMSURG_HAVE_GMSH
-#include <gmsh.h>
+#include <dlfcn.h>
+#include <gmshc.h>  // the C API's declarations only: its functions are looked up in the loaded library
 #endif
 
 namespace bemsurg {
@@ -47,12 +52,98 @@ void check_options(const GradedRemeshOptions& o) {
 }
 
 #ifdef BEMSURG_HAVE_GMSH
-// Gmsh keeps one model per process behind its API (gmsh::initialize / finalize are global); two
-// threads remeshing at once would share it. This lock is the one piece of shared state here, and
-// exists only because the library we call has it.
+// Gmsh keeps one model per process behind its API (gmshInitialize / gmshFinalize are global); two
+// threads remeshing at once would share it. This lock and the loaded library below are the one
+// piece of shared state here, and exist only because the library we call has them.
 std::mutex& gmsh_mutex() {
   static std::mutex m;
   return m;
+}
+
+/// A Gmsh call that failed (its ierr set): Gmsh's own message.
+struct GmshFailure {
+  std::string what;
+};
+
+/// The functions of Gmsh's C API that the remesher calls, looked up in libgmsh (BEMSURG_GMSH_LIBRARY:
+/// its soname, else its path, as configured), which is loaded on first use and kept.
+struct GmshApi {
+  decltype(&::gmshInitialize) initialize = nullptr;
+  decltype(&::gmshFinalize) finalize = nullptr;
+  decltype(&::gmshFree) free = nullptr;
+  decltype(&::gmshLoggerGetLastError) last_error = nullptr;
+  decltype(&::gmshOptionSetNumber) set_number = nullptr;
+  decltype(&::gmshModelAdd) add_model = nullptr;
+  decltype(&::gmshModelAddDiscreteEntity) add_discrete_entity = nullptr;
+  decltype(&::gmshModelMeshAddNodes) add_nodes = nullptr;
+  decltype(&::gmshModelMeshAddElementsByType) add_elements_by_type = nullptr;
+  decltype(&::gmshModelMeshReclassifyNodes) reclassify_nodes = nullptr;
+  decltype(&::gmshModelMeshCreateTopology) create_topology = nullptr;
+  decltype(&::gmshModelMeshClassifySurfaces) classify_surfaces = nullptr;
+  decltype(&::gmshModelMeshCreateGeometry) create_geometry = nullptr;
+  decltype(&::gmshModelMeshSetSizeCallback) set_size_callback = nullptr;
+  decltype(&::gmshModelMeshGenerate) generate = nullptr;
+  decltype(&::gmshModelMeshGetNodes) get_nodes = nullptr;
+  decltype(&::gmshModelMeshGetElementsByType) get_elements_by_type = nullptr;
+
+  /// Throws GmshFailure with Gmsh's last error when a call set `ierr`.
+  void check(int ierr) const {
+    if (ierr == 0) return;
+    std::string message = "error " + std::to_string(ierr);
+    char* text = nullptr;
+    int ignored = 0;
+    last_error(&text, &ignored);
+    if (text) {
+      if (*text) message = text;
+      free(text);
+    }
+    throw GmshFailure{message};
+  }
+};
+
+/// Loads libgmsh and its functions once; throws Error naming the library when it cannot.
+const GmshApi& gmsh_api() {
+  static const GmshApi api = [] {
+    void* library = dlopen(BEMSURG_GMSH_LIBRARY, RTLD_NOW | RTLD_LOCAL);
+    if (!library) {
+      const char* why = dlerror();
+      throw Error(std::string("graded remesh: cannot load Gmsh (") + BEMSURG_GMSH_LIBRARY + "): " + (why ? why : "unknown reason") +
+                  "; install libgmsh (scripts/setup-deps.sh)");
+    }
+    GmshApi a;
+    const auto find = [library](auto& function, const char* name) {
+      void* symbol = dlsym(library, name);
+      if (!symbol) throw Error(std::string("graded remesh: ") + BEMSURG_GMSH_LIBRARY + " has no " + name + " (not Gmsh 4.8's C API?)");
+      function = reinterpret_cast<std::remove_reference_t<decltype(function)>>(symbol);
+    };
+    find(a.initialize, "gmshInitialize");
+    find(a.finalize, "gmshFinalize");
+    find(a.free, "gmshFree");
+    find(a.last_error, "gmshLoggerGetLastError");
+    find(a.set_number, "gmshOptionSetNumber");
+    find(a.add_model, "gmshModelAdd");
+    find(a.add_discrete_entity, "gmshModelAddDiscreteEntity");
+    find(a.add_nodes, "gmshModelMeshAddNodes");
+    find(a.add_elements_by_type, "gmshModelMeshAddElementsByType");
+    find(a.reclassify_nodes, "gmshModelMeshReclassifyNodes");
+    find(a.create_topology, "gmshModelMeshCreateTopology");
+    find(a.classify_surfaces, "gmshModelMeshClassifySurfaces");
+    find(a.create_geometry, "gmshModelMeshCreateGeometry");
+    find(a.set_size_callback, "gmshModelMeshSetSizeCallback");
+    find(a.generate, "gmshModelMeshGenerate");
+    find(a.get_nodes, "gmshModelMeshGetNodes");
+    find(a.get_elements_by_type, "gmshModelMeshGetElementsByType");
+    return a;  // the library stays loaded: Gmsh's state lives in it
+  }();
+  return api;
+}
+
+/// An array Gmsh allocated, copied out and given back to Gmsh's allocator.
+template <class T>
+std::vector<T> take_gmsh_array(const GmshApi& gmsh, T* data, std::size_t n) {
+  std::vector<T> out(data, data + (data ? n : 0));
+  if (data) gmsh.free(data);
+  return out;
 }
 
 // Gmsh meshes each patch in its own parametrisation, so patches need not come back with the
@@ -205,7 +296,9 @@ class RimSizes {
 /// borders discrete curves, and classifySurfaces (no angle of its own) keeps existing curves as
 /// borders, so the rim of a flat face survives however shallow the angle at which the input's
 /// triangles meet it there.
-void add_input_surfaces(const TriangleMesh& input, const std::vector<PlanarRegion>& planes, double feature_angle_degrees) {
+void add_input_surfaces(const GmshApi& gmsh, const TriangleMesh& input, const std::vector<PlanarRegion>& planes,
+                        double feature_angle_degrees) {
+  int ierr = 0;
   const std::vector<int> entity_of_face = planes.empty() ? std::vector<int>(static_cast<std::size_t>(input.num_elements()), 0)
                                                          : surface_of_faces(input, planes, feature_angle_degrees);
   const auto surfaces_count = static_cast<std::size_t>(*std::max_element(entity_of_face.begin(), entity_of_face.end()) + 1);
@@ -217,7 +310,10 @@ void add_input_surfaces(const TriangleMesh& input, const std::vector<PlanarRegio
   }
   std::vector<int> surfaces;
   for (std::size_t k = 0; k < element_tags.size(); ++k)
-    if (!element_tags[k].empty()) surfaces.push_back(gmsh::model::addDiscreteEntity(2, static_cast<int>(k) + 1));
+    if (!element_tags[k].empty()) {
+      surfaces.push_back(gmsh.add_discrete_entity(2, static_cast<int>(k) + 1, nullptr, 0, &ierr));
+      gmsh.check(ierr);
+    }
   // All nodes go to the first surface; reclassifyNodes moves them to where their elements are.
   std::vector<std::size_t> node_tags(static_cast<std::size_t>(input.num_vertices()));
   std::vector<double> coords(3 * node_tags.size());
@@ -225,25 +321,43 @@ void add_input_surfaces(const TriangleMesh& input, const std::vector<PlanarRegio
     node_tags[static_cast<std::size_t>(v)] = static_cast<std::size_t>(v) + 1;
     for (int k = 0; k < 3; ++k) coords[static_cast<std::size_t>(3 * v + k)] = input.vertices()(v, k);
   }
-  gmsh::model::mesh::addNodes(2, surfaces.front(), node_tags, coords);
+  gmsh.add_nodes(2, surfaces.front(), node_tags.data(), node_tags.size(), coords.data(), coords.size(), nullptr, 0, &ierr);
+  gmsh.check(ierr);
   for (std::size_t k = 0; k < element_tags.size(); ++k)
-    if (!element_tags[k].empty())
-      gmsh::model::mesh::addElementsByType(static_cast<int>(k) + 1, 2, element_tags[k], element_nodes[k]);  // 2 = 3-node triangle
+    if (!element_tags[k].empty()) {  // type 2: 3-node triangles
+      gmsh.add_elements_by_type(static_cast<int>(k) + 1, 2, element_tags[k].data(), element_tags[k].size(), element_nodes[k].data(),
+                                element_nodes[k].size(), &ierr);
+      gmsh.check(ierr);
+    }
   if (surfaces.size() > 1) {
-    gmsh::model::mesh::reclassifyNodes();
-    gmsh::model::mesh::createTopology();
+    gmsh.reclassify_nodes(&ierr);
+    gmsh.check(ierr);
+    gmsh.create_topology(1, 1, &ierr);  // simply connected, discrete entities exported (the C++ API's defaults)
+    gmsh.check(ierr);
   }
   const double angle = planes.empty() ? feature_angle_degrees * numbers::pi / 180.0 : numbers::pi;
-  gmsh::model::mesh::classifySurfaces(angle, true, true, numbers::pi);
-  gmsh::model::mesh::createGeometry();
+  gmsh.classify_surfaces(angle, 1, 1, numbers::pi, 1, &ierr);  // boundary, for reparametrisation, export discrete
+  gmsh.check(ierr);
+  gmsh.create_geometry(nullptr, 0, &ierr);
+  gmsh.check(ierr);
 }
 
 /// Gmsh's triangles as a mesh of the nodes they use.
-void read_gmsh_triangles(RowMatrixX3d& V, RowMatrixX3i& F) {
-  std::vector<std::size_t> tags, tri_tags, tri_nodes;
-  std::vector<double> xyz, param;
-  gmsh::model::mesh::getNodes(tags, xyz, param, -1, -1, true, false);
-  gmsh::model::mesh::getElementsByType(2, tri_tags, tri_nodes);
+void read_gmsh_triangles(const GmshApi& gmsh, RowMatrixX3d& V, RowMatrixX3i& F) {
+  int ierr = 0;
+  std::size_t *tag_data = nullptr, *tri_tag_data = nullptr, *tri_node_data = nullptr;
+  double *xyz_data = nullptr, *param_data = nullptr;
+  std::size_t tags_n = 0, xyz_n = 0, param_n = 0, tri_tags_n = 0, tri_nodes_n = 0;
+  gmsh.get_nodes(&tag_data, &tags_n, &xyz_data, &xyz_n, &param_data, &param_n, -1, -1, 1, 0, &ierr);
+  const std::vector<std::size_t> tags = take_gmsh_array(gmsh, tag_data, tags_n);
+  const std::vector<double> xyz = take_gmsh_array(gmsh, xyz_data, xyz_n);
+  take_gmsh_array(gmsh, param_data, param_n);
+  gmsh.check(ierr);
+  gmsh.get_elements_by_type(2, &tri_tag_data, &tri_tags_n, &tri_node_data, &tri_nodes_n, -1, 0, 1, &ierr);
+  const std::vector<std::size_t> tri_tags = take_gmsh_array(gmsh, tri_tag_data, tri_tags_n);
+  const std::vector<std::size_t> tri_nodes = take_gmsh_array(gmsh, tri_node_data, tri_nodes_n);
+  gmsh.check(ierr);
+  if (xyz.size() < 3 * tags.size() || tri_nodes.size() < 3 * tri_tags.size()) throw Error("graded remesh: Gmsh returned short arrays");
   if (tri_tags.empty()) throw Error("graded remesh: Gmsh produced no triangles");
   std::unordered_map<std::size_t, std::size_t> position;
   for (std::size_t i = 0; i < tags.size(); ++i) position.emplace(tags[i], i);
@@ -271,32 +385,53 @@ TriangleMesh remesh_with_gmsh(const TriangleMesh& input, const OperatingRegion& 
   const std::vector<PlanarRegion> planes =
       o.keep_planar_regions ? find_planar_regions(input, o.planar_regions) : std::vector<PlanarRegion>();
   std::lock_guard<std::mutex> lock(gmsh_mutex());
-  gmsh::initialize(0, nullptr, false);
+  const GmshApi& gmsh = gmsh_api();
+  int ierr = 0;
+  gmsh.initialize(0, nullptr, 0, &ierr);
+  gmsh.check(ierr);
   struct Finalize {
-    ~Finalize() { gmsh::finalize(); }
-  } finalize;
-  gmsh::option::setNumber("General.Terminal", 0);
-  gmsh::option::setNumber("General.Verbosity", 0);
-  gmsh::model::add("bemsurg_graded");
-  add_input_surfaces(input, planes, o.feature_angle_degrees);
+    const GmshApi& gmsh;
+    ~Finalize() {
+      int ignored = 0;
+      gmsh.finalize(&ignored);
+    }
+  } finalize{gmsh};
+  const auto set = [&gmsh, &ierr](const char* name, double value) {
+    gmsh.set_number(name, value, &ierr);
+    gmsh.check(ierr);
+  };
+  set("General.Terminal", 0);
+  set("General.Verbosity", 0);
+  gmsh.add_model("bemsurg_graded", &ierr);
+  gmsh.check(ierr);
+  add_input_surfaces(gmsh, input, planes, o.feature_angle_degrees);
 
-  gmsh::option::setNumber("Mesh.MeshSizeFromPoints", 0);
-  gmsh::option::setNumber("Mesh.MeshSizeFromCurvature", 0);
-  gmsh::option::setNumber("Mesh.MeshSizeExtendFromBoundary", 0);
-  gmsh::option::setNumber("Mesh.Algorithm", 6);  // Frontal-Delaunay: the best-shaped triangles
-  gmsh::option::setNumber("Mesh.MeshSizeMin", o.inside_edge_length);
-  gmsh::option::setNumber("Mesh.MeshSizeMax", o.outside_edge_length);
-  const RimSizes rims(input, planes, o);
-  gmsh::model::mesh::setSizeCallback([&region, &o, &rims](int, int, double x, double y, double z) {
+  set("Mesh.MeshSizeFromPoints", 0);
+  set("Mesh.MeshSizeFromCurvature", 0);
+  set("Mesh.MeshSizeExtendFromBoundary", 0);
+  set("Mesh.Algorithm", 6);  // Frontal-Delaunay: the best-shaped triangles
+  set("Mesh.MeshSizeMin", o.inside_edge_length);
+  set("Mesh.MeshSizeMax", o.outside_edge_length);
+  struct Sizes {
+    const OperatingRegion& region;
+    const GradedRemeshOptions& o;
+    RimSizes rims;
+  } sizes{region, o, RimSizes(input, planes, o)};
+  // A C callback: nothing may be thrown through Gmsh (graded_target_size and RimSizes::at do not throw).
+  const auto size_at = [](int, int, double x, double y, double z, void* data) -> double {
+    const Sizes& s = *static_cast<const Sizes*>(data);
     const Vec3 p(x, y, z);
-    const double h = graded_target_size(region, o, p);
-    return h > o.inside_edge_length ? std::min(h, std::max(o.inside_edge_length, rims.at(p))) : h;
-  });
-  gmsh::model::mesh::generate(2);
+    const double h = graded_target_size(s.region, s.o, p);
+    return h > s.o.inside_edge_length ? std::min(h, std::max(s.o.inside_edge_length, s.rims.at(p))) : h;
+  };
+  gmsh.set_size_callback(size_at, &sizes, &ierr);
+  gmsh.check(ierr);
+  gmsh.generate(2, &ierr);
+  gmsh.check(ierr);
 
   RowMatrixX3d V;
   RowMatrixX3i F;
-  read_gmsh_triangles(V, F);
+  read_gmsh_triangles(gmsh, V, F);
   // Gmsh's points on a flat surface lie on the input's triangles up to rounding; put them (and the
   // rim's) exactly onto the fitted plane, so the face is flat to the last digit.
   snap_to_planar_regions(V, F, input, planes, o.planar_regions.distance_tolerance * bounding_box_diagonal(input.vertices()));
@@ -370,8 +505,8 @@ GradedRemeshResult graded_remesh(const TriangleMesh& input, const OperatingRegio
   GradedRemeshResult result;
   try {
     result.mesh = remesh_with_gmsh(input, region, options);
-  } catch (const Error&) { throw; } catch (const std::string& what) {  // Gmsh 4.8 throws its messages as std::string
-    throw Error("graded remesh: Gmsh failed: " + what +
+  } catch (const Error&) { throw; } catch (const GmshFailure& failure) {  // a Gmsh call set its error code: Gmsh's own message
+    throw Error("graded remesh: Gmsh failed: " + failure.what +
                 " (a crease the input mesh does not follow? try a finer input mesh or another feature angle)");
   } catch (const std::exception& e) { throw Error(std::string("graded remesh: Gmsh failed: ") + e.what()); }
   try {
