@@ -101,24 +101,33 @@ class InfluenceAssembler {
   }
 
   /// Rows (3 per listed element, in list order) of H and G over all columns: out_H, out_G are
-  /// resized to 3|rows| x 3E. Used when elements are added or reshaped (cutting).
-  void assemble_rows(const std::vector<Index>& rows, Eigen::MatrixXd& out_H, Eigen::MatrixXd& out_G) const {
+  /// resized to 3|rows| x 3E. Used when elements are added or reshaped (cutting). `out_gravity`
+  /// (optional) is resized to 3|rows| and gets those rows of the gravity vector for acceleration
+  /// `gravity` (every element's share; zero when density or gravity is zero) from the same pass
+  /// over the pairs, whose quadrature points give its integrand almost for free.
+  void assemble_rows(const std::vector<Index>& rows, Eigen::MatrixXd& out_H, Eigen::MatrixXd& out_G, Eigen::VectorXd* out_gravity = nullptr,
+                     const Eigen::Vector3d& gravity = Eigen::Vector3d::Zero()) const {
     const Index E = mesh_.num_elements(), R = static_cast<Index>(rows.size());
     check_ids(rows, "assemble_rows");
     if (out_H.rows() != 3 * R || out_H.cols() != 3 * E) out_H = large_dense_matrix(3 * R, 3 * E);
     if (out_G.rows() != 3 * R || out_G.cols() != 3 * E) out_G = large_dense_matrix(3 * R, 3 * E);
+    double* g = gravity_output(out_gravity, 3 * R, gravity);
     if (R == 0) return;
-    assemble_block(rows.data(), R, nullptr, E, out_H.data(), out_G.data(), nullptr, Eigen::Vector3d::Zero());
+    assemble_block(rows.data(), R, nullptr, E, out_H.data(), out_G.data(), g, material_.density * gravity);
   }
 
-  /// Columns (3 per listed element) of H and G over all rows: 3E x 3|cols|.
-  void assemble_columns(const std::vector<Index>& cols, Eigen::MatrixXd& out_H, Eigen::MatrixXd& out_G) const {
+  /// Columns (3 per listed element) of H and G over all rows: 3E x 3|cols|. `out_gravity`
+  /// (optional) is resized to 3E and gets the gravity term at every row from the listed elements
+  /// only, from the same pass (as assemble_rows).
+  void assemble_columns(const std::vector<Index>& cols, Eigen::MatrixXd& out_H, Eigen::MatrixXd& out_G,
+                        Eigen::VectorXd* out_gravity = nullptr, const Eigen::Vector3d& gravity = Eigen::Vector3d::Zero()) const {
     const Index E = mesh_.num_elements(), C = static_cast<Index>(cols.size());
     check_ids(cols, "assemble_columns");
     if (out_H.rows() != 3 * E || out_H.cols() != 3 * C) out_H = large_dense_matrix(3 * E, 3 * C);
     if (out_G.rows() != 3 * E || out_G.cols() != 3 * C) out_G = large_dense_matrix(3 * E, 3 * C);
+    double* g = gravity_output(out_gravity, 3 * E, gravity);
     if (C == 0) return;
-    assemble_block(nullptr, E, cols.data(), C, out_H.data(), out_G.data(), nullptr, Eigen::Vector3d::Zero());
+    assemble_block(nullptr, E, cols.data(), C, out_H.data(), out_G.data(), g, material_.density * gravity);
   }
 
   /// Gravity right-hand side for body force per volume b = density * gravity (m/s^2).
@@ -153,42 +162,58 @@ class InfluenceAssembler {
   ///   rows, cols: element ids, in range (not checked here; assemble_rows / assemble_columns
   ///      check them), or nullptr for 0, 1, ..., R-1 or C-1;
   ///   H, G: column-major 3R x 3C outputs (leading dimension 3R), both or neither (nullptr);
-  ///   g: 3R gravity output (nullptr: none), summed over the columns, which should then be all
-  ///      elements; body_force is only read when g is given.
+  ///   g: 3R gravity output (nullptr: none), summed over the columns (all elements for the gravity
+  ///      vector, the listed ones for their share); body_force is only read when g is given.
   /// Every output entry is written (no need to zero it first). Parallel over tiles (OpenMP); each
-  /// tile owns its output entries, and a row's gravity is summed by one thread in column order, so
-  /// the result does not depend on the number of threads.
+  /// tile owns its output entries. A row's gravity is summed in column order, by one tile when
+  /// there are many rows; few rows (a cut's changed ones) split their columns into a number of
+  /// ranges that depends on R only, each summed on its own and the parts added in range order, so
+  /// the result never depends on the number of threads.
   void assemble_block(const Index* rows, Index R, const Index* cols, Index C, double* H, double* G, double* g,
                       const Eigen::Vector3d& body_force) const {
     const bool hg = H != nullptr && G != nullptr;
     if (!hg && g == nullptr) return;
     const Index chunks = (R + kTileRows - 1) / kTileRows;
-    Index ranges = 1;  // column ranges per row chunk; 1 when g is summed (one thread per row)
+    Index ranges = 1;  // column ranges per row chunk
 #ifdef _OPENMP
     const Index threads = omp_get_max_threads();
 #else
     const Index threads = 1;
 #endif
-    if (g == nullptr && chunks < 4 * threads) ranges = std::min<Index>(C, (4 * threads + chunks - 1) / chunks);
+    if (g != nullptr && chunks < kGravityTiles)
+      ranges = std::max<Index>(1, std::min<Index>(C, (kGravityTiles + chunks - 1) / chunks));
+    else if (g == nullptr && chunks < 4 * threads)
+      ranges = std::min<Index>(C, (4 * threads + chunks - 1) / chunks);
+    // Split gravity sums: each range's part of g (3R each), added up after the tiles. Only for few
+    // rows, so at most kGravityTiles x 3 x 64 doubles.
+    std::vector<double> parts(g != nullptr && ranges > 1 ? static_cast<std::size_t>(ranges * 3 * R) : 0);
     const Index tiles = chunks * ranges;
 #pragma omp parallel for schedule(dynamic, 1)
     for (Index t = 0; t < tiles; ++t) {
       const Index chunk = t / ranges, range = t % ranges;
       const Index r0 = chunk * kTileRows, m = std::min<Index>(kTileRows, R - r0);
       const Index c0 = C * range / ranges, c1 = C * (range + 1) / ranges;
+      double* gt = parts.empty() ? g : parts.data() + range * 3 * R;
       if (hg && g)
-        tile<true, true>(rows, R, r0, m, cols, c0, c1, H, G, g, body_force);
+        tile<true, true>(rows, R, r0, m, cols, c0, c1, H, G, gt, body_force);
       else if (hg)
-        tile<true, false>(rows, R, r0, m, cols, c0, c1, H, G, g, body_force);
+        tile<true, false>(rows, R, r0, m, cols, c0, c1, H, G, gt, body_force);
       else
-        tile<false, true>(rows, R, r0, m, cols, c0, c1, H, G, g, body_force);
+        tile<false, true>(rows, R, r0, m, cols, c0, c1, H, G, gt, body_force);
     }
+    if (!parts.empty())
+      for (Index i = 0; i < 3 * R; ++i) {
+        double sum = parts[static_cast<std::size_t>(i)];
+        for (Index range = 1; range < ranges; ++range) sum += parts[static_cast<std::size_t>(range * 3 * R + i)];
+        g[i] = sum;
+      }
   }
 
  private:
-  static constexpr int kTileRows = 64;  // source points evaluated together (fits L1 with the sums)
-  static constexpr int kBatch = 64;     // quadrature points of one mid / near pair evaluated together
-  static constexpr int kFarPoints = 7;  // Radon's rule
+  static constexpr int kTileRows = 64;      // source points evaluated together (fits L1 with the sums)
+  static constexpr int kBatch = 64;         // quadrature points of one mid / near pair evaluated together
+  static constexpr int kFarPoints = 7;      // Radon's rule
+  static constexpr int kGravityTiles = 16;  // tiles that sum the gravity of fewer than 16 x kTileRows rows
   // Per-pair sums of the kernel loop, one array each over the source points (far field) or the
   // quadrature points (mid / near pairs).
   enum : int {
@@ -223,6 +248,14 @@ class InfluenceAssembler {
     std::vector<double> far2;            // (far_ratio * diameter)^2, raised by 1e-12 relative (see tile)
     std::vector<double> qx, qy, qz, qw;  // far-rule points and weights, kFarPoints per element
   };
+
+  /// Zeroes `out` at `size` and returns where assemble_block sums the gravity term, or nullptr when
+  /// none is asked for or the body force is zero.
+  double* gravity_output(Eigen::VectorXd* out, Index size, const Eigen::Vector3d& gravity) const {
+    if (!out) return nullptr;
+    out->setZero(size);
+    return (material_.density * gravity).squaredNorm() != 0.0 ? out->data() : nullptr;
+  }
 
   void check_ids(const std::vector<Index>& ids, const char* where) const {
     for (Index e : ids)

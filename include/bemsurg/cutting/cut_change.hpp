@@ -94,29 +94,17 @@ inline CutChange integrate_cut_change(const TriangleMesh& before, const Triangle
   for (Index e : c.elements)
     for (int a = 0; a < 3; ++a) c.dofs.push_back(3 * e + a);
   c.num_modified_dofs = 3 * static_cast<Index>(delta.modified.size());
-  const Eigen::Vector3d body_force = material.density * gravity;
-  const bool with_gravity = body_force.squaredNorm() != 0.0;
-  const Index D = static_cast<Index>(c.elements.size());
+  // H, G and the gravity term in one pass per block: the gravity integrand comes from the pairs'
+  // quadrature points (InfluenceAssembler::assemble_rows / assemble_columns).
   {
     const InfluenceAssembler assembler(after, material, quadrature);
-    assembler.assemble_rows(c.elements, c.rows_H, c.rows_G);
-    assembler.assemble_columns(c.elements, c.cols_H, c.cols_G);
-    c.rows_gravity.setZero(3 * D);
-    c.cols_gravity.setZero(c.n_after);
-    if (with_gravity && D > 0) {
-      assembler.assemble_block(c.elements.data(), D, nullptr, after.num_elements(), nullptr, nullptr, c.rows_gravity.data(), body_force);
-      assembler.assemble_block(nullptr, after.num_elements(), c.elements.data(), D, nullptr, nullptr, c.cols_gravity.data(), body_force);
-    }
+    assembler.assemble_rows(c.elements, c.rows_H, c.rows_G, &c.rows_gravity, gravity);
+    assembler.assemble_columns(c.elements, c.cols_H, c.cols_G, &c.cols_gravity, gravity);
   }
   {
     const InfluenceAssembler assembler(before, material, quadrature);
     assembler.assemble_rows(delta.modified, c.old_rows_H, c.old_rows_G);
-    assembler.assemble_columns(delta.modified, c.old_cols_H, c.old_cols_G);
-    c.old_cols_gravity.setZero(c.n_before);
-    const Index M = static_cast<Index>(delta.modified.size());
-    if (with_gravity && M > 0)
-      assembler.assemble_block(nullptr, before.num_elements(), delta.modified.data(), M, nullptr, nullptr, c.old_cols_gravity.data(),
-                               body_force);
+    assembler.assemble_columns(delta.modified, c.old_cols_H, c.old_cols_G, &c.old_cols_gravity, gravity);
   }
   c.integration_seconds = seconds_since(t0);
   return c;
