@@ -53,9 +53,10 @@ void remesh_for_operating_region(const OperatingRegionRequest& request, Scene& s
                                              std::to_string(static_cast<long long>(kMaxGradedElements)) +
                                              "): the dense BEM system would not fit in memory; use longer edges");
   if (!graded_remesher_available()) {
-    scene.warnings.push_back(key +
-                             ": this build of bemsurg has no remesher (BEMSURG_WITH_REMESHER=OFF): the mesh is "
-                             "used as generated or read, not graded");
+    scene.warnings.push_back(
+        key +
+        ": this build of bemsurg has no remesher (BEMSURG_WITH_REMESHER=OFF, or libgmsh cannot be loaded): the mesh is "
+        "used as generated or read, not graded");
     return;
   }
   try {

@@ -5,7 +5,7 @@
 // cannot remesh. Gmsh is loaded when the first remesh asks for it (dlopen of its C API), not at
 // program start: Debian's libgmsh pulls in about 90 shared libraries (OpenCASCADE, FLTK, image
 // codecs), whose symbol binding cost every bemsurg program about 0.13 s at start-up, remeshing or
-// not (docs/development.md, "CI, step by step").
+// not (docs/development.md, "Build profile, before and after").
 #include "bemsurg/meshing/graded_remesher.hpp"
 
 #include <algorithm>
@@ -27,7 +27,9 @@
 
 #ifdef BEMSURG_HAVE_GMSH
 #include <dlfcn.h>
+extern "C" {        // gmshc.h declares C functions without a guard of its own
 #include <gmshc.h>  // the C API's declarations only: its functions are looked up in the loaded library
+}
 #endif
 
 namespace bemsurg {
@@ -113,7 +115,10 @@ const GmshApi& gmsh_api() {
     GmshApi a;
     const auto find = [library](auto& function, const char* name) {
       void* symbol = dlsym(library, name);
-      if (!symbol) throw Error(std::string("graded remesh: ") + BEMSURG_GMSH_LIBRARY + " has no " + name + " (not Gmsh 4.8's C API?)");
+      if (!symbol) {
+        dlclose(library);  // the next call tries again from the start
+        throw Error(std::string("graded remesh: ") + BEMSURG_GMSH_LIBRARY + " has no " + name + " (not Gmsh 4.8's C API?)");
+      }
       function = reinterpret_cast<std::remove_reference_t<decltype(function)>>(symbol);
     };
     find(a.initialize, "gmshInitialize");
@@ -417,12 +422,15 @@ TriangleMesh remesh_with_gmsh(const TriangleMesh& input, const OperatingRegion& 
     const GradedRemeshOptions& o;
     RimSizes rims;
   } sizes{region, o, RimSizes(input, planes, o)};
-  // A C callback: nothing may be thrown through Gmsh (graded_target_size and RimSizes::at do not throw).
-  const auto size_at = [](int, int, double x, double y, double z, void* data) -> double {
+  // A C callback: nothing may be thrown through Gmsh. graded_target_size and RimSizes::at do not
+  // throw; should they ever, the point gets the outside length (the coarsest, always valid).
+  const auto size_at = [](int, int, double x, double y, double z, void* data) noexcept -> double {
     const Sizes& s = *static_cast<const Sizes*>(data);
-    const Vec3 p(x, y, z);
-    const double h = graded_target_size(s.region, s.o, p);
-    return h > s.o.inside_edge_length ? std::min(h, std::max(s.o.inside_edge_length, s.rims.at(p))) : h;
+    try {
+      const Vec3 p(x, y, z);
+      const double h = graded_target_size(s.region, s.o, p);
+      return h > s.o.inside_edge_length ? std::min(h, std::max(s.o.inside_edge_length, s.rims.at(p))) : h;
+    } catch (...) { return s.o.outside_edge_length; }
   };
   gmsh.set_size_callback(size_at, &sizes, &ierr);
   gmsh.check(ierr);
@@ -482,7 +490,10 @@ std::string grading_rule_warning(const TriangleMesh& mesh, const std::vector<cha
 
 bool graded_remesher_available() {
 #ifdef BEMSURG_HAVE_GMSH
-  return true;
+  try {
+    gmsh_api();  // built with the remesher, and Gmsh loads (callers ask just before they remesh)
+    return true;
+  } catch (const Error&) { return false; }
 #else
   return false;
 #endif

@@ -11,8 +11,9 @@
 // flat cut: meshing/planar_regions.hpp), which stay flat.
 //
 // Compiled in src/meshing/graded_remesher.cpp, and only with BEMSURG_WITH_REMESHER (on when CMake
-// finds libgmsh): graded_remesher_available() says whether this build has it; without it
-// graded_remesh throws bemsurg::Error saying so. Everything else of bemsurg works either way.
+// finds libgmsh, which it loads when a remesh first needs it): graded_remesher_available() says
+// whether this build has it and Gmsh loads; without it graded_remesh throws bemsurg::Error saying
+// so. Everything else of bemsurg works either way.
 #pragma once
 
 #include <string>
@@ -91,7 +92,8 @@ struct GradedRemeshResult {
   double seconds = 0.0;
 };
 
-/// Whether this build of bemsurg includes the remesher (BEMSURG_WITH_REMESHER).
+/// Whether this build of bemsurg includes the remesher (BEMSURG_WITH_REMESHER) and Gmsh loads (it is
+/// opened on the first call, or the first remesh, and kept).
 bool graded_remesher_available();
 
 /// Remeshes `input` (closed, manifold, outward-oriented: require_valid_mesh must accept it; every
