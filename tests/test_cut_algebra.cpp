@@ -112,7 +112,7 @@ TEST_CASE("assemble_rows and assemble_columns equal blocks of the full assembly"
   // sums: 188 eps (measured 1.4e-15).
   CHECK(relative_max(g1 + g2, gfull) <= 188.0 * kEps);
   // The same gravity from the H and G pass (a cut step's one pass per block): the rows' share is
-  // summed over column ranges (5 rows: 16 ranges), so it agrees with the full vector's rows to the
+  // summed over column ranges (5 rows: 64 ranges), so it agrees with the full vector's rows to the
   // regrouping of 188 terms (measured 4.6e-16); H and G are still the same bits.
   Eigen::MatrixXd rH2, rG2, cH2, cG2;
   Eigen::VectorXd rows_g, even_g, odd_g;
@@ -382,11 +382,18 @@ TEST_CASE("cut steps on a snapshot pool reuse the storage of tables let go of an
   INFO("buffers reused " << counts.reused << ", allocated " << counts.allocated << ", pooled vs fresh " << worst);
   CHECK(counts.reused >= 3);           // steps 3 and 4 draw on the tables of steps 1 and 2: measured 3 of 8
   CHECK(worst <= 4.0 * 408.0 * kEps);  // the same sums in the same order: measured 0
-  // A copy of a table shares its storage; a rescaled table gets its own.
+  // A copy of a table shares its storage; a rescaled table gets its own, and a table at the same E
+  // (gravity switched off, say) shares its columns, which stay as they were.
   const Eigen::MatrixXd before = table->columns();
   const auto stiffer = table->with_young_modulus(2.0 * table->material().young_modulus);
   CHECK(table->columns() == before);
   CHECK(relative_max(stiffer->columns(), 0.5 * before) <= 4.0 * kEps);
+  CHECK(stiffer->columns().data() != table->columns().data());
+  const auto weightless = table->with_young_modulus(table->material().young_modulus, 0.0);
+  CHECK(weightless->columns().data() == table->columns().data());
+  CHECK(weightless->columns() == before);
+  CHECK(weightless->gravity().isZero(0.0));
+  CHECK(relative_max(stiffer->with_young_modulus(table->material().young_modulus)->columns(), before) <= 4.0 * kEps);
 }
 
 TEST_CASE("a CutSystemUpdate that reserved its snapshot buffers takes its steps' tables from them", "[cut][storage]") {

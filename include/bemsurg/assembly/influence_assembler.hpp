@@ -165,14 +165,16 @@ class InfluenceAssembler {
   ///   g: 3R gravity output (nullptr: none), summed over the columns (all elements for the gravity
   ///      vector, the listed ones for their share); body_force is only read when g is given.
   /// Every output entry is written (no need to zero it first). Parallel over tiles (OpenMP); each
-  /// tile owns its output entries. A row's gravity is summed in column order, by one tile when
-  /// there are many rows; few rows (a cut's changed ones) split their columns into a number of
-  /// ranges that depends on R only, each summed on its own and the parts added in range order, so
-  /// the result never depends on the number of threads.
+  /// tile owns its output entries. A row's gravity is summed in column order, by one tile when there
+  /// are many rows (kGravityTiles row chunks or more); fewer rows (a cut's changed ones, a small
+  /// mesh's gravity vector) split their columns into ranges whose number depends on R and C only,
+  /// each summed into a part of its own and the parts added in range order, so the result never
+  /// depends on the number of threads. That split allocates its parts (ranges x 3R doubles, at most
+  /// 2 x kGravityTiles x kTileRows x 3); nothing else here allocates.
   void assemble_block(const Index* rows, Index R, const Index* cols, Index C, double* H, double* G, double* g,
                       const Eigen::Vector3d& body_force) const {
     const bool hg = H != nullptr && G != nullptr;
-    if (!hg && g == nullptr) return;
+    if ((!hg && g == nullptr) || R == 0) return;
     const Index chunks = (R + kTileRows - 1) / kTileRows;
     Index ranges = 1;  // column ranges per row chunk
 #ifdef _OPENMP
@@ -184,8 +186,7 @@ class InfluenceAssembler {
       ranges = std::max<Index>(1, std::min<Index>(C, (kGravityTiles + chunks - 1) / chunks));
     else if (g == nullptr && chunks < 4 * threads)
       ranges = std::min<Index>(C, (4 * threads + chunks - 1) / chunks);
-    // Split gravity sums: each range's part of g (3R each), added up after the tiles. Only for few
-    // rows, so at most kGravityTiles x 3 x 64 doubles.
+    // Split gravity sums: each range's part of g (3R each), added up after the tiles.
     std::vector<double> parts(g != nullptr && ranges > 1 ? static_cast<std::size_t>(ranges * 3 * R) : 0);
     const Index tiles = chunks * ranges;
 #pragma omp parallel for schedule(dynamic, 1)
@@ -210,10 +211,12 @@ class InfluenceAssembler {
   }
 
  private:
-  static constexpr int kTileRows = 64;      // source points evaluated together (fits L1 with the sums)
-  static constexpr int kBatch = 64;         // quadrature points of one mid / near pair evaluated together
-  static constexpr int kFarPoints = 7;      // Radon's rule
-  static constexpr int kGravityTiles = 16;  // tiles that sum the gravity of fewer than 16 x kTileRows rows
+  static constexpr int kTileRows = 64;  // source points evaluated together (fits L1 with the sums)
+  static constexpr int kBatch = 64;     // quadrature points of one mid / near pair evaluated together
+  static constexpr int kFarPoints = 7;  // Radon's rule
+  // Tiles that sum the gravity of fewer than kGravityTiles x kTileRows rows: fixed, so that the sums
+  // do not depend on the thread count, and enough for the cores of a large machine.
+  static constexpr int kGravityTiles = 64;
   // Per-pair sums of the kernel loop, one array each over the source points (far field) or the
   // quadrature points (mid / near pairs).
   enum : int {
