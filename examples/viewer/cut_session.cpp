@@ -15,6 +15,7 @@ void CutSession::begin_drag(const Eigen::Vector3d& p, ModelWorker& worker, doubl
     reason_here_ = "no model loaded";
     return;
   }
+  worker.prepare_cuts();  // the first step follows once the drag has moved (nothing to do when already ready)
   dragging_ = true;
   new_cut_ = true;
   gap_width_ = gap_width;

@@ -130,6 +130,8 @@ void tool_panel(App& app, const std::shared_ptr<const PhysicsState>& ph) {
     if (i % 3) ImGui::SameLine();
     ImGui::RadioButton(kToolNames[i], &t, i);
   }
+  // Picking the scalpel readies the first cut steps' storage in the background (ModelWorker::prepare_cuts).
+  if (static_cast<ToolKind>(t) == ToolKind::Cut && app.tool != ToolKind::Cut) app.worker.prepare_cuts();
   app.tool = static_cast<ToolKind>(t);
   if (app.tool == ToolKind::Sphere || app.tool == ToolKind::Flat || app.tool == ToolKind::Pinch || app.tool == ToolKind::Plate) {
     const double def =

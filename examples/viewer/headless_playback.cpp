@@ -162,6 +162,10 @@ int play_headless(App& app, ScriptPlayer& player, const ViewerOptions& o) {
   haptics::FeltForceRecorder felt(kMaxTools, app.settings.force_limit);
   int fbw = 0, fbh = 0;
   int code = 0;
+  if (!player.cuts_between(-1.0, o.frames / o.fps).empty()) {  // as a person picking the scalpel: ready before the clock runs
+    app.worker.prepare_cuts();
+    app.worker.wait_idle();
+  }
   for (int f = 0; f < o.frames; ++f) {
     const double t = f / o.fps;
     glfwPollEvents();

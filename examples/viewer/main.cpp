@@ -10,6 +10,7 @@
 #include <string>
 #include <string_view>
 
+#include "bemsurg/memory_budget.hpp"
 #include "options/option_parser.hpp"
 #include "viewer_app.hpp"
 
@@ -66,6 +67,10 @@ int main(int argc, char** argv) {
     if (o.screenshot.empty()) throw bemsurg::cli::UsageError("bemsurg-viewer: headless mode needs --screenshot OUT.png");
   };
   if (const std::optional<int> status = bemsurg::cli::parse_command_line(parser, argc, argv, check)) return *status;
+  // The viewer cuts: its steps' large temporaries (the accumulated rank's matrices, the changed rows
+  // and columns) then reuse freed memory instead of touching fresh pages every step, as `bemsurg cut`
+  // and `bemsurg session` do (bemsurg/memory_budget.hpp).
+  bemsurg::reuse_freed_memory();
   try {
     return bemsurg::viewer::run_viewer(o);
   } catch (const std::exception& e) {

@@ -13,6 +13,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <new>
 #ifdef _OPENMP
 #include <omp.h>
 #endif
@@ -110,6 +111,37 @@ void ModelWorker::request_cut_step(bool new_cut, const Eigen::Vector3d& from, co
   wake_.notify_all();
 }
 
+void ModelWorker::prepare_cuts() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    pending_.prepare_cuts = true;
+    busy_ = true;
+  }
+  wake_.notify_all();
+}
+
+void ModelWorker::do_prepare_cuts() {
+  if (!loaded_ || !reference_ || !reference_->has_factorization()) return;  // a cut would be refused anyway
+  if (cut_system_ && cut_system_->table() == reference_ && cuts_prepared_) return;
+  if (!cut_system_ || cut_system_->table() != reference_) cut_system_ = std::make_unique<CutSystemUpdate>(reference_);
+  try {
+    cut_system_->reserve_snapshot_buffers();
+  } catch (const std::bad_alloc&) {
+    return;  // only saves time: the steps allocate their tables as they go
+  }
+  cuts_prepared_ = true;
+  count_cut_buffers();
+}
+
+void ModelWorker::count_cut_buffers() {
+  if (!cut_system_) return;
+  const SnapshotBufferPool::Counts c = cut_system_->snapshot_buffer_counts();
+  std::lock_guard<std::mutex> lock(mutex_);
+  status_.cut_buffers_allocated = c.allocated;
+  status_.cut_buffers_reused = c.reused;
+  status_.cut_buffers_held = c.held;
+}
+
 void ModelWorker::refuse_cut(const std::string& reason) {
   std::lock_guard<std::mutex> lock(mutex_);
   ++status_.cut_steps_refused;
@@ -123,7 +155,10 @@ void ModelWorker::do_cut(const CutRequest& cut) {
   }
   // The one cut entry point (docs/design.md §7): its rules lock held and loaded elements, carry the
   // conditions over and grow the table's region; the viewer only shows what it returns.
-  if (!cut_system_ || cut_system_->table() != reference_) cut_system_ = std::make_unique<CutSystemUpdate>(reference_);
+  if (!cut_system_ || cut_system_->table() != reference_) {
+    cut_system_ = std::make_unique<CutSystemUpdate>(reference_);
+    cuts_prepared_ = false;
+  }
   if (cut.new_cut) {
     CutOptions options;
     options.gap_width = cut.gap_width;  // 0: the cutter's default fraction of the local edge length
@@ -190,6 +225,7 @@ void ModelWorker::do_cut(const CutRequest& cut) {
   }
   cut_system_->wait_for_refactor();  // headless playback stays deterministic
   reference_ = cut_system_->table();
+  count_cut_buffers();
   follow_cut(mesh, *s, *reference_, true);
   {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -368,6 +404,8 @@ void ModelWorker::run() {
         do_load(r.path);
         do_precompute();
       }
+      // Reserving waits for no one only when no step does: a step already queued allocates as it goes.
+      if (r.prepare_cuts && cuts.empty() && !r.load) do_prepare_cuts();
       set_cutting(!cuts.empty());  // steps asked for from now on wait for these
       for (const CutRequest& c : cuts) do_cut(c);
       set_cutting(false);

@@ -77,7 +77,10 @@ struct WorkerStatus {
   int cuts = 0;                           // accepted cut steps whose mesh is in use
   int cut_steps_accepted = 0;             // every cut step so far (all models)
   int cut_steps_refused = 0;
-  int cut_steps_waited = 0;      // steps asked for while an earlier step was still computing (they wait for it)
+  int cut_steps_waited = 0;  // steps asked for while an earlier step was still computing (they wait for it)
+  // The cut steps' table storage (CutSystemUpdate::snapshot_buffer_counts): buffers a step had to allocate
+  // (prepare_cuts' reserved ones are not counted), buffers reused, buffers held now.
+  std::size_t cut_buffers_allocated = 0, cut_buffers_reused = 0, cut_buffers_held = 0;
   std::string last_cut_refusal;  // the last refused step's reason, "" if none
 };
 
@@ -105,6 +108,12 @@ class ModelWorker {
   /// surface is published at once (without a table), then the exact tables follow (the delta update of
   /// the kept factorisation). A refused step changes nothing; status() counts it and gives its reason.
   void request_cut_step(bool new_cut, const Eigen::Vector3d& from, const Eigen::Vector3d& direction, double gap_width);
+  /// A cut may come soon (the scalpel was picked, or a drag began): in the background, make the cut
+  /// entry point for the current tables and touch the storage of its first steps' tables
+  /// (CutSystemUpdate::reserve_snapshot_buffers; docs/cutting.md, "Snapshot storage"), so that the
+  /// first step costs what later ones do. Skipped when a cut step is already queued (it would wait for
+  /// the reservation) or the storage is ready for these tables.
+  void prepare_cuts();
   /// Where the tools are, for the next cut steps (the viewer sets it every frame): with a positive
   /// `reach`, a step is published in two phases (docs/cutting.md, "First response"): first the table of
   /// the region elements within `reach` of the `points` (the tools' tips and the elements they touch),
@@ -133,6 +142,7 @@ class ModelWorker {
     std::string path;
     bool recompute = false;
     bool rescale = false;
+    bool prepare_cuts = false;
   };
   struct CutRequest {
     bool new_cut = false;
@@ -145,11 +155,15 @@ class ModelWorker {
   void do_rescale();
   std::shared_ptr<PhysicsState> state_for(const std::shared_ptr<const GreensTable>& table) const;
   void do_cut(const CutRequest& cut);
+  void do_prepare_cuts();
+  void count_cut_buffers();
   void set_cutting(bool on);
   std::shared_ptr<PhysicsState> provisional_state(const std::shared_ptr<const TriangleMesh>& mesh,
                                                   const std::shared_ptr<const PhysicsState>& previous) const;
   void follow_cut(const std::shared_ptr<const TriangleMesh>& mesh, const PhysicsState& s, const GreensTable& table, bool complete);
-  bool has_work() const { return pending_.load || pending_.recompute || pending_.rescale || !cuts_pending_.empty(); }
+  bool has_work() const {
+    return pending_.load || pending_.recompute || pending_.rescale || pending_.prepare_cuts || !cuts_pending_.empty();
+  }
   void publish(std::shared_ptr<PhysicsState> s);
   void set_status(WorkerPhase p, const std::string& message);
   double predict_seconds(Index elements, Index region_elements) const;
@@ -174,7 +188,8 @@ class ModelWorker {
   struct Loaded;
   std::shared_ptr<Loaded> loaded_;
   std::shared_ptr<const GreensTable> reference_;
-  std::unique_ptr<CutSystemUpdate> cut_system_;  // cuts of reference_ (made on the first cut step)
+  std::unique_ptr<CutSystemUpdate> cut_system_;  // cuts of reference_ (made by prepare_cuts or the first cut step)
+  bool cuts_prepared_ = false;                   // cut_system_ has reserved its first steps' storage
   void refuse_cut(const std::string& reason);
   double reference_young_ = 0.0;
   double young_ = 0.0, poisson_ = 0.0;

@@ -387,7 +387,19 @@ TEST_CASE("one cut script through the command line's, a session's and the viewer
     worker.load(path);
     worker.wait_idle();
     REQUIRE(worker.status().error.empty());
-    if (phases == 2) worker.set_cut_reach({tool}, 0.015);
+    if (phases == 2) {
+      worker.set_cut_reach({tool}, 0.015);
+      // As when the scalpel is picked: the first steps' storage is touched before any step (three
+      // buffers of the table's size, held), and the steps stay exact (their tables are compared below).
+      worker.prepare_cuts();
+      worker.wait_idle();
+      CHECK(worker.status().cut_buffers_held == 3u);
+      CHECK(worker.status().cut_buffers_allocated == 0u);  // no step has needed fresh storage
+      CHECK(worker.status().cut_buffers_reused == 0u);
+      worker.prepare_cuts();  // again: nothing more to do
+      worker.wait_idle();
+      CHECK(worker.status().cut_buffers_held == 3u);
+    }
     for (int i = 0; i < steps; ++i) worker.request_cut_step(i == 0, from, direction, 0.0);
     worker.wait_idle();
     REQUIRE(worker.status().cut_steps_accepted == steps);

@@ -19,7 +19,7 @@ double default_memory_limit_bytes();
 /// fresh pages cost a page fault each, and on a virtual machine those faults can take more time
 /// than the step's arithmetic (benchmarks/bench_cut measures both; docs/cutting.md). The heap
 /// then stays at its peak size. This changes the whole process, so
-/// the library never calls it: programs that cut (bemsurg cut and session, bench_cut) call it once
+/// the library never calls it: programs that cut (bemsurg cut and session, the viewer, bench_cut) call it once
 /// at start. Returns false where the C library has no such setting.
 bool reuse_freed_memory();
 

@@ -179,6 +179,8 @@ class CutSystemUpdate {
   /// and has time before them (a session before its clock starts): the first steps then cost what
   /// later ones do, whose tables reuse the storage of the tables let go of (docs/cutting.md, "Snapshot storage").
   void reserve_snapshot_buffers() { options_.table.buffers->reserve(table()->columns().size(), 3); }
+  /// What the steps' table storage has done so far: buffers allocated, reused and held now.
+  SnapshotBufferPool::Counts snapshot_buffer_counts() const { return options_.table.buffers->counts(); }
   /// True when a background refactorisation is running.
   bool refactor_running() const { return busy_.load(); }
   /// Blocks until a running background refactorisation has finished (and published, if still current).

@@ -328,9 +328,13 @@ BEMSURG_INLINE std::shared_ptr<const GreensTable> GreensTable::with_young_modulu
     else
       t.base_traction_(k) *= gravity_factor;
   }
-  // The copy shares this table's storage: the scaled columns get their own.
-  t.columns_data_ = SnapshotBufferPool::fresh(columns_rows_ * columns_cols_);
-  t.writable_columns() = scale * columns();
+  // The copy shares this table's storage (immutable once published); scaled columns get their own.
+  // The same E keeps the columns: a viewer that republishes every cut step's table at the user's E
+  // and gravity then copies no table (docs/viewer.md).
+  if (scale != 1.0) {
+    t.columns_data_ = SnapshotBufferPool::fresh(columns_rows_ * columns_cols_);
+    t.writable_columns() = scale * columns();
+  }
   t.solver_.reset();  // A* changes with E: no cut update from a rescaled table
   t.rhs_.resize(0);
   return out;
