@@ -165,12 +165,12 @@ class InfluenceAssembler {
   ///   g: 3R gravity output (nullptr: none), summed over the columns (all elements for the gravity
   ///      vector, the listed ones for their share); body_force is only read when g is given.
   /// Every output entry is written (no need to zero it first). Parallel over tiles (OpenMP); each
-  /// tile owns its output entries. A row's gravity is summed in column order, by one tile when there
-  /// are many rows (kGravityTiles row chunks or more); fewer rows (a cut's changed ones, a small
-  /// mesh's gravity vector) split their columns into ranges whose number depends on R and C only,
-  /// each summed into a part of its own and the parts added in range order, so the result never
-  /// depends on the number of threads. That split allocates its parts (ranges x 3R doubles, at most
-  /// 2 x kGravityTiles x kTileRows x 3); nothing else here allocates.
+  /// tile owns its output entries. A row's gravity is summed in column order by one tile, except
+  /// for rows that fit one tile (a cut's changed ones): their columns are split into
+  /// min(C, kGravityTiles) ranges, each summed into a part of its own and the parts added in range
+  /// order. Either way the result does not depend on the number of threads, and the gravity vector
+  /// of a body of more than kTileRows elements is summed as it always was. The split allocates its
+  /// parts (at most kGravityTiles x 3 x kTileRows doubles); nothing else here allocates.
   void assemble_block(const Index* rows, Index R, const Index* cols, Index C, double* H, double* G, double* g,
                       const Eigen::Vector3d& body_force) const {
     const bool hg = H != nullptr && G != nullptr;
@@ -182,8 +182,8 @@ class InfluenceAssembler {
 #else
     const Index threads = 1;
 #endif
-    if (g != nullptr && chunks < kGravityTiles)
-      ranges = std::max<Index>(1, std::min<Index>(C, (kGravityTiles + chunks - 1) / chunks));
+    if (g != nullptr && chunks == 1)
+      ranges = std::max<Index>(1, std::min<Index>(C, kGravityTiles));
     else if (g == nullptr && chunks < 4 * threads)
       ranges = std::min<Index>(C, (4 * threads + chunks - 1) / chunks);
     // Split gravity sums: each range's part of g (3R each), added up after the tiles.
@@ -214,8 +214,8 @@ class InfluenceAssembler {
   static constexpr int kTileRows = 64;  // source points evaluated together (fits L1 with the sums)
   static constexpr int kBatch = 64;     // quadrature points of one mid / near pair evaluated together
   static constexpr int kFarPoints = 7;  // Radon's rule
-  // Tiles that sum the gravity of fewer than kGravityTiles x kTileRows rows: fixed, so that the sums
-  // do not depend on the thread count, and enough for the cores of a large machine.
+  // Column ranges that sum the gravity of rows fitting one tile: fixed, so that the sums do not
+  // depend on the thread count, and enough for the cores of a large machine.
   static constexpr int kGravityTiles = 64;
   // Per-pair sums of the kernel loop, one array each over the source points (far field) or the
   // quadrature points (mid / near pairs).
