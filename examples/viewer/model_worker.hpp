@@ -156,6 +156,8 @@ class ModelWorker {
   std::shared_ptr<PhysicsState> state_for(const std::shared_ptr<const GreensTable>& table) const;
   void do_cut(const CutRequest& cut);
   void do_prepare_cuts();
+  /// cut_system_ for reference_: kept while it cuts that table, else made anew (not yet prepared).
+  void use_cut_system_of_reference();
   void count_cut_buffers();
   void set_cutting(bool on);
   std::shared_ptr<PhysicsState> provisional_state(const std::shared_ptr<const TriangleMesh>& mesh,

@@ -29,10 +29,16 @@ void ModelWorker::prepare_cuts() {
   wake_.notify_all();
 }
 
+void ModelWorker::use_cut_system_of_reference() {
+  if (cut_system_ && cut_system_->table() == reference_) return;
+  cut_system_ = std::make_unique<CutSystemUpdate>(reference_);
+  cuts_prepared_ = false;
+}
+
 void ModelWorker::do_prepare_cuts() {
   if (!loaded_ || !reference_ || !reference_->has_factorization()) return;  // a cut would be refused anyway
-  if (cut_system_ && cut_system_->table() == reference_ && cuts_prepared_) return;
-  if (!cut_system_ || cut_system_->table() != reference_) cut_system_ = std::make_unique<CutSystemUpdate>(reference_);
+  use_cut_system_of_reference();
+  if (cuts_prepared_) return;
   try {
     cut_system_->reserve_snapshot_buffers();
   } catch (const std::bad_alloc&) {
@@ -64,10 +70,7 @@ void ModelWorker::do_cut(const CutRequest& cut) {
   }
   // The one cut entry point (docs/design.md §7): its rules lock held and loaded elements, carry the
   // conditions over and grow the table's region; the viewer only shows what it returns.
-  if (!cut_system_ || cut_system_->table() != reference_) {
-    cut_system_ = std::make_unique<CutSystemUpdate>(reference_);
-    cuts_prepared_ = false;
-  }
+  use_cut_system_of_reference();
   if (cut.new_cut) {
     CutOptions options;
     options.gap_width = cut.gap_width;  // 0: the cutter's default fraction of the local edge length

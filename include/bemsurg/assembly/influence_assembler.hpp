@@ -93,10 +93,7 @@ class InfluenceAssembler {
   InfluenceMatrices assemble(const Eigen::Vector3d& gravity, Eigen::VectorXd& g) const {
     const Index E = mesh_.num_elements();
     InfluenceMatrices m{large_dense_matrix(3 * E, 3 * E), large_dense_matrix(3 * E, 3 * E)};
-    const Eigen::Vector3d body_force = material_.density * gravity;
-    g.setZero(3 * E);
-    const bool with_gravity = body_force.squaredNorm() != 0.0;
-    assemble_block(nullptr, E, nullptr, E, m.H.data(), m.G.data(), with_gravity ? g.data() : nullptr, body_force);
+    assemble_block(nullptr, E, nullptr, E, m.H.data(), m.G.data(), gravity_output(&g, 3 * E, gravity), material_.density * gravity);
     return m;
   }
 
@@ -133,10 +130,8 @@ class InfluenceAssembler {
   /// Gravity right-hand side for body force per volume b = density * gravity (m/s^2).
   Eigen::VectorXd gravity_vector(const Eigen::Vector3d& gravity) const {
     const Index E = mesh_.num_elements();
-    Eigen::VectorXd g = Eigen::VectorXd::Zero(3 * E);
-    const Eigen::Vector3d body_force = material_.density * gravity;
-    if (body_force.squaredNorm() == 0.0) return g;
-    assemble_block(nullptr, E, nullptr, E, nullptr, nullptr, g.data(), body_force);
+    Eigen::VectorXd g;
+    assemble_block(nullptr, E, nullptr, E, nullptr, nullptr, gravity_output(&g, 3 * E, gravity), material_.density * gravity);
     return g;
   }
 
@@ -167,10 +162,10 @@ class InfluenceAssembler {
   /// Every output entry is written (no need to zero it first). Parallel over tiles (OpenMP); each
   /// tile owns its output entries. A row's gravity is summed in column order by one tile, except
   /// for rows that fit one tile (a cut's changed ones): their columns are split into
-  /// min(C, kGravityTiles) ranges, each summed into a part of its own and the parts added in range
+  /// min(C, kGravityRanges) ranges, each summed into a part of its own and the parts added in range
   /// order. Either way the result does not depend on the number of threads, and the gravity vector
   /// of a body of more than kTileRows elements is summed as it always was. The split allocates its
-  /// parts (at most kGravityTiles x 3 x kTileRows doubles); nothing else here allocates.
+  /// parts (at most kGravityRanges x 3 x kTileRows doubles); nothing else here allocates.
   void assemble_block(const Index* rows, Index R, const Index* cols, Index C, double* H, double* G, double* g,
                       const Eigen::Vector3d& body_force) const {
     const bool hg = H != nullptr && G != nullptr;
@@ -183,7 +178,7 @@ class InfluenceAssembler {
     const Index threads = 1;
 #endif
     if (g != nullptr && chunks == 1)
-      ranges = std::max<Index>(1, std::min<Index>(C, kGravityTiles));
+      ranges = std::max<Index>(1, std::min<Index>(C, kGravityRanges));
     else if (g == nullptr && chunks < 4 * threads)
       ranges = std::min<Index>(C, (4 * threads + chunks - 1) / chunks);
     // Split gravity sums: each range's part of g (3R each), added up after the tiles.
@@ -216,7 +211,7 @@ class InfluenceAssembler {
   static constexpr int kFarPoints = 7;  // Radon's rule
   // Column ranges that sum the gravity of rows fitting one tile: fixed, so that the sums do not
   // depend on the thread count, and enough for the cores of a large machine.
-  static constexpr int kGravityTiles = 64;
+  static constexpr int kGravityRanges = 64;
   // Per-pair sums of the kernel loop, one array each over the source points (far field) or the
   // quadrature points (mid / near pairs).
   enum : int {
