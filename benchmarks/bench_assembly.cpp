@@ -41,6 +41,7 @@
 #include "bemsurg/mesh/geometry.hpp"
 #include "bemsurg/mesh/mesh_generators.hpp"
 #include "bemsurg/presolution/greens_table.hpp"
+#include "bemsurg/solvers/lu_in_place.hpp"
 #include "bench_support.hpp"
 
 using namespace bemsurg;

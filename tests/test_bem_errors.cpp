@@ -11,6 +11,7 @@
 #include "bemsurg/mesh/mesh_topology.hpp"
 #include "bemsurg/presolution/greens_table.hpp"
 #include "bemsurg/quadrature/quadrature_cost.hpp"
+#include "bemsurg/solvers/dense_lu.hpp"
 
 using namespace bemsurg;
 using Catch::Matchers::Contains;

@@ -11,6 +11,7 @@
 #include "bemsurg/presolution/greens_table.hpp"
 #include "bemsurg/solvers/block_jacobi_preconditioner.hpp"
 #include "bemsurg/solvers/dense_lu.hpp"
+#include "bemsurg/solvers/lu_in_place.hpp"
 #include "bemsurg/verification/reference_solutions.hpp"
 
 using namespace bemsurg;

@@ -43,7 +43,6 @@
 #include "bemsurg/snapshot_buffers.hpp"
 #include "bemsurg/solvers/linear_solve.hpp"
 #include "bemsurg/solvers/low_rank_updated_lu.hpp"
-#include "bemsurg/solvers/lu_in_place.hpp"
 #include "bemsurg/solvers/system_factorization.hpp"
 
 namespace bemsurg {
